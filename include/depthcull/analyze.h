@@ -1,0 +1,109 @@
+// depthcull: per-image analysis (paper 2.1 boundary polygons, 2.2 opaque
+// polygons) and the analyzers that measure and check it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "depthcull/geometry.h"
+#include "depthcull/image.h"
+
+namespace depthcull {
+
+// How the renderer samples the texture. Nearest: a screen pixel shows one
+// texel, so texel squares are what polygons must contain / avoid. Linear:
+// bilinear filtering blends each texel into the half texel around its
+// square, so the boundary polygon must contain every non-transparent texel
+// square grown by half a texel, and opaque polygons must keep half a texel
+// away from every non-opaque texel square.
+enum class Filter { nearest, linear };
+
+// Paper 2.1. MAX_BOUNDARY_VERTICES = 10.
+struct BoundaryOptions {
+    int max_vertices = 10;        // per polygon, >= 3
+    Filter filter = Filter::nearest;
+    bool split_parts = true;      // beyond the paper (section 4, caveat 1)
+};
+
+enum class OpaqueMethod {
+    paper, // paper 2.2, the reference implementation
+    fast,  // ours, the default; see src/opaque/
+};
+
+// Paper 2.2. MAX_OPAQUE_POLYGONS = 4, MIN_OPAQUE_COVERAGE = 0.75,
+// MIN_OPAQUE_AREA = 64.
+struct OpaqueOptions {
+    OpaqueMethod method = OpaqueMethod::fast;
+    int max_polygons = 4;
+    double min_coverage = 0.75;
+    int min_area = 64;
+    Filter filter = Filter::nearest;
+};
+
+struct AnalyzeOptions {
+    BoundaryOptions boundary;
+    OpaqueOptions opaque;
+};
+
+// The analyzer's figures for one image (or sub-rectangle). Best cases:
+// boundary_area == nontransparent_texels (excess ratio 1.0) and
+// opaque_coverage == 1.0.
+struct ImageStats {
+    std::int64_t nontransparent_texels = 0;
+    std::int64_t opaque_texels = 0;
+    double boundary_area = 0;   // total area of the boundary polygons
+    double bbox_area = 0;       // area of the non-transparent bounding box
+    int boundary_vertices = 0;  // summed over boundary polygons
+    double opaque_area = 0;     // total area of the opaque polygons
+    std::int64_t opaque_covered_texels = 0; // opaque texels inside opaque polygons
+    double opaque_coverage = 0; // covered / opaque texels (0 when none)
+    double seconds = 0;         // wall time of the analysis
+
+    // boundary area / non-transparent texel area; 1.0 is a perfect fit.
+    double excess_area_ratio() const {
+        return nontransparent_texels ? boundary_area / double(nontransparent_texels) : 0.0;
+    }
+};
+
+// Polygons are in texel coordinates of the full image (rect offset added),
+// clockwise with y down.
+struct ImageAnalysis {
+    Rect rect;
+    std::vector<Polygon> boundary; // empty for a fully transparent rect
+    std::vector<Polygon> opaque;
+    ImageStats stats;
+};
+
+// Paper 2.1: boundary polygons of `rect` in `image`. Guarantee: every
+// non-transparent texel square (grown by half a texel with Filter::linear)
+// lies inside one of the returned polygons; each polygon is simple and has
+// at most options.max_vertices vertices.
+std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, const BoundaryOptions& options);
+
+// Paper 2.2: opaque polygons of `rect` in `image`. Guarantee: convex,
+// clockwise, and no polygon overlaps with positive area or touches with an
+// edge any non-opaque texel square (kept half a texel away with
+// Filter::linear).
+std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options);
+
+// Both stages plus the stats.
+ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options);
+
+// ---- Analyzers and checkers (exact; used by tests and `analyze --check`).
+
+// Number of non-transparent texel squares of rect (grown by half a texel
+// for Filter::linear) that are not inside any one of `polygons`. 0 is the
+// guarantee of generate_boundary_polygons.
+std::int64_t count_uncontained_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons, Filter filter);
+
+// Number of non-opaque texel squares of rect that an opaque polygon
+// overlaps with positive area or touches along an edge (for Filter::linear:
+// comes within half a texel of). 0 is the guarantee of
+// generate_opaque_polygons. Texels outside rect count as non-opaque.
+std::int64_t count_opaque_violations(ImageView image, Rect rect, const std::vector<Polygon>& polygons, Filter filter);
+
+// Opaque texels of rect whose square lies inside an opaque polygon.
+std::int64_t count_covered_opaque_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons);
+
+} // namespace depthcull

@@ -1,0 +1,64 @@
+// Per-image analysis: paper 2.1 (boundary polygons) and 2.2 (opaque
+// polygons) for one image or sub-rectangle, with the analyzer's figures.
+#include "depthcull/analyze.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace depthcull {
+
+namespace {
+
+struct TexelCounts {
+    std::int64_t nontransparent = 0, opaque = 0;
+    int x0 = 0, y0 = 0, x1 = -1, y1 = -1; // bounding box of non-transparent texels, inclusive
+};
+
+TexelCounts count_texels(ImageView image, Rect rect) {
+    TexelCounts c;
+    c.x0 = rect.w;
+    c.y0 = rect.h;
+    for (int y = 0; y < rect.h; ++y) {
+        const std::uint8_t* row = image.texel(rect.x, rect.y + y);
+        for (int x = 0; x < rect.w; ++x) {
+            std::uint8_t a = row[x * 4 + 3];
+            if (is_transparent(a)) continue;
+            ++c.nontransparent;
+            c.opaque += is_opaque(a);
+            c.x0 = std::min(c.x0, x);
+            c.x1 = std::max(c.x1, x);
+            c.y0 = std::min(c.y0, y);
+            c.y1 = std::max(c.y1, y);
+        }
+    }
+    return c;
+}
+
+} // namespace
+
+ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options) {
+    auto start = std::chrono::steady_clock::now();
+    ImageAnalysis result;
+    result.rect = rect;
+    if (rect.empty() || !image.contains(rect)) return result;
+
+    result.boundary = generate_boundary_polygons(image, rect, options.boundary);
+    OpaqueOptions opaque = options.opaque;
+    opaque.filter = options.boundary.filter; // one sampling mode per analysis
+    result.opaque = generate_opaque_polygons(image, rect, opaque);
+
+    TexelCounts counts = count_texels(image, rect);
+    ImageStats& s = result.stats;
+    s.nontransparent_texels = counts.nontransparent;
+    s.opaque_texels = counts.opaque;
+    s.bbox_area = counts.x1 < 0 ? 0.0 : double(counts.x1 - counts.x0 + 1) * double(counts.y1 - counts.y0 + 1);
+    s.boundary_area = total_area(result.boundary);
+    for (const auto& p : result.boundary) s.boundary_vertices += int(p.size());
+    s.opaque_area = total_area(result.opaque);
+    s.opaque_covered_texels = count_covered_opaque_texels(image, rect, result.opaque);
+    s.opaque_coverage = counts.opaque ? double(s.opaque_covered_texels) / double(counts.opaque) : 0.0;
+    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+} // namespace depthcull

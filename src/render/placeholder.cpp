@@ -1,0 +1,2 @@
+// STUB: replaced by the headless renderer (issue 5).
+namespace depthcull {}

@@ -1,0 +1,40 @@
+// The depthcull command line: one file per subcommand, each adding itself
+// to the app. Errors are thrown as CliError (or io::Error) and printed by
+// main() as one line, exit status 1 (2 for usage errors, from CLI11).
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "depthcull/analyze.h"
+
+namespace depthcull::cli {
+
+struct CliError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+void add_analyze_command(CLI::App& app);
+void add_optimize_command(CLI::App& app);
+void add_render_command(CLI::App& app);
+void add_bench_command(CLI::App& app);
+void add_import_command(CLI::App& app);
+
+// `path` empty or "-": stdout; otherwise written atomically.
+void write_output(const std::string& path, const std::string& text);
+
+// The analysis options shared by analyze and optimize: --max-vertices,
+// --filter, --opaque, --max-opaque, --min-coverage, --min-opaque-area,
+// --no-split.
+void add_analysis_options(CLI::App& command, AnalyzeOptions& options);
+
+// Runs fn(i) for i in [0, n) on `threads` threads (0: hardware threads);
+// results must be stored by index so output order never depends on timing.
+// The first exception thrown is rethrown after all workers stop.
+void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn);
+
+} // namespace depthcull::cli

@@ -1,0 +1,211 @@
+// depthcull analyze: per-image boundary and opaque polygons (paper 2.1,
+// 2.2) as JSON, and the analyzer's summary.
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "depthcull/io.h"
+
+namespace depthcull::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Input {
+    std::string path;
+    bool has_rect = false;
+    Rect rect;
+};
+
+struct AnalyzeArgs {
+    std::vector<std::string> inputs;
+    std::string output;
+    AnalyzeOptions options;
+    bool summary = false;
+    bool check = false;
+    bool timing = true;
+    unsigned threads = 0;
+};
+
+// IMAGE or IMAGE:x,y,w,h. Only a trailing ":int,int,int,int" is a rect, so
+// paths with colons still work.
+Input parse_input(const std::string& arg) {
+    static const std::regex rect_suffix(R"(^(.*):(\d+),(\d+),(\d+),(\d+)$)");
+    std::smatch m;
+    Input in;
+    if (std::regex_match(arg, m, rect_suffix)) {
+        in.path = m[1];
+        in.has_rect = true;
+        try {
+            in.rect = {std::stoi(m[2]), std::stoi(m[3]), std::stoi(m[4]), std::stoi(m[5])};
+        } catch (const std::exception&) {
+            throw CliError(arg + ": rectangle coordinates out of range");
+        }
+    } else {
+        in.path = arg;
+    }
+    return in;
+}
+
+std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
+    std::vector<Input> inputs;
+    for (const auto& arg : args) {
+        std::error_code ec;
+        if (fs::is_directory(arg, ec)) {
+            std::vector<std::string> found;
+            for (auto it = fs::recursive_directory_iterator(arg, fs::directory_options::skip_permission_denied, ec);
+                 !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+                std::string ext = it->path().extension().string();
+                std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+                if (ext == ".png" && it->is_regular_file(ec)) found.push_back(it->path().string());
+            }
+            if (ec) throw CliError(arg + ": cannot list directory (" + ec.message() + ")");
+            std::sort(found.begin(), found.end());
+            for (auto& p : found) inputs.push_back({p, false, {}});
+        } else {
+            inputs.push_back(parse_input(arg));
+        }
+    }
+    if (inputs.empty()) throw CliError("analyze: no PNG images found in the given inputs");
+    return inputs;
+}
+
+json polygons_json(const std::vector<Polygon>& polygons) {
+    json out = json::array();
+    for (const auto& p : polygons) {
+        json poly = json::array();
+        for (const Vec2& v : p) poly.push_back({v.x, v.y});
+        out.push_back(std::move(poly));
+    }
+    return out;
+}
+
+struct Result {
+    int width = 0, height = 0;
+    ImageAnalysis analysis;
+    std::int64_t uncontained = 0, violations = 0;
+};
+
+Result analyze_input(const Input& in, const AnalyzeArgs& args) {
+    Image image = io::load_png(in.path);
+    Rect rect = in.has_rect ? in.rect : image.view().bounds();
+    if (rect.empty() || !image.view().contains(rect))
+        throw CliError(in.path + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," +
+                       std::to_string(rect.w) + "," + std::to_string(rect.h) + " is outside the " + std::to_string(image.width) +
+                       "x" + std::to_string(image.height) + " image");
+    Result r;
+    r.width = image.width;
+    r.height = image.height;
+    r.analysis = analyze_image(image.view(), rect, args.options);
+    if (args.check) {
+        r.uncontained = count_uncontained_texels(image.view(), rect, r.analysis.boundary, args.options.boundary.filter);
+        r.violations = count_opaque_violations(image.view(), rect, r.analysis.opaque, args.options.boundary.filter);
+    }
+    return r;
+}
+
+json result_json(const Input& in, const Result& r, bool timing) {
+    const ImageStats& s = r.analysis.stats;
+    const Rect& rect = r.analysis.rect;
+    json stats = {{"nontransparent_texels", s.nontransparent_texels},
+                  {"opaque_texels", s.opaque_texels},
+                  {"boundary_area", s.boundary_area},
+                  {"bbox_area", s.bbox_area},
+                  {"excess_area_ratio", s.excess_area_ratio()},
+                  {"boundary_polygons", r.analysis.boundary.size()},
+                  {"boundary_vertices", s.boundary_vertices},
+                  {"opaque_polygons", r.analysis.opaque.size()},
+                  {"opaque_area", s.opaque_area},
+                  {"opaque_covered_texels", s.opaque_covered_texels},
+                  {"opaque_coverage", s.opaque_coverage},
+                  {"seconds", timing ? s.seconds : 0.0}};
+    return {{"path", in.path},
+            {"rect", {rect.x, rect.y, rect.w, rect.h}},
+            {"width", r.width},
+            {"height", r.height},
+            {"boundary", polygons_json(r.analysis.boundary)},
+            {"opaque", polygons_json(r.analysis.opaque)},
+            {"stats", std::move(stats)}};
+}
+
+std::string summary_text(const std::vector<Result>& results, double wall_seconds) {
+    std::int64_t texels = 0, opaque = 0, covered = 0, vertices = 0, polygons = 0, opaque_polygons = 0;
+    double boundary = 0, bbox = 0, seconds = 0;
+    for (const auto& r : results) {
+        const ImageStats& s = r.analysis.stats;
+        texels += s.nontransparent_texels;
+        opaque += s.opaque_texels;
+        covered += s.opaque_covered_texels;
+        boundary += s.boundary_area;
+        bbox += s.bbox_area;
+        vertices += s.boundary_vertices;
+        polygons += std::int64_t(r.analysis.boundary.size());
+        opaque_polygons += std::int64_t(r.analysis.opaque.size());
+        seconds += s.seconds;
+    }
+    char buf[1024];
+    std::snprintf(buf, sizeof buf,
+                  "images                %zu\n"
+                  "non-transparent texels %" PRId64 "\n"
+                  "bounding-box area     %.0f  (excess ratio %.4f)\n"
+                  "boundary area         %.1f  (excess ratio %.4f; best 1.0)\n"
+                  "boundary polygons     %" PRId64 "  vertices %" PRId64 "\n"
+                  "opaque texels         %" PRId64 "\n"
+                  "opaque polygons       %" PRId64 "  covering %" PRId64 " texels (coverage %.4f; best 1.0)\n"
+                  "analysis time         %.3f s summed, %.3f s wall\n",
+                  results.size(), texels, bbox, texels ? bbox / double(texels) : 0.0, boundary,
+                  texels ? boundary / double(texels) : 0.0, polygons, vertices, opaque, opaque_polygons, covered,
+                  opaque ? double(covered) / double(opaque) : 0.0, seconds, wall_seconds);
+    return buf;
+}
+
+void run_analyze(const AnalyzeArgs& args) {
+    auto start = std::chrono::steady_clock::now();
+    std::vector<Input> inputs = expand_inputs(args.inputs);
+    std::vector<Result> results(inputs.size());
+    parallel_for(inputs.size(), args.threads, [&](std::size_t i) { results[i] = analyze_input(inputs[i], args); });
+    double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    if (args.check) {
+        for (std::size_t i = 0; i < results.size(); ++i) {
+            if (results[i].uncontained || results[i].violations)
+                throw CliError(inputs[i].path + ": check failed: " + std::to_string(results[i].uncontained) +
+                               " non-transparent texels outside the boundary, " + std::to_string(results[i].violations) +
+                               " non-opaque texels touched by opaque polygons");
+        }
+    }
+    if (!args.summary || !args.output.empty()) {
+        json images = json::array();
+        for (std::size_t i = 0; i < inputs.size(); ++i) images.push_back(result_json(inputs[i], results[i], args.timing));
+        write_output(args.output, json{{"images", std::move(images)}}.dump(1) + "\n");
+    }
+    if (args.summary) {
+        std::string text = summary_text(results, wall);
+        std::fputs(text.c_str(), stdout);
+    }
+}
+
+} // namespace
+
+void add_analyze_command(CLI::App& app) {
+    auto args = std::make_shared<AnalyzeArgs>();
+    auto* cmd = app.add_subcommand("analyze", "Compute boundary and opaque polygons of images (paper 2.1, 2.2) as JSON");
+    cmd->add_option("inputs", args->inputs, "IMAGE.png, IMAGE.png:x,y,w,h (a sub-rectangle), or a directory of PNGs")->required();
+    cmd->add_option("-o,--output", args->output, "Write JSON here instead of stdout");
+    add_analysis_options(*cmd, args->options);
+    cmd->add_flag("--summary", args->summary, "Print totals over all inputs (JSON only with -o)");
+    cmd->add_flag("--check", args->check, "Verify the guarantees exactly and fail on any violation");
+    cmd->add_flag("!--no-timing", args->timing, "Write 0 for seconds, for byte-identical output across runs");
+    cmd->add_option("-j,--threads", args->threads, "Worker threads (0: all cores)")->capture_default_str();
+    cmd->callback([args] { run_analyze(*args); });
+}
+
+} // namespace depthcull::cli

@@ -1,0 +1,78 @@
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "cli.h"
+#include "depthcull/io.h"
+
+namespace depthcull::cli {
+
+void write_output(const std::string& path, const std::string& text) {
+    if (path.empty() || path == "-") {
+        std::fwrite(text.data(), 1, text.size(), stdout);
+        std::fflush(stdout);
+        return;
+    }
+    io::write_file_atomic(path, text);
+}
+
+void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
+    cmd.add_option("--max-vertices", o.boundary.max_vertices, "Most vertices per boundary polygon (paper: MAX_BOUNDARY_VERTICES)")
+        ->check(CLI::Range(3, 1000))
+        ->capture_default_str();
+    cmd.add_option("--filter", o.boundary.filter, "Texture filtering the polygons must be correct for")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, Filter>{{"nearest", Filter::nearest}, {"linear", Filter::linear}}))
+        ->default_str("nearest");
+    cmd.add_flag("!--no-split", o.boundary.split_parts, "One boundary polygon per image, even for disjoint parts");
+    cmd.add_option("--opaque", o.opaque.method, "Opaque polygon algorithm: fast (default) or paper (paper 2.2, the reference)")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, OpaqueMethod>{{"fast", OpaqueMethod::fast}, {"paper", OpaqueMethod::paper}}))
+        ->default_str("fast");
+    cmd.add_option("--max-opaque", o.opaque.max_polygons, "Most opaque polygons per image (paper: MAX_OPAQUE_POLYGONS; 0 disables)")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    cmd.add_option("--min-coverage", o.opaque.min_coverage, "Stop adding opaque polygons at this fraction of opaque texels covered")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    cmd.add_option("--min-opaque-area", o.opaque.min_area,
+                   "Skip an opaque polygon covering fewer new opaque texels than this (paper: MIN_OPAQUE_AREA)")
+        ->check(CLI::Range(1, 1 << 30))
+        ->capture_default_str();
+}
+
+void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    threads = unsigned(std::min<std::size_t>(threads, n));
+    if (threads <= 1) {
+        for (std::size_t i = 0; i < n; ++i) fn(i);
+        return;
+    }
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    std::exception_ptr error;
+    std::size_t error_index = n;
+    std::mutex mutex;
+    auto worker = [&] {
+        for (std::size_t i; !failed && (i = next++) < n;) {
+            try {
+                fn(i);
+            } catch (...) {
+                // Report the error of the lowest index, as a serial run would.
+                std::lock_guard lock(mutex);
+                if (i < error_index) {
+                    error_index = i;
+                    error = std::current_exception();
+                }
+                failed = true;
+            }
+        }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+}
+
+} // namespace depthcull::cli
