@@ -3,6 +3,7 @@
 // is wrong with it ("scene.json: element 3: unknown image id \"rok\"").
 #pragma once
 
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -36,5 +37,58 @@ struct LoadOptions {
     Viewport viewport;
 };
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
+
+// ---- TexturePacker atlases (JSON hash and array forms)
+
+struct AtlasFrame {
+    std::string name;
+    Rect frame;              // texels in the atlas page; for a rotated frame, as stored (w and h swapped)
+    bool rotated = false;    // stored rotated 90 degrees clockwise in the page
+    bool trimmed = false;
+    Rect sprite_source;      // spriteSourceSize: where the trimmed frame sits in the untrimmed sprite
+    int source_w = 0, source_h = 0; // sourceSize: the untrimmed sprite
+};
+
+struct Atlas {
+    std::string path;        // the .json
+    std::string image_path;  // meta.image, resolved relative to the .json
+    int width = 0, height = 0; // meta.size when given
+    std::vector<AtlasFrame> frames; // in file order
+    const AtlasFrame* find(const std::string& name) const;
+};
+
+Atlas load_texturepacker(const std::string& path);
+
+// Where an element showing `frame` samples the page and how it is placed:
+// `sprite_transform` maps the untrimmed sprite's texel space (origin at
+// its top-left) to the screen; the result's rect/transform are an
+// Element's, accounting for trimming and rotation.
+struct FramePlacement {
+    Rect rect;
+    std::array<double, 6> transform{1, 0, 0, 1, 0, 0};
+};
+FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>& sprite_transform);
+
+// ---- The pipeline shared by optimize, render and bench
+
+struct PrepareOptions {
+    LoadOptions load;
+    AnalyzeOptions analyze;
+    std::string cache_dir;   // empty: no cache
+    unsigned threads = 0;    // 0: all cores; output never depends on it
+};
+
+struct PreparedScene {
+    Scene scene;
+    std::vector<Image> images;                       // decoded, index = Scene::images
+    std::vector<ImageAnalysis> analyses;             // one per distinct (image, rect)
+    std::vector<const ImageAnalysis*> element_analysis; // per element, into `analyses`
+    int analyzed = 0, cache_hits = 0;
+    double analysis_seconds = 0;
+};
+
+// Loads a scene (any load_scene format) and its images, and analyzes every
+// distinct (image, rect) the elements use, through the cache when given.
+PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options);
 
 } // namespace depthcull::io

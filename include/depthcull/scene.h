@@ -97,6 +97,41 @@ struct SceneMeshes {
     SceneStats stats;
 };
 
+// ---- Reconstruction (paper 2.3)
+
+enum class GraphMode {
+    polygons, // elements overlap when their transformed boundary polygons do (default)
+    boxes,    // when their transformed rects do (the paper's simple test; for comparison)
+};
+
+enum class SortMethod {
+    none,  // keep painter's order
+    paper, // SortElements of paper 2.3.1
+    batch, // ours: topological order preferring the current mesh; the default
+};
+
+struct ReconstructOptions {
+    GraphMode graph = GraphMode::polygons;
+    SortMethod sort = SortMethod::batch;
+    bool opaque_polygons = true; // false: no opaque pass at all
+};
+
+enum class ReconstructStatus {
+    ok,
+    invalid_scene,         // an element names a missing image or analysis, NaN transform, ...
+    too_many_depth_levels, // more depth levels than a 24-bit depth buffer resolves
+};
+
+// Paper 2.3. analyses[i] is the per-image analysis of elements[i]'s rect
+// (elements sharing an image rect may share one ImageAnalysis). On success
+// `out` holds the draws in drawing order.
+ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
+                                    const ReconstructOptions& options, SceneMeshes* out);
+
+// Table 2 "Meshes only": 2.3's sorting and batching with every element's
+// whole rect and no opaque polygons (no depth test).
+ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions& options, SceneMeshes* out);
+
 // Overpaint (the unoptimized method, Table 2 "Unoptimized"): one draw per
 // element, its whole rect as two triangles, in painter's order, no depth.
 SceneMeshes overpaint_meshes(const Scene& scene);
