@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "depthcull/analyze.h"
+#include "depthcull/io.h"
 
 namespace depthcull::cli {
 
@@ -31,6 +32,10 @@ void write_output(const std::string& path, const std::string& text);
 // --filter, --opaque, --max-opaque, --min-coverage, --min-opaque-area,
 // --no-split.
 void add_analysis_options(CLI::App& command, AnalyzeOptions& options);
+
+// --viewport x,y,w,h: the camera rectangle in world units (for Tiled maps
+// and scenes alike); sets options.has_viewport.
+void add_viewport_option(CLI::App& command, io::LoadOptions& options);
 
 // Runs fn(i) for i in [0, n) on `threads` threads (0: hardware threads);
 // results must be stored by index so output order never depends on timing.

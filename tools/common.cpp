@@ -42,6 +42,23 @@ void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
         ->capture_default_str();
 }
 
+void add_viewport_option(CLI::App& cmd, io::LoadOptions& options) {
+    cmd.add_option_function<std::string>(
+           "--viewport",
+           [&options](const std::string& text) {
+               double x, y;
+               int w, h;
+               char tail;
+               if (std::sscanf(text.c_str(), "%lf,%lf,%d,%d%c", &x, &y, &w, &h, &tail) != 4 || w <= 0 || h <= 0 ||
+                   w > kMaxImageSide || h > kMaxImageSide)
+                   throw CLI::ValidationError("--viewport", "expected x,y,w,h with 0 < w, h <= 16384, got '" + text + "'");
+               options.has_viewport = true;
+               options.viewport = {x, y, w, h};
+           },
+           "Camera rectangle x,y,w,h in world units (default: the scene's viewport)")
+        ->type_name("X,Y,W,H");
+}
+
 void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     threads = unsigned(std::min<std::size_t>(threads, n));
