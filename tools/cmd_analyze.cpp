@@ -183,9 +183,11 @@ void run_analyze(const AnalyzeArgs& args) {
         }
     }
     if (!args.summary || !args.output.empty()) {
-        json images = json::array();
-        for (std::size_t i = 0; i < inputs.size(); ++i) images.push_back(result_json(inputs[i], results[i], args.timing));
-        write_output(args.output, json{{"images", std::move(images)}}.dump(1) + "\n");
+        // One image per line: diffable, and still one JSON document.
+        std::string text = "{\"images\": [\n";
+        for (std::size_t i = 0; i < inputs.size(); ++i)
+            text += " " + result_json(inputs[i], results[i], args.timing).dump() + (i + 1 < inputs.size() ? ",\n" : "\n");
+        write_output(args.output, text + "]}\n");
     }
     if (args.summary) {
         std::string text = summary_text(results, wall);

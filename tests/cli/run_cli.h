@@ -1,0 +1,43 @@
+// Runs the depthcull binary in a shell and captures what it printed.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace depthcull::test {
+
+struct CliResult {
+    int status = -1;
+    std::string out, err;
+};
+
+// `args` is shell syntax, appended to the binary's path.
+inline CliResult run_cli(const std::string& args) {
+    static int counter = 0;
+    auto dir = std::filesystem::temp_directory_path();
+    std::string errfile = (dir / ("dc_cli_err_" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
+    std::string cmd = std::string("'") + DEPTHCULL_CLI_PATH + "' " + args + " 2>'" + errfile + "'";
+    CliResult r;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (!p) return r;
+    std::array<char, 4096> buf;
+    std::size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+    int st = ::pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    std::ifstream in(errfile);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    r.err = ss.str();
+    std::filesystem::remove(errfile);
+    return r;
+}
+
+inline std::string example(const std::string& relative) { return std::string(DEPTHCULL_SOURCE_DIR) + "/examples/" + relative; }
+
+} // namespace depthcull::test
