@@ -24,6 +24,7 @@ void add_optimize_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_import_command(CLI::App& app);
+void add_atlas_command(CLI::App& app);
 
 // `path` empty or "-": stdout; otherwise written atomically.
 void write_output(const std::string& path, const std::string& text);

@@ -1,11 +1,182 @@
-// STUB: depthcull bench (see the issues).
+// depthcull bench: the paper's Table 2 for our scenes, measured by
+// drawing: draw calls, triangles, overdraw (GL_SAMPLES_PASSED), the ideal
+// overdraw, milliseconds per frame and the pixel difference against
+// overpaint, for overpaint, meshes only and optimized.
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
 #include "cli.h"
+
+#ifdef DEPTHCULL_HAVE_RENDER
+#include "render_common.h"
+#endif
 
 namespace depthcull::cli {
 
-void add_bench_command(CLI::App& app) {
-    auto* cmd = app.add_subcommand("bench", "(not implemented yet)");
-    cmd->callback([] { throw CliError("bench: not implemented yet"); });
+#ifdef DEPTHCULL_HAVE_RENDER
+namespace {
+
+using nlohmann::json;
+
+struct BenchArgs {
+    std::vector<std::string> scenes;
+    int frames = 20;
+    int warmup = 3;
+    bool json_output = false;
+    std::string output;
+    std::string modes = "overpaint,meshes,optimized";
+    int lp_threads = -1;
+    RenderInput input;
+};
+
+std::vector<render::Mode> parse_modes(const std::string& text) {
+    static const std::map<std::string, render::Mode> names{
+        {"overpaint", render::Mode::overpaint}, {"meshes", render::Mode::meshes}, {"optimized", render::Mode::optimized}};
+    std::vector<render::Mode> modes;
+    std::stringstream in(text);
+    for (std::string name; std::getline(in, name, ',');) {
+        auto it = names.find(name);
+        if (it == names.end()) throw CliError("bench: --modes: unknown mode '" + name + "' (overpaint, meshes, optimized)");
+        modes.push_back(it->second);
+    }
+    if (modes.empty()) throw CliError("bench: --modes: no modes given");
+    return modes;
 }
+
+struct SceneResult {
+    std::string path;
+    std::size_t elements = 0;
+    render::SceneMeasurement m;
+};
+
+std::string table(const std::vector<SceneResult>& results) {
+    std::string out;
+    char line[512];
+    std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %8s %9s %9s %7s %7s %7s\n", "Scene", "Mode", "Obj", "Tri", "OD",
+                  "ideal", "OD/ideal", "ms", "min ms", "maxdiff", "diffpx", "offedge");
+    out += line;
+    for (const SceneResult& r : results) {
+        std::string name = r.path.size() > 24 ? "..." + r.path.substr(r.path.size() - 21) : r.path;
+        for (const render::ModeMeasurement& mode : r.m.modes) {
+            std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %8.3f %9.3f %9.3f %7d %7" PRId64 " %7" PRId64 "\n",
+                          name.c_str(), render::mode_name(mode.mode), mode.counts.draw_calls, mode.counts.triangles, mode.overdraw,
+                          r.m.ideal_overdraw, r.m.ideal_overdraw > 0 ? mode.overdraw / r.m.ideal_overdraw : 0.0, mode.ms_median, mode.ms_min,
+                          mode.diff.max_channel_diff, mode.diff.pixels_differ, mode.causes.elsewhere);
+            out += line;
+        }
+    }
+    return out;
+}
+
+json to_json(const std::vector<SceneResult>& results, const std::string& renderer, const BenchArgs& args, const char* lp_threads) {
+    json scenes = json::array();
+    for (const SceneResult& r : results) {
+        json modes = json::array();
+        for (const render::ModeMeasurement& m : r.m.modes)
+            modes.push_back({{"mode", render::mode_name(m.mode)},
+                             {"draw_calls", m.counts.draw_calls},
+                             {"triangles", m.counts.triangles},
+                             {"samples_passed", m.counts.samples_passed},
+                             {"overdraw", m.overdraw},
+                             {"cpu_overdraw", m.cpu_overdraw},
+                             {"overdraw_over_ideal", r.m.ideal_overdraw > 0 ? m.overdraw / r.m.ideal_overdraw : 0.0},
+                             {"ms_median", m.ms_median},
+                             {"ms_min", m.ms_min},
+                             {"max_channel_diff", m.diff.max_channel_diff},
+                             {"pixels_differ", m.diff.pixels_differ},
+                             {"pixels_differ_near_edges", m.causes.near_edges},
+                             {"pixels_differ_elsewhere", m.causes.elsewhere}});
+        scenes.push_back({{"scene", r.path},
+                          {"width", r.m.width},
+                          {"height", r.m.height},
+                          {"elements", r.elements},
+                          {"ideal_overdraw", r.m.ideal_overdraw},
+                          {"modes", modes}});
+    }
+    return {{"renderer", renderer},
+            {"lp_num_threads", lp_threads ? lp_threads : ""},
+            {"frames", args.frames},
+            {"warmup", args.warmup},
+            {"scenes", scenes}};
+}
+
+void run_bench(BenchArgs& args) {
+    const std::vector<render::Mode> modes = parse_modes(args.modes);
+    // llvmpipe reads LP_NUM_THREADS when the context is made; pin it so
+    // timings from different runs and machines are comparable.
+    if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
+    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
+    const char* lp_threads = std::getenv("LP_NUM_THREADS");
+
+    auto renderer = open_renderer(args.input);
+    std::vector<SceneResult> results;
+    for (const std::string& path : args.scenes) {
+        io::PreparedScene prepared = prepare_for_render(path, args.input);
+        render::MeasureOptions options;
+        options.modes = modes;
+        options.frames = args.frames;
+        options.warmup = args.warmup;
+        options.reconstruct = reconstruct_options(args.input);
+        SceneResult r;
+        r.path = path;
+        r.elements = prepared.scene.elements.size();
+        try {
+            r.m = render::measure_scene(*renderer, prepared.scene, image_views(prepared), prepared.element_analysis, options);
+        } catch (const render::Error& e) {
+            throw CliError(path + ": " + e.what());
+        }
+        results.push_back(std::move(r));
+    }
+
+    std::string text;
+    if (args.json_output) {
+        text = to_json(results, renderer->description(), args, lp_threads).dump(1) + "\n";
+    } else {
+        char header[512];
+        std::snprintf(header, sizeof header, "# %s, LP_NUM_THREADS=%s, median of %d frames after %d warm-up, glFinish each\n",
+                      renderer->description().c_str(), lp_threads ? lp_threads : "", args.frames, args.warmup);
+        text = header + table(results);
+        text += "# Obj: draw calls; Tri: triangles; OD: fragments passing the depth test (GL_SAMPLES_PASSED) / viewport pixels;\n"
+                "# ideal: per pixel, elements with a visible texel down to the first fully opaque one;\n"
+                "# ms, min ms: median and fastest frame (modes take turns frame by frame);\n"
+                "# maxdiff, diffpx: largest RGBA channel difference and pixels that differ from the overpaint frame;\n"
+                "# offedge: of those, pixels farther than 1/64 px from every triangle edge and texel edge (rounding cannot explain them).\n";
+    }
+    write_output(args.output, text);
+}
+
+} // namespace
+
+void add_bench_command(CLI::App& app) {
+    auto args = std::make_shared<BenchArgs>();
+    auto* cmd = app.add_subcommand("bench", "Table 2: draw calls, triangles, overdraw and ms per frame, measured by drawing");
+    cmd->add_option("scenes", args->scenes, "Scenes: .json (our format) or .tmx / .tmx.gz (Tiled)")->required();
+    cmd->add_option("--frames", args->frames, "Timed frames per scene and mode (median reported; 0: no timing)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    cmd->add_option("--warmup", args->warmup, "Untimed frames before timing")->check(CLI::Range(0, 10000))->capture_default_str();
+    cmd->add_option("--modes", args->modes, "Comma-separated: overpaint, meshes, optimized")->capture_default_str();
+    cmd->add_option("--lp-threads", args->lp_threads, "LP_NUM_THREADS for llvmpipe (default: the environment's, else 1)")
+        ->check(CLI::Range(0, 64));
+    cmd->add_flag("--json", args->json_output, "JSON instead of the table");
+    cmd->add_option("-o,--output", args->output, "Write the table / JSON here (atomically) instead of stdout");
+    add_render_input_options(*cmd, args->input);
+    cmd->callback([args] { run_bench(*args); });
+}
+
+#else
+
+void add_bench_command(CLI::App& app) {
+    auto* cmd = app.add_subcommand("bench", "Table 2 measured by drawing (not in this build)");
+    cmd->allow_extras();
+    cmd->callback([] { throw CliError("bench: this depthcull was built without the renderer (DEPTHCULL_BUILD_RENDER=OFF)"); });
+}
+
+#endif
 
 } // namespace depthcull::cli

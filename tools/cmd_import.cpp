@@ -1,11 +1,37 @@
-// STUB: depthcull import (see the issues).
+// depthcull import MAP.tmx -o SCENE.json [--viewport x,y,w,h]: a Tiled map
+// (.tmx, .tmx.gz) as our scene JSON, so an asset build can check it in or
+// edit it; optimize, render and bench also read maps directly.
+#include <cstdio>
+
 #include "cli.h"
 
 namespace depthcull::cli {
 
+namespace {
+
+struct ImportArgs {
+    std::string input;
+    std::string output;
+    io::LoadOptions load;
+};
+
+void run_import(const ImportArgs& args) {
+    Scene scene = io::load_scene(args.input, args.load);
+    write_output(args.output, io::scene_to_json_text(scene, args.output));
+    const Viewport& v = scene.viewport;
+    std::fprintf(stderr, "%s: %zu elements, %zu images, viewport %g,%g,%d,%d\n", args.input.c_str(), scene.elements.size(),
+                 scene.images.size(), v.x, v.y, v.width, v.height);
+}
+
+} // namespace
+
 void add_import_command(CLI::App& app) {
-    auto* cmd = app.add_subcommand("import", "(not implemented yet)");
-    cmd->callback([] { throw CliError("import: not implemented yet"); });
+    auto args = std::make_shared<ImportArgs>();
+    auto* cmd = app.add_subcommand("import", "Convert a Tiled map (.tmx, .tmx.gz) to scene JSON");
+    cmd->add_option("map", args->input, "Tiled map (.tmx or .tmx.gz; a scene .json is rewritten)")->required();
+    cmd->add_option("-o,--output", args->output, "Scene JSON to write (default: stdout)");
+    add_viewport_option(*cmd, args->load);
+    cmd->callback([args] { run_import(*args); });
 }
 
 } // namespace depthcull::cli

@@ -1,11 +1,135 @@
-// STUB: depthcull render (see the issues).
+// depthcull render: draw one frame of a scene headlessly (overpaint,
+// meshes only, or optimized), prove it looks like overpaint, and picture
+// where the overdraw goes.
+#include <cinttypes>
+#include <cstdio>
+#include <map>
+
 #include "cli.h"
+
+#ifdef DEPTHCULL_HAVE_RENDER
+#include "render_common.h"
+#endif
 
 namespace depthcull::cli {
 
-void add_render_command(CLI::App& app) {
-    auto* cmd = app.add_subcommand("render", "(not implemented yet)");
-    cmd->callback([] { throw CliError("render: not implemented yet"); });
+#ifdef DEPTHCULL_HAVE_RENDER
+namespace {
+
+struct RenderArgs {
+    std::string scene;
+    render::Mode mode = render::Mode::optimized;
+    std::string output;
+    std::string heatmap;
+    bool compare = false;
+    RenderInput input;
+};
+
+std::string title(const char* name, double overdraw) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s  OD %.2f", name, overdraw);
+    return buf;
 }
+
+SceneMeshes meshes_for(render::Mode mode, const io::PreparedScene& prepared, const RenderArgs& args) {
+    SceneMeshes meshes;
+    switch (render::build_meshes(mode, prepared.scene, prepared.element_analysis, reconstruct_options(args.input), &meshes)) {
+    case ReconstructStatus::ok: return meshes;
+    case ReconstructStatus::invalid_scene: throw CliError(args.scene + ": invalid scene for reconstruction");
+    case ReconstructStatus::too_many_depth_levels:
+        throw CliError(args.scene + ": more than " + std::to_string(kMaxDepthLevels) + " depth levels for a 24-bit depth buffer");
+    }
+    return meshes;
+}
+
+// Overpaint | the mode drawn (optimized when that is overpaint) | ideal,
+// all counted by the CPU analyzer, which needs no GL.
+void write_heatmap(const io::PreparedScene& prepared, const SceneMeshes& drawn, const RenderArgs& args) {
+    render::OverdrawMap over, other, ideal;
+    const double od_over = render::analyze_overdraw(overpaint_meshes(prepared.scene), &over).overdraw();
+    render::Mode other_mode = args.mode == render::Mode::overpaint ? render::Mode::optimized : args.mode;
+    const SceneMeshes other_meshes = args.mode == render::Mode::overpaint ? meshes_for(other_mode, prepared, args) : drawn;
+    const double od_other = render::analyze_overdraw(other_meshes, &other).overdraw();
+    const double od_ideal = render::ideal_overdraw(prepared.scene, image_views(prepared), &ideal).overdraw();
+    Image picture = render::overdraw_heatmap({{title("overpaint", od_over), &over},
+                                              {title(render::mode_name(other_mode), od_other), &other},
+                                              {title("ideal", od_ideal), &ideal}});
+    io::save_png(args.heatmap, picture.view());
+}
+
+void run_render(RenderArgs& args) {
+    if (args.output.empty() && args.heatmap.empty() && !args.compare)
+        throw CliError("render: nothing to do: give -o FRAME.png, --heatmap HEAT.png or --compare");
+    io::PreparedScene prepared = prepare_for_render(args.scene, args.input);
+    const SceneMeshes meshes = meshes_for(args.mode, prepared, args);
+    if (!args.heatmap.empty()) write_heatmap(prepared, meshes, args);
+    if (args.output.empty() && !args.compare) return;
+
+    auto renderer = open_renderer(args.input);
+    renderer->set_images(image_views(prepared), prepared.scene.filter);
+    renderer->set_meshes(meshes);
+    const render::FrameCounts counts = renderer->draw_counted();
+    const Image frame = renderer->read_pixels();
+    if (!args.output.empty()) io::save_png(args.output, frame.view());
+
+    const double pixels = double(prepared.scene.viewport.width) * double(prepared.scene.viewport.height);
+    const double ideal = render::ideal_overdraw(prepared.scene, image_views(prepared)).overdraw();
+    const double od = double(counts.samples_passed) / pixels;
+    std::fprintf(stderr, "depthcull: %s: %s: %" PRId64 " draw calls, %" PRId64 " triangles, overdraw %.3f (ideal %.3f, %.2fx), %s\n",
+                 args.scene.c_str(), render::mode_name(args.mode), counts.draw_calls, counts.triangles, od, ideal,
+                 ideal > 0 ? od / ideal : 0.0, renderer->description().c_str());
+    if (!args.compare) return;
+
+    const SceneMeshes overpaint = overpaint_meshes(prepared.scene);
+    renderer->set_meshes(overpaint);
+    renderer->draw();
+    const Image reference = renderer->read_pixels();
+    const render::ImageDiff diff = render::compare_images(reference.view(), frame.view());
+    const bool nearest = prepared.scene.filter == Filter::nearest;
+    if (diff.pixels_differ == 0) {
+        std::fprintf(stderr, "depthcull: %s: %s frame equals the overpaint frame pixel for pixel (RGBA, %s filtering)\n",
+                     args.scene.c_str(), render::mode_name(args.mode), nearest ? "nearest" : "linear");
+        return;
+    }
+    const render::DiffCauses causes = render::classify_differences(reference.view(), overpaint, frame.view(), meshes, &prepared.scene);
+    const std::string text = args.scene + ": " + render::mode_name(args.mode) + " frame differs from overpaint in " +
+                             std::to_string(diff.pixels_differ) + " pixels (largest channel difference " +
+                             std::to_string(diff.max_channel_diff) + "): " + std::to_string(causes.near_edges) +
+                             " within 1/64 pixel of a triangle or texel edge, where rounding decides coverage or texel, " +
+                             std::to_string(causes.elsewhere) + " elsewhere" + (nearest ? "" : " (linear filtering)");
+    // With nearest filtering a difference away from edges is a bug;
+    // bilinear filtering legitimately differs along polygon edges, so it is
+    // reported only.
+    if (nearest && causes.elsewhere > 0) throw CliError(text);
+    std::fprintf(stderr, "depthcull: %s\n", text.c_str());
+}
+
+} // namespace
+
+void add_render_command(CLI::App& app) {
+    auto args = std::make_shared<RenderArgs>();
+    auto* cmd = app.add_subcommand("render", "Draw a scene headlessly (EGL, OpenGL) and compare it with overpaint");
+    cmd->add_option("scene", args->scene, "Scene: .json (our format) or .tmx / .tmx.gz (Tiled)")->required();
+    cmd->add_option("--mode", args->mode, "overpaint (unoptimized), meshes (meshes only) or optimized (default)")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, render::Mode>{
+            {"overpaint", render::Mode::overpaint}, {"meshes", render::Mode::meshes}, {"optimized", render::Mode::optimized}}))
+        ->default_str("optimized");
+    cmd->add_option("-o,--output", args->output, "PNG of the frame (RGBA, viewport size)");
+    cmd->add_option("--heatmap", args->heatmap, "PNG of overdraw per pixel: overpaint | this mode | ideal, with a legend");
+    cmd->add_flag("--compare", args->compare,
+                  "Also draw overpaint and compare; with nearest filtering a difference away from triangle edges is an error (exit 1)");
+    add_render_input_options(*cmd, args->input);
+    cmd->callback([args] { run_render(*args); });
+}
+
+#else
+
+void add_render_command(CLI::App& app) {
+    auto* cmd = app.add_subcommand("render", "Draw a scene headlessly (not in this build)");
+    cmd->allow_extras();
+    cmd->callback([] { throw CliError("render: this depthcull was built without the renderer (DEPTHCULL_BUILD_RENDER=OFF)"); });
+}
+
+#endif
 
 } // namespace depthcull::cli

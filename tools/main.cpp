@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     depthcull::cli::add_render_command(app);
     depthcull::cli::add_bench_command(app);
     depthcull::cli::add_import_command(app);
+    depthcull::cli::add_atlas_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

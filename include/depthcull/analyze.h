@@ -87,6 +87,26 @@ std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, cons
 // Filter::linear).
 std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options);
 
+// How hard the opaque search worked (beyond the paper; for benchmarks and
+// diagnostics). The paper's search is exponential in the branching of the
+// segment graph (2.2.2; section 4, caveat 3), so each method stops searching
+// after a fixed amount of work (kPaperOpaqueWorkBudget, kFastOpaqueWorkBudget:
+// one unit per candidate quad plus one per texel or row it visits; the fast
+// search also charges 32 per heap pop) and keeps
+// the best polygons found so far; budget_exhausted then says so. Counting
+// work instead of time keeps the output deterministic.
+struct OpaqueSearchStats {
+    std::int64_t candidates = 0; // candidate polygons evaluated
+    std::int64_t work = 0;       // work units spent
+    bool budget_exhausted = false;
+};
+inline constexpr std::int64_t kPaperOpaqueWorkBudget = std::int64_t(4) << 30;
+inline constexpr std::int64_t kFastOpaqueWorkBudget = std::int64_t(1) << 26;
+
+// generate_opaque_polygons that also reports the search effort.
+std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options,
+                                              OpaqueSearchStats* stats);
+
 // Both stages plus the stats.
 ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options);
 

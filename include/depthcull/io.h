@@ -32,11 +32,23 @@ void write_file_atomic(const std::string& path, std::string_view bytes);
 
 // Scene loading, by extension: .json (our scene format), .tmx / .tmx.gz
 // (Tiled). Image sizes are filled in; images are not kept.
+// Tiled maps (src/io/tiled_map.cpp): orthogonal, isometric, staggered and
+// hexagonal; every layer encoding; external and gzipped tilesets; tile
+// objects and templates; drawn in Tiled's order. A tileset image with a
+// trans colour key is replaced by a keyed RGBA copy written once into
+// $XDG_CACHE_HOME/depthcull/keyed (default ~/.cache/depthcull/keyed).
 struct LoadOptions {
     bool has_viewport = false; // --viewport x,y,w,h
     Viewport viewport;
 };
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
+
+// Our scene JSON format, as load_scene reads it: viewport, filter, images
+// {id, path}, elements {image, rect, transform, color, blend}. Image paths
+// are written relative to the directory of `output_path` (the cwd when it
+// is empty or "-") when they can be, so the scene moves with its art.
+std::string scene_to_json_text(const Scene& scene, const std::string& output_path);
+void write_scene_json(const std::string& path, const Scene& scene); // atomic
 
 // ---- TexturePacker atlases (JSON hash and array forms)
 
@@ -69,6 +81,22 @@ struct FramePlacement {
 };
 FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>& sprite_transform);
 
+// Polygon export: the atlas JSON at `path` written back with TexturePacker's
+// polygon fields added to every frame, from analyze_image's boundary
+// polygons of the frame's texels: "vertices" (untrimmed sprite
+// coordinates, as TexturePacker writes them), "verticesUV" (page texels)
+// and "triangles" (index triples into both, by ear clipping). Every other
+// field is kept as read, in its order; fully transparent frames get empty
+// lists. Engines that read TexturePacker polygons (cocos2d-x, PixiJS,
+// Defold) then draw our tighter polygons.
+struct AtlasPolygonStats {
+    int frames = 0;
+    std::int64_t vertices = 0, triangles = 0;
+    double frame_area = 0;   // summed frame rects (what quads would draw)
+    double polygon_area = 0; // summed boundary polygon areas
+};
+std::string atlas_with_polygons(const std::string& path, const AnalyzeOptions& options, AtlasPolygonStats* stats = nullptr);
+
 // ---- The pipeline shared by optimize, render and bench
 
 struct PrepareOptions {
@@ -76,6 +104,10 @@ struct PrepareOptions {
     AnalyzeOptions analyze;
     std::string cache_dir;   // empty: no cache
     unsigned threads = 0;    // 0: all cores; output never depends on it
+    // Analyze for the scene's own Filter (Scene::filter); false keeps
+    // analyze.boundary.filter / analyze.opaque.filter as given (a CLI
+    // --filter override).
+    bool filter_from_scene = true;
 };
 
 struct PreparedScene {
@@ -90,5 +122,20 @@ struct PreparedScene {
 // Loads a scene (any load_scene format) and its images, and analyzes every
 // distinct (image, rect) the elements use, through the cache when given.
 PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options);
+
+// Where analyses are cached by default: $XDG_CACHE_HOME/depthcull/analysis, else
+// ~/.cache/depthcull/analysis; empty when neither can be found.
+std::string default_cache_dir();
+
+// ---- Optimized meshes out (docs/mesh-format.md)
+
+// The meshes JSON of `depthcull optimize`: viewport, images (ids, paths
+// relative to the directory of `output_path`), draws in drawing order,
+// stats. timing = false writes "seconds": 0 so outputs can be compared.
+std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
+void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing = true); // atomic
+// The same content in the compact little-endian binary form.
+std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
+void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing = true); // atomic
 
 } // namespace depthcull::io

@@ -87,6 +87,9 @@ struct SceneStats {
     std::int64_t triangles = 0;
     std::int64_t depth_levels = 0;  // distinct element depth values used
     std::int64_t graph_edges = 0;
+    // Bits a depth buffer needs to resolve every z this output uses (see
+    // depth_z); <= 16 fits a 16-bit buffer, never more than 24.
+    std::int64_t depth_bits = 0;
     double seconds = 0;
 };
 
@@ -114,6 +117,13 @@ struct ReconstructOptions {
     GraphMode graph = GraphMode::polygons;
     SortMethod sort = SortMethod::batch;
     bool opaque_polygons = true; // false: no opaque pass at all
+    // Depth levels kept free in front of the static scene for dynamic
+    // elements (add_dynamic_elements); beyond the paper.
+    std::int64_t reserved_dynamic_levels = 0;
+    // Drop elements entirely outside Scene::viewport (they draw no pixel in
+    // that frame). Off by default: engines usually scroll the camera over
+    // the meshes.
+    bool cull_to_viewport = false;
 };
 
 enum class ReconstructStatus {
@@ -131,6 +141,79 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
 // Table 2 "Meshes only": 2.3's sorting and batching with every element's
 // whole rect and no opaque polygons (no depth test).
 ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions& options, SceneMeshes* out);
+
+// ---- The stages of reconstruction, exposed for tests, tools and engines.
+
+// Paper 2.3: the element graph. Element i is in front of element j < i
+// when they overlap as drawn; behind(i) lists those j in ascending order.
+// Elements that draw nothing (empty boundary) have no edges.
+struct ElementGraph {
+    std::vector<std::uint32_t> offsets{0}; // size() + 1 entries
+    std::vector<std::uint32_t> targets;
+
+    std::size_t size() const { return offsets.size() - 1; }
+    std::size_t edge_count() const { return targets.size(); }
+    const std::uint32_t* behind_begin(std::size_t i) const { return targets.data() + offsets[i]; }
+    const std::uint32_t* behind_end(std::size_t i) const { return targets.data() + offsets[i + 1]; }
+    bool has_edge(std::size_t front, std::size_t back) const; // binary search
+};
+
+// Builds the graph with a uniform grid (broad phase) and a conservative
+// polygon overlap test (narrow phase); near-linear in practice. Null or
+// invalid analyses count as drawing nothing.
+ElementGraph build_element_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, GraphMode mode);
+
+// Paper 2.3.1: a drawing order (a permutation of element indices) that
+// never moves an element across one it overlaps. SortMethod::batch returns
+// the order with the fewest blend-pass draws among ours and (for scenes of
+// up to kPaperSortMaxElements) the paper's.
+inline constexpr std::size_t kPaperSortMaxElements = 4096;
+std::vector<std::uint32_t> sort_elements(const Scene& scene, const ElementGraph& graph, SortMethod method);
+// Draws a drawing order needs: runs of elements that share a mesh.
+std::int64_t count_batches(const Scene& scene, const std::vector<std::uint32_t>& order);
+// Elements that can share a mesh (paper's CanShareMesh): same image file
+// (image entries with equal paths share) and same blend mode.
+bool can_share_mesh(const Scene& scene, const Element& a, const Element& b);
+
+// Paper 2.3.2, by longest path: level[i] = 1 + max level of the elements i
+// is in front of (0 when none), so overlapping elements never share a
+// level and the range stays as small as the graph allows.
+std::vector<std::int64_t> assign_depth_levels(const ElementGraph& graph);
+
+// Depth mapping: with D = depth_denominator(total levels), an element at
+// level k draws its boundary polygons at z = (2k+1)/D and its opaque
+// polygons at z = (2k+2)/D (the paper's k + epsilon), larger z nearer,
+// GL_GREATER, cleared to 0. D is a power of two >= 2*levels + 2, at least
+// 256; every z is exact in a float, and neighbouring values are at least
+// 2^(bits-log2 D) units of a `bits`-bit depth buffer apart.
+inline constexpr std::int64_t kMaxDepthLevels = (std::int64_t(1) << 21) - 1;   // 24-bit buffer, 4 units apart
+inline constexpr std::int64_t kMaxDepthLevels16 = (std::int64_t(1) << 13) - 1; // 16-bit buffer, 4 units apart
+std::int64_t depth_denominator(std::int64_t levels);
+inline float depth_z(std::int64_t level, bool opaque, std::int64_t denominator) {
+    return float(double(2 * level + (opaque ? 2 : 1)) / double(denominator));
+}
+
+// Ear clipping (paper 2.3.3, Held's FIST ear conditions) of a simple
+// polygon, clockwise or not, with collinear vertices allowed: indices of
+// triangles into `polygon`. Exact for vertices on the texel grid.
+std::vector<std::uint32_t> triangulate_polygon(const Polygon& polygon);
+
+// ---- Dynamic elements (beyond the paper, section 4 caveat 2)
+//
+// Moving elements drawn on top of an optimized static scene, each frame.
+// The static scene is reconstructed with reserved_dynamic_levels = R; the
+// dynamic elements of a frame (at most R, in painter's order) take levels
+// static_levels .. static_levels + R - 1 in drawing order, so they are in
+// front of every static element and of each other as listed, with no graph
+// needed. Their opaque polygons join the opaque pass; their boundary
+// polygons are drawn after the static blend pass, consecutive elements that
+// share a mesh in one draw. R elements always fit (the depth mapping may
+// leave room for more); more than fit: too_many_depth_levels. `frame` gets
+// the dynamic opaque draws, then the static draws, then the dynamic blend
+// draws.
+ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const Scene& scene,
+                                       const std::vector<Element>& elements,
+                                       const std::vector<const ImageAnalysis*>& analyses, SceneMeshes* frame);
 
 // Overpaint (the unoptimized method, Table 2 "Unoptimized"): one draw per
 // element, its whole rect as two triangles, in painter's order, no depth.

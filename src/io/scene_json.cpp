@@ -1,6 +1,235 @@
-// STUB: replaced by the scene-format implementation (issue 4).
+// Our scene format (issue 4):
+//   { "viewport": {"x", "y", "width", "height"},   // x, y optional
+//     "filter": "nearest" | "linear",              // optional
+//     "images": [ {"id", "path"} | {"id", "atlas"} ],   // paths relative to the scene file
+//     "elements": [ {"image", "rect"?, "frame"?, "transform"?, "color"?, "blend"?} ] }
+// Unknown fields are ignored. Every bad value is an io::Error naming the
+// file and the element (or image) index; nothing is half-loaded.
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
 #include "io/formats.h"
 
 namespace depthcull::io {
-Scene load_scene_json(const std::string& path, const LoadOptions&) { throw Error(path + ": scene JSON not implemented yet"); }
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr std::size_t kMaxImages = 1 << 16;
+constexpr std::size_t kMaxElements = 1 << 24;
+
+struct Context {
+    std::string file;
+    std::string where; // "element 3: "
+    [[noreturn]] void fail(const std::string& what) const { throw Error(file + ": " + where + what); }
+};
+
+std::string resolve(const fs::path& base_dir, const std::string& p) {
+    fs::path path(p);
+    if (path.is_absolute() || base_dir.empty()) return path.lexically_normal().string();
+    return (base_dir / path).lexically_normal().string();
+}
+
+// Width and height from the PNG signature and IHDR chunk, without decoding.
+void png_size(const Context& ctx, const std::string& path, int* w, int* h) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) ctx.fail("cannot open image " + path + " (" + std::strerror(errno) + ")");
+    unsigned char b[24];
+    if (!in.read(reinterpret_cast<char*>(b), sizeof b) || std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0 || std::memcmp(b + 12, "IHDR", 4) != 0)
+        ctx.fail(path + " is not a PNG image");
+    auto be32 = [&](int o) { return (std::uint32_t(b[o]) << 24) | (std::uint32_t(b[o + 1]) << 16) | (std::uint32_t(b[o + 2]) << 8) | b[o + 3]; };
+    std::uint32_t pw = be32(16), ph = be32(20);
+    if (pw == 0 || ph == 0 || pw > std::uint32_t(kMaxImageSide) || ph > std::uint32_t(kMaxImageSide) ||
+        std::int64_t(pw) * ph > kMaxImageTexels)
+        ctx.fail(path + ": image size " + std::to_string(pw) + "x" + std::to_string(ph) + " is outside the supported 1.." +
+                 std::to_string(kMaxImageSide) + " per side");
+    *w = int(pw);
+    *h = int(ph);
+}
+
+double number(const Context& ctx, const json& v, const char* what) {
+    if (!v.is_number()) ctx.fail(std::string(what) + " must be a number");
+    double d = v.get<double>();
+    if (!std::isfinite(d)) ctx.fail(std::string(what) + " must be finite");
+    return d;
+}
+
+int integer(const Context& ctx, const json& v, const char* what) {
+    double d = number(ctx, v, what);
+    if (d != std::floor(d) || std::fabs(d) > double(1 << 30)) ctx.fail(std::string(what) + " must be an integer");
+    return int(d);
+}
+
+const std::string& string_field(const Context& ctx, const json& obj, const char* key) {
+    auto it = obj.find(key);
+    if (it == obj.end()) ctx.fail(std::string("missing \"") + key + "\"");
+    if (!it->is_string()) ctx.fail(std::string("\"") + key + "\" must be a string");
+    return it->get_ref<const std::string&>();
+}
+
+template <std::size_t N>
+std::array<double, N> number_array(const Context& ctx, const json& v, const char* key) {
+    if (!v.is_array() || v.size() != N) ctx.fail(std::string("\"") + key + "\" must be an array of " + std::to_string(N) + " numbers");
+    std::array<double, N> out{};
+    for (std::size_t i = 0; i < N; ++i) out[i] = number(ctx, v[i], key);
+    return out;
+}
+
+Viewport parse_viewport(const Context& ctx, const json& v) {
+    Context c = ctx;
+    c.where = "viewport: ";
+    if (!v.is_object()) c.fail("must be an object");
+    Viewport vp;
+    if (v.contains("x")) vp.x = number(c, v["x"], "x");
+    if (v.contains("y")) vp.y = number(c, v["y"], "y");
+    if (!v.contains("width") || !v.contains("height")) c.fail("needs \"width\" and \"height\"");
+    vp.width = integer(c, v["width"], "width");
+    vp.height = integer(c, v["height"], "height");
+    if (vp.width <= 0 || vp.height <= 0 || vp.width > kMaxImageSide || vp.height > kMaxImageSide)
+        c.fail("width and height must be 1.." + std::to_string(kMaxImageSide));
+    return vp;
+}
+
+Blend parse_blend(const Context& ctx, const json& v) {
+    static const std::map<std::string, Blend> names{
+        {"alpha", Blend::alpha}, {"add", Blend::add}, {"multiply", Blend::multiply}, {"opaque", Blend::opaque}};
+    if (!v.is_string()) ctx.fail("\"blend\" must be a string");
+    auto it = names.find(v.get<std::string>());
+    if (it == names.end()) ctx.fail("unknown blend \"" + v.get<std::string>() + "\" (expected alpha, add, multiply or opaque)");
+    return it->second;
+}
+
+struct ImageEntry {
+    bool is_atlas = false;
+    Atlas atlas;
+};
+
+Element parse_element(const Context& ctx, const json& v, const Scene& scene, const std::map<std::string, int>& ids,
+                      const std::vector<ImageEntry>& entries) {
+    if (!v.is_object()) ctx.fail("must be an object");
+    Element e;
+    const std::string& id = string_field(ctx, v, "image");
+    auto it = ids.find(id);
+    if (it == ids.end()) ctx.fail("unknown image id \"" + id + "\"");
+    e.image = it->second;
+    const SceneImage& img = scene.images[std::size_t(e.image)];
+    if (v.contains("transform")) {
+        e.transform = number_array<6>(ctx, v["transform"], "transform");
+        // Far beyond any screen, and keeps every product finite.
+        for (double t : e.transform)
+            if (std::fabs(t) > 1e9) ctx.fail("\"transform\" values must be within +-1e9");
+    }
+    if (v.contains("color")) {
+        auto c = number_array<4>(ctx, v["color"], "color");
+        for (std::size_t k = 0; k < 4; ++k) {
+            if (c[k] < 0 || c[k] > 1) ctx.fail("\"color\" components must be in 0..1");
+            e.color[k] = float(c[k]);
+        }
+    }
+    if (v.contains("blend")) e.blend = parse_blend(ctx, v["blend"]);
+    if (v.contains("frame")) {
+        const ImageEntry& entry = entries[std::size_t(e.image)];
+        if (!entry.is_atlas) ctx.fail("\"frame\" needs an atlas image, \"" + id + "\" is not one");
+        if (!v["frame"].is_string()) ctx.fail("\"frame\" must be a string");
+        const AtlasFrame* frame = entry.atlas.find(v["frame"].get<std::string>());
+        if (!frame) ctx.fail("atlas \"" + id + "\" has no frame \"" + v["frame"].get<std::string>() + "\"");
+        FramePlacement placed = place_frame(*frame, e.transform);
+        e.rect = placed.rect;
+        e.transform = placed.transform;
+    } else if (v.contains("rect")) {
+        const json& r = v["rect"];
+        if (!r.is_array() || r.size() != 4) ctx.fail("\"rect\" must be [x, y, w, h]");
+        e.rect = {integer(ctx, r[0], "rect"), integer(ctx, r[1], "rect"), integer(ctx, r[2], "rect"), integer(ctx, r[3], "rect")};
+        if (e.rect.w <= 0 || e.rect.h <= 0) ctx.fail("\"rect\" must have a positive size");
+    } else {
+        e.rect = {0, 0, img.width, img.height};
+    }
+    if (!ImageView{nullptr, img.width, img.height, 0}.contains(e.rect) || e.rect.empty())
+        ctx.fail("rect " + std::to_string(e.rect.x) + "," + std::to_string(e.rect.y) + "," + std::to_string(e.rect.w) + "," +
+                 std::to_string(e.rect.h) + " is outside the " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                 " image \"" + id + "\"");
+    return e;
+}
+
+// The elements' screen bounds, for scenes that name no viewport.
+Viewport bounding_viewport(const Scene& scene) {
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (const Element& e : scene.elements) {
+        for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), 0}, Vec2{0, double(e.rect.h)}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
+            Vec2 s = apply(e.transform, c);
+            x0 = std::min(x0, s.x), y0 = std::min(y0, s.y), x1 = std::max(x1, s.x), y1 = std::max(y1, s.y);
+        }
+    }
+    Viewport vp;
+    if (scene.elements.empty()) return {0, 0, 1, 1};
+    vp.x = std::floor(x0);
+    vp.y = std::floor(y0);
+    vp.width = int(std::clamp(std::ceil(x1) - vp.x, 1.0, double(kMaxImageSide)));
+    vp.height = int(std::clamp(std::ceil(y1) - vp.y, 1.0, double(kMaxImageSide)));
+    return vp;
+}
+
+} // namespace
+
+Scene load_scene_json(const std::string& path, const LoadOptions& options) {
+    Context ctx{path, ""};
+    json doc;
+    try {
+        doc = json::parse(read_file(path));
+    } catch (const json::parse_error& e) {
+        ctx.fail(std::string("not valid JSON (") + e.what() + ")");
+    }
+    if (!doc.is_object()) ctx.fail("expected a JSON object with \"images\" and \"elements\"");
+    const fs::path base = fs::path(path).parent_path();
+    Scene scene;
+    if (doc.contains("filter")) {
+        const json& f = doc["filter"];
+        if (f == "nearest") scene.filter = Filter::nearest;
+        else if (f == "linear") scene.filter = Filter::linear;
+        else ctx.fail("\"filter\" must be \"nearest\" or \"linear\"");
+    }
+
+    if (!doc.contains("images") || !doc["images"].is_array()) ctx.fail("missing \"images\" array");
+    if (!doc.contains("elements") || !doc["elements"].is_array()) ctx.fail("missing \"elements\" array");
+    const json& images = doc["images"];
+    const json& elements = doc["elements"];
+    if (images.size() > kMaxImages) ctx.fail("more than " + std::to_string(kMaxImages) + " images");
+    if (elements.size() > kMaxElements) ctx.fail("more than " + std::to_string(kMaxElements) + " elements");
+
+    std::map<std::string, int> ids;
+    std::vector<ImageEntry> entries(images.size());
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        Context c{path, "image " + std::to_string(i) + ": "};
+        const json& v = images[i];
+        if (!v.is_object()) c.fail("must be an object");
+        SceneImage img;
+        img.id = string_field(c, v, "id");
+        if (!ids.emplace(img.id, int(i)).second) c.fail("duplicate image id \"" + img.id + "\"");
+        if (v.contains("atlas")) {
+            entries[i].is_atlas = true;
+            entries[i].atlas = load_texturepacker(resolve(base, string_field(c, v, "atlas")));
+            img.path = entries[i].atlas.image_path;
+        } else {
+            img.path = resolve(base, string_field(c, v, "path"));
+        }
+        png_size(c, img.path, &img.width, &img.height);
+        scene.images.push_back(std::move(img));
+    }
+    scene.elements.reserve(elements.size());
+    for (std::size_t i = 0; i < elements.size(); ++i)
+        scene.elements.push_back(parse_element({path, "element " + std::to_string(i) + ": "}, elements[i], scene, ids, entries));
+
+    if (options.has_viewport) scene.viewport = options.viewport;
+    else if (doc.contains("viewport")) scene.viewport = parse_viewport(ctx, doc["viewport"]);
+    else scene.viewport = bounding_viewport(scene);
+    return scene;
+}
+
 } // namespace depthcull::io

@@ -1,10 +1,31 @@
-// STUB (to be replaced by paper 2.2 and the fast algorithm).
-#include "depthcull/analyze.h"
+// Paper 2.2: opaque polygon generation, the public entry point. The two
+// searches live in paper_quad_search.cpp (the paper, the reference) and
+// fast_search.cpp (ours, the default); both run against the same mask of
+// texels an opaque polygon may touch (opaque_segments.cpp: safe_mask).
+#include <algorithm>
+
+#include "opaque/opaque_internal.h"
 
 namespace depthcull {
 
-std::vector<Polygon> generate_opaque_polygons(ImageView, Rect, const OpaqueOptions&) { return {}; }
-std::int64_t count_opaque_violations(ImageView, Rect, const std::vector<Polygon>&, Filter) { return 0; }
-std::int64_t count_covered_opaque_texels(ImageView, Rect, const std::vector<Polygon>&) { return 0; }
+std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options,
+                                              OpaqueSearchStats* stats) {
+    using namespace opaque_detail;
+    std::vector<Polygon> result;
+    if (stats) *stats = {};
+    if (rect.empty() || !image.contains(rect) || options.max_polygons <= 0) return result;
+    Mask safe = safe_mask(image, rect, options.filter);
+    SearchCounters counters;
+    std::vector<HalfPolygon> polygons = options.method == OpaqueMethod::paper
+                                            ? paper_opaque_polygons(safe, options, counters)
+                                            : fast_opaque_polygons(safe, options, counters);
+    for (const auto& p : polygons) result.push_back(to_polygon(p, rect));
+    if (stats) *stats = {counters.candidates, counters.work, counters.budget_exhausted};
+    return result;
+}
+
+std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options) {
+    return generate_opaque_polygons(image, rect, options, nullptr);
+}
 
 } // namespace depthcull

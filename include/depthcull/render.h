@@ -1,0 +1,223 @@
+// depthcull: drawing scenes and measuring them (paper 3, Table 2).
+//
+// Two halves. The analyzers (no GL, usable anywhere) count what a renderer
+// must shade: analyze_overdraw rasterizes a SceneMeshes on the CPU with the
+// depth test, like meshoptimizer's overdraw analyzer; ideal_overdraw counts,
+// per pixel, only the elements that must be shaded there at all. The GL
+// renderer draws a SceneMeshes headlessly (EGL, no window) and measures
+// draw calls, triangles, fragments passing the depth test (GL_SAMPLES_PASSED)
+// and time per frame.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "depthcull/image.h"
+#include "depthcull/scene.h"
+
+namespace depthcull::render {
+
+// GL failures after a context exists (shader compile, framebuffer
+// incomplete, texture too large): one-line messages.
+struct Error : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// ---- Analyzers (CPU only)
+
+// Per-pixel fragment counts of one frame, row-major, row 0 at the top of
+// the viewport.
+struct OverdrawMap {
+    int width = 0, height = 0;
+    std::vector<std::uint32_t> counts;
+};
+
+// Best case: shaded == ideal_overdraw's shaded (every shaded fragment is
+// needed); overdraw() == 1.0 for a scene that covers every pixel once.
+struct OverdrawStats {
+    std::int64_t pixels = 0;  // viewport pixels
+    std::int64_t shaded = 0;  // fragments that passed the depth test
+    double overdraw() const { return pixels ? double(shaded) / double(pixels) : 0.0; }
+};
+
+// Rasterizes every triangle the way GL does (pixel centres, a tie-breaking
+// fill rule so shared edges shade once, vertices snapped to 1/256 pixel,
+// 24-bit depth, GL_GREATER with depth writes in Pass::opaque draws when
+// meshes.depth_test) and counts fragments that pass. Matches
+// GL_SAMPLES_PASSED exactly on llvmpipe (tested in tests/render).
+OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map = nullptr);
+
+// The lower limit: per pixel, walk the elements front to back and count
+// those whose sampled texel (nearest, at the pixel centre) is not
+// transparent, down to and including the first that is fully opaque there
+// (texel alpha 255 with Blend::alpha and colour alpha 1, or Blend::opaque).
+// images[i] holds Scene::images[i]'s texels.
+OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map = nullptr);
+
+// ---- Comparing frames
+
+struct ImageDiff {
+    int max_channel_diff = 0;      // largest |a - b| over R, G, B, A
+    std::int64_t pixels_differ = 0; // pixels where any channel differs
+    bool same_size = true;
+};
+ImageDiff compare_images(ImageView a, ImageView b);
+
+// Where frames of the same scene drawn from different meshes may honestly
+// differ. Coverage: GL snaps vertices to 1/256 pixel, so two
+// triangulations whose edges lie on the same line (an element's rect edge
+// in overpaint, a boundary polygon edge along it when optimized) can
+// disagree about a pixel centre within about 1/512 pixel of that line.
+// Sampling: vertices are floats (at x = 600 a float is good to 1/16000
+// pixel), so the texel position two triangulations compute for one pixel
+// differs in the last bits, and a centre that close to a texel edge may
+// show either texel. Pixels within `tolerance` of a triangle edge of
+// either meshes, or (when `scene` is given) of a texel edge of an element
+// whose rect holds the centre, count as near_edges; any other difference
+// is a real one.
+struct DiffCauses {
+    std::int64_t near_edges = 0; // explained by rounding, as above
+    std::int64_t elsewhere = 0;  // real differences
+};
+inline constexpr double kEdgeTolerance = 1.0 / 64;
+DiffCauses classify_differences(ImageView a, const SceneMeshes& meshes_a, ImageView b, const SceneMeshes& meshes_b,
+                                const Scene* scene = nullptr, double tolerance = kEdgeTolerance);
+
+// ---- Pictures
+
+struct HeatmapPanel {
+    std::string title;  // drawn above the panel (A-Z, 0-9, a few signs)
+    const OverdrawMap* map = nullptr;
+};
+// Panels side by side, each pixel coloured by its count on one ramp shared
+// by all panels (0 black, 1 blue ... hot = many), with a legend of every
+// count up to the largest and each panel's overdraw in its title.
+Image overdraw_heatmap(const std::vector<HeatmapPanel>& panels);
+
+// ---- The GL renderer
+
+enum class GlPlatform {
+    automatic,   // a hardware EGL device if there is one, else Mesa surfaceless, else any EGL device
+    surfaceless, // EGL_PLATFORM_SURFACELESS_MESA only
+    device,      // EGL_PLATFORM_DEVICE_EXT only (eglQueryDevicesEXT)
+};
+
+struct GlOptions {
+    GlPlatform platform = GlPlatform::automatic;
+};
+
+struct FrameCounts {
+    std::int64_t draw_calls = 0;      // draws with at least one triangle
+    std::int64_t triangles = 0;
+    std::int64_t samples_passed = 0;  // GL_SAMPLES_PASSED over the frame
+};
+
+// One EGL context with an offscreen framebuffer (RGBA8 + DEPTH_COMPONENT24)
+// the size of the meshes' viewport. Use each from one thread; several on
+// one thread are fine (each makes its context current before GL calls).
+class GlRenderer {
+public:
+    // nullptr and *error set when no context can be made ("no OpenGL
+    // context: ...", e.g. no Mesa/EGL driver installed; callers skip or
+    // exit on this) or the shaders do not build ("no usable OpenGL: ...",
+    // a bug to report, not to skip).
+    static std::unique_ptr<GlRenderer> create(const GlOptions& options, std::string* error);
+    ~GlRenderer();
+    GlRenderer(const GlRenderer&) = delete;
+    GlRenderer& operator=(const GlRenderer&) = delete;
+
+    // "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6, EGL surfaceless"
+    const std::string& description() const;
+    // True when the GL renderer is a software rasterizer (llvmpipe, softpipe).
+    bool is_software() const;
+
+    // One texture per scene image, sampled with `filter`, clamped to edge.
+    // Texel positions come from each triangle's exact window-to-texel map,
+    // not from float-interpolated u, v, so the texel a pixel shows does not
+    // depend on how its element was triangulated; with nearest filtering a
+    // pixel centre exactly on a texel edge takes the texel on the side the
+    // fill rule gives the pixel to (see gl_renderer.cpp).
+    void set_images(const std::vector<ImageView>& images, Filter filter);
+    // Uploads the meshes once (one vertex buffer, triangles unindexed since
+    // each carries its texel map) and sizes the framebuffer to
+    // meshes.viewport. Draws name images by index.
+    void set_meshes(const SceneMeshes& meshes);
+    // Several meshes at once (all with the same viewport size), so a
+    // benchmark can alternate between them frame by frame: add_meshes
+    // uploads and returns a slot, select_meshes makes it the one drawn.
+    // set_meshes = forget all, add, select.
+    int add_meshes(const SceneMeshes& meshes);
+    void select_meshes(int slot);
+
+    // Clears and draws one frame; does not wait for the GPU.
+    void draw();
+    // draw() inside a GL_SAMPLES_PASSED query.
+    FrameCounts draw_counted();
+    // The last frame, RGBA8, row 0 at the top of the viewport.
+    Image read_pixels();
+    // One frame drawn and waited for (glFinish), in ms.
+    double time_frame();
+    // Each of `frames` frames drawn and waited for (glFinish), in ms, after
+    // `warmup` untimed frames.
+    std::vector<double> time_frames(int frames, int warmup);
+
+private:
+    struct Impl;
+    explicit GlRenderer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+// ---- Table 2: one scene drawn the three ways
+
+enum class Mode {
+    overpaint, // Table 2 "Unoptimized": overpaint_meshes
+    meshes,    // Table 2 "Meshes only": rectangle_meshes
+    optimized, // Table 2 "Fully optimized": reconstruct_scene
+};
+const char* mode_name(Mode mode); // "overpaint", "meshes", "optimized"
+
+// The meshes a mode draws. analyses: per element, as reconstruct_scene
+// takes them (only `optimized` reads them).
+ReconstructStatus build_meshes(Mode mode, const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
+                               const ReconstructOptions& options, SceneMeshes* out);
+
+struct ModeMeasurement {
+    Mode mode = Mode::overpaint;
+    FrameCounts counts;          // draw calls, triangles, GL_SAMPLES_PASSED
+    double overdraw = 0;         // samples passed / viewport pixels (Table 2 "OD")
+    double cpu_overdraw = 0;     // analyze_overdraw's figure, for comparison
+    double ms_median = 0;        // per frame, glFinish-synchronized
+    double ms_min = 0;
+    ImageDiff diff;              // this frame against the overpaint frame
+    DiffCauses causes;           // diff.pixels_differ split by cause
+    Image frame;                 // kept when asked (MeasureOptions::keep_frames)
+    OverdrawMap map;             // CPU per-pixel counts when asked
+};
+
+struct SceneMeasurement {
+    int width = 0, height = 0;
+    double ideal_overdraw = 0;   // ideal_overdraw(...).overdraw()
+    OverdrawMap ideal_map;       // when asked
+    std::vector<ModeMeasurement> modes;
+};
+
+struct MeasureOptions {
+    std::vector<Mode> modes{Mode::overpaint, Mode::meshes, Mode::optimized};
+    int frames = 20;             // timed frames per mode; 0: no timing
+    int warmup = 3;
+    bool keep_frames = false;
+    bool keep_maps = false;      // per-pixel counts for heatmaps
+    ReconstructOptions reconstruct;
+};
+
+// Draws `scene` in every mode of options.modes (overpaint is always drawn
+// first, as the reference the others are compared to; it is reported
+// only when asked for). images[i] holds Scene::images[i]. Throws Error
+// when a mode's meshes cannot be built.
+SceneMeasurement measure_scene(GlRenderer& renderer, const Scene& scene, const std::vector<ImageView>& images,
+                               const std::vector<const ImageAnalysis*>& analyses, const MeasureOptions& options);
+
+} // namespace depthcull::render

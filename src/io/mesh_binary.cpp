@@ -1,0 +1,68 @@
+// The compact binary meshes form (docs/mesh-format.md): everything the
+// JSON holds, little-endian, vertex and index arrays ready to upload.
+#include <bit>
+#include <cstring>
+
+#include "depthcull/io.h"
+#include "io/mesh_common.h"
+
+namespace depthcull::io {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the binary mesh writer assumes a little-endian host");
+
+struct Out {
+    std::string bytes;
+    template <class T>
+    void put(const T& v) { bytes.append(reinterpret_cast<const char*>(&v), sizeof v); }
+    void str(const std::string& s) {
+        put(std::uint32_t(s.size()));
+        bytes += s;
+    }
+    void pad4() {
+        while (bytes.size() % 4) bytes += '\0';
+    }
+};
+
+} // namespace
+
+std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+    Out o;
+    o.bytes.append("DCMESH\0\0", 8);
+    o.put(std::uint32_t(1)); // format version
+    o.put(std::uint32_t(meshes.depth_test ? 1 : 0));
+    o.put(meshes.viewport.x);
+    o.put(meshes.viewport.y);
+    o.put(std::int32_t(meshes.viewport.width));
+    o.put(std::int32_t(meshes.viewport.height));
+    o.put(std::uint32_t(scene.images.size()));
+    o.put(std::uint32_t(meshes.draws.size()));
+    const SceneStats& st = meshes.stats;
+    for (std::int64_t v : {st.elements, st.draw_calls, st.triangles, st.depth_levels, st.depth_bits, st.graph_edges}) o.put(v);
+    o.put(timing ? st.seconds : 0.0);
+    for (const SceneImage& img : scene.images) {
+        o.str(img.id);
+        o.str(output_relative_path(img.path, output_path));
+        o.pad4();
+        o.put(std::int32_t(img.width));
+        o.put(std::int32_t(img.height));
+    }
+    for (const Draw& d : meshes.draws) {
+        o.put(std::uint32_t(d.image));
+        o.put(std::uint8_t(d.pass == Pass::opaque ? 0 : 1));
+        o.put(std::uint8_t(d.blend));
+        o.put(std::uint16_t(0));
+        o.put(std::uint32_t(d.vertex_count()));
+        o.put(std::uint32_t(d.indices.size()));
+        o.bytes.append(reinterpret_cast<const char*>(d.vertices.data()), d.vertices.size() * sizeof(float));
+        o.bytes.append(reinterpret_cast<const char*>(d.indices.data()), d.indices.size() * sizeof(std::uint32_t));
+    }
+    return std::move(o.bytes);
+}
+
+void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {
+    write_file_atomic(path, meshes_to_binary(scene, meshes, path, timing));
+}
+
+} // namespace depthcull::io

@@ -1,0 +1,134 @@
+// The meshes JSON written by `depthcull optimize` (docs/mesh-format.md).
+// Written by hand rather than through a JSON DOM: a 100k-element scene has
+// millions of floats, and std::to_chars gives the shortest text that reads
+// back as the same float, deterministically.
+#include <charconv>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "depthcull/io.h"
+#include "io/mesh_common.h"
+
+namespace depthcull::io {
+
+namespace {
+
+void append_float(std::string& s, float v) {
+    char buf[32];
+    if (v == 0) v = 0; // no "-0"
+    auto r = std::to_chars(buf, buf + sizeof buf, v);
+    s.append(buf, r.ptr);
+}
+
+void append_double(std::string& s, double v) {
+    char buf[32];
+    if (v == 0) v = 0;
+    auto r = std::to_chars(buf, buf + sizeof buf, v);
+    s.append(buf, r.ptr);
+}
+
+void append_int(std::string& s, std::int64_t v) {
+    char buf[24];
+    auto r = std::to_chars(buf, buf + sizeof buf, v);
+    s.append(buf, r.ptr);
+}
+
+void append_string(std::string& s, const std::string& v) { s += nlohmann::json(v).dump(); }
+
+} // namespace
+
+std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+    std::string s;
+    s += "{\"viewport\": {\"x\": ";
+    append_double(s, meshes.viewport.x);
+    s += ", \"y\": ";
+    append_double(s, meshes.viewport.y);
+    s += ", \"width\": ";
+    append_int(s, meshes.viewport.width);
+    s += ", \"height\": ";
+    append_int(s, meshes.viewport.height);
+    s += "},\n \"depth_test\": ";
+    s += meshes.depth_test ? "true" : "false";
+    s += ",\n \"images\": [";
+    for (std::size_t i = 0; i < scene.images.size(); ++i) {
+        const SceneImage& img = scene.images[i];
+        s += i ? ",\n  " : "\n  ";
+        s += "{\"id\": ";
+        append_string(s, img.id);
+        s += ", \"path\": ";
+        append_string(s, output_relative_path(img.path, output_path));
+        s += ", \"width\": ";
+        append_int(s, img.width);
+        s += ", \"height\": ";
+        append_int(s, img.height);
+        s += "}";
+    }
+    s += "],\n \"draws\": [";
+    for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
+        const Draw& draw = meshes.draws[d];
+        s += d ? ",\n  " : "\n  ";
+        s += "{\"image\": ";
+        append_string(s, scene.images[std::size_t(draw.image)].id);
+        s += ", \"pass\": ";
+        s += draw.pass == Pass::opaque ? "\"opaque\"" : "\"blend\"";
+        s += ", \"blend\": \"";
+        s += blend_name(draw.blend);
+        s += "\",\n   \"vertices\": [";
+        for (std::size_t k = 0; k < draw.vertices.size(); ++k) {
+            if (k) s += k % kVertexFloats ? "," : ", ";
+            append_float(s, draw.vertices[k]);
+        }
+        s += "],\n   \"indices\": [";
+        for (std::size_t k = 0; k < draw.indices.size(); ++k) {
+            if (k) s += ",";
+            append_int(s, draw.indices[k]);
+        }
+        s += "]}";
+    }
+    const SceneStats& st = meshes.stats;
+    s += "],\n \"stats\": {\"elements\": ";
+    append_int(s, st.elements);
+    s += ", \"draw_calls\": ";
+    append_int(s, st.draw_calls);
+    s += ", \"triangles\": ";
+    append_int(s, st.triangles);
+    s += ", \"depth_levels\": ";
+    append_int(s, st.depth_levels);
+    s += ", \"depth_bits\": ";
+    append_int(s, st.depth_bits);
+    s += ", \"graph_edges\": ";
+    append_int(s, st.graph_edges);
+    s += ", \"seconds\": ";
+    append_double(s, timing ? st.seconds : 0.0);
+    s += "}}\n";
+    return s;
+}
+
+void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {
+    write_file_atomic(path, meshes_to_json(scene, meshes, path, timing));
+}
+
+std::string output_relative_path(const std::string& image_path, const std::string& output_path) {
+    namespace fs = std::filesystem;
+    if (output_path.empty() || output_path == "-") return image_path;
+    std::error_code ec;
+    fs::path base = fs::absolute(fs::path(output_path), ec).parent_path();
+    if (ec) return image_path;
+    fs::path target = fs::absolute(fs::path(image_path), ec);
+    if (ec) return image_path;
+    fs::path rel = target.lexically_normal().lexically_relative(base.lexically_normal());
+    return rel.empty() ? image_path : rel.generic_string();
+}
+
+const char* blend_name(Blend b) {
+    switch (b) {
+    case Blend::alpha: return "alpha";
+    case Blend::add: return "add";
+    case Blend::multiply: return "multiply";
+    case Blend::opaque: return "opaque";
+    }
+    return "alpha";
+}
+
+} // namespace depthcull::io

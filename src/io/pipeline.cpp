@@ -1,0 +1,129 @@
+// io::prepare_scene: the pipeline shared by optimize, render and bench.
+// Loads the scene, decodes each image file once, and analyzes each distinct
+// (image file, rect) once, on threads, through the cache when one is set.
+// Work is split by index and results stored by index, so the output never
+// depends on the thread count or timing.
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <tuple>
+
+#include "depthcull/io.h"
+#include "io/cache.h"
+
+namespace depthcull::io {
+
+namespace {
+
+void run_parallel(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    threads = unsigned(std::min<std::size_t>(threads, n));
+    if (threads <= 1) {
+        for (std::size_t i = 0; i < n; ++i) fn(i);
+        return;
+    }
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    std::exception_ptr error;
+    std::size_t error_index = n;
+    std::mutex error_mutex;
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < threads; ++t) {
+        pool.emplace_back([&] {
+            for (std::size_t i; !failed && (i = next.fetch_add(1)) < n;) {
+                try {
+                    fn(i);
+                } catch (...) {
+                    // Keep the lowest index's error, as a serial run reports.
+                    std::lock_guard lock(error_mutex);
+                    if (i < error_index) {
+                        error_index = i;
+                        error = std::current_exception();
+                    }
+                    failed = true;
+                }
+            }
+        });
+    }
+    for (auto& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+}
+
+} // namespace
+
+PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    PreparedScene out;
+    out.scene = load_scene(path, options.load);
+    Scene& scene = out.scene;
+
+    AnalyzeOptions analyze = options.analyze;
+    if (options.filter_from_scene) {
+        analyze.boundary.filter = scene.filter;
+        analyze.opaque.filter = scene.filter;
+    }
+
+    // Decode each file once; image entries naming the same file share it.
+    std::map<std::string, std::size_t> first_with_path;
+    std::vector<std::size_t> canon(scene.images.size());
+    std::vector<std::size_t> to_decode;
+    for (std::size_t i = 0; i < scene.images.size(); ++i) {
+        auto [it, fresh] = first_with_path.emplace(scene.images[i].path, i);
+        canon[i] = it->second;
+        if (fresh) to_decode.push_back(i);
+    }
+    out.images.resize(scene.images.size());
+    run_parallel(to_decode.size(), options.threads, [&](std::size_t k) {
+        std::size_t i = to_decode[k];
+        const SceneImage& img = scene.images[i];
+        out.images[i] = load_png(img.path);
+        if (out.images[i].width != img.width || out.images[i].height != img.height)
+            throw Error(path + ": image " + std::to_string(i) + " \"" + img.id + "\": " + img.path + " is " +
+                        std::to_string(out.images[i].width) + "x" + std::to_string(out.images[i].height) + ", expected " +
+                        std::to_string(img.width) + "x" + std::to_string(img.height));
+    });
+    for (std::size_t i = 0; i < scene.images.size(); ++i)
+        if (canon[i] != i) out.images[i] = out.images[canon[i]];
+
+    // Distinct (file, rect) in order of first use: deterministic indices.
+    std::map<std::tuple<std::size_t, int, int, int, int>, std::size_t> distinct;
+    std::vector<std::size_t> element_slot(scene.elements.size());
+    std::vector<std::pair<std::size_t, Rect>> work;
+    for (std::size_t i = 0; i < scene.elements.size(); ++i) {
+        const Element& e = scene.elements[i];
+        std::size_t file = canon[std::size_t(e.image)];
+        auto [it, fresh] = distinct.emplace(std::make_tuple(file, e.rect.x, e.rect.y, e.rect.w, e.rect.h), work.size());
+        if (fresh) work.push_back({file, e.rect});
+        element_slot[i] = it->second;
+    }
+    out.analyses.resize(work.size());
+    std::vector<std::uint8_t> hit(work.size(), 0);
+    run_parallel(work.size(), options.threads, [&](std::size_t k) {
+        ImageView view = out.images[work[k].first].view();
+        const Rect rect = work[k].second;
+        if (!options.cache_dir.empty()) {
+            CacheKey key = analysis_key(view, rect, analyze);
+            if (auto cached = cache_load(options.cache_dir, key, rect)) {
+                out.analyses[k] = std::move(*cached);
+                hit[k] = 1;
+                return;
+            }
+            out.analyses[k] = analyze_image(view, rect, analyze);
+            cache_store(options.cache_dir, key, out.analyses[k]);
+        } else {
+            out.analyses[k] = analyze_image(view, rect, analyze);
+        }
+    });
+    out.element_analysis.resize(scene.elements.size());
+    for (std::size_t i = 0; i < scene.elements.size(); ++i) out.element_analysis[i] = &out.analyses[element_slot[i]];
+    for (std::uint8_t h : hit) out.cache_hits += h;
+    out.analyzed = int(work.size()) - out.cache_hits;
+    out.analysis_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+}
+
+} // namespace depthcull::io

@@ -1,0 +1,119 @@
+// Writes a Scene in our scene JSON format (read by scene_json.cpp):
+//   { "viewport": {"x", "y", "width", "height"}, "filter": "nearest",
+//     "images": [{"id", "path"}],
+//     "elements": [{"image": id, "rect": [x,y,w,h], "transform": [a,b,c,d,e,f],
+//                   "color": [r,g,b,a], "blend": "alpha"}] }
+// Output is deterministic: fixed key order, shortest round-trip numbers,
+// integral values written as integers.
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "depthcull/io.h"
+
+namespace fs = std::filesystem;
+
+namespace depthcull::io {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json number(double v) {
+    if (v == 0) return 0; // no "-0"
+    if (std::abs(v) < 9.0e15 && v == std::floor(v)) return std::int64_t(v);
+    return v;
+}
+
+// A float as the double its shortest decimal form reads back as, so 0.3f
+// is written "0.3", not "0.30000001192092896".
+Json number(float v) {
+    char text[32];
+    auto [end, ec] = std::to_chars(text, text + sizeof text, v);
+    double d = 0;
+    std::from_chars(text, end, d);
+    return number(d);
+}
+
+const char* blend_name(Blend b) {
+    switch (b) {
+    case Blend::alpha: return "alpha";
+    case Blend::add: return "add";
+    case Blend::multiply: return "multiply";
+    case Blend::opaque: return "opaque";
+    }
+    return "alpha";
+}
+
+std::string portable_path(const std::string& image_path, const fs::path& base_dir) {
+    std::error_code ec;
+    fs::path image = fs::absolute(image_path, ec).lexically_normal();
+    if (ec) return image_path;
+    // Relative only when the two share a directory below the root: a path
+    // climbing to "/" and down again breaks as soon as either moves.
+    auto a = image.begin(), b = base_dir.begin();
+    int shared = 0;
+    while (a != image.end() && b != base_dir.end() && *a == *b) ++a, ++b, ++shared;
+    fs::path rel = image.lexically_relative(base_dir);
+    if (rel.empty() || shared < 2) return image.generic_string();
+    return rel.generic_string();
+}
+
+} // namespace
+
+std::string scene_to_json_text(const Scene& scene, const std::string& output_path) {
+    std::error_code ec;
+    fs::path out_dir = output_path.empty() || output_path == "-" ? fs::path(".") : fs::path(output_path).parent_path();
+    if (out_dir.empty()) out_dir = ".";
+    fs::path base = fs::absolute(out_dir, ec).lexically_normal();
+
+    Json doc;
+    doc["viewport"] = {{"x", number(scene.viewport.x)},
+                       {"y", number(scene.viewport.y)},
+                       {"width", scene.viewport.width},
+                       {"height", scene.viewport.height}};
+    doc["filter"] = scene.filter == Filter::linear ? "linear" : "nearest";
+    Json images = Json::array();
+    for (const SceneImage& image : scene.images) images.push_back({{"id", image.id}, {"path", portable_path(image.path, base)}});
+    doc["images"] = std::move(images);
+    Json elements = Json::array();
+    for (std::size_t i = 0; i < scene.elements.size(); ++i) {
+        const Element& e = scene.elements[i];
+        if (e.image < 0 || std::size_t(e.image) >= scene.images.size())
+            throw Error(output_path + ": element " + std::to_string(i) + " names image " + std::to_string(e.image) +
+                        " of " + std::to_string(scene.images.size()));
+        Json transform = Json::array();
+        for (double v : e.transform) transform.push_back(number(v));
+        Json color = Json::array();
+        for (float v : e.color) color.push_back(number(v));
+        elements.push_back({{"image", scene.images[std::size_t(e.image)].id},
+                            {"rect", {e.rect.x, e.rect.y, e.rect.w, e.rect.h}},
+                            {"transform", std::move(transform)},
+                            {"color", std::move(color)},
+                            {"blend", blend_name(e.blend)}});
+    }
+    doc["elements"] = std::move(elements);
+    // One element per line: readable diffs, and far smaller than dump(2).
+    std::string text = "{\n";
+    bool first = true;
+    for (auto& [key, value] : doc.items()) {
+        text += first ? "  " : ",\n  ";
+        first = false;
+        text += Json(key).dump() + ": ";
+        if (value.is_array() && !value.empty()) {
+            text += "[\n";
+            for (std::size_t i = 0; i < value.size(); ++i) text += "    " + value[i].dump() + (i + 1 < value.size() ? ",\n" : "\n");
+            text += "  ]";
+        } else {
+            text += value.dump();
+        }
+    }
+    text += "\n}\n";
+    return text;
+}
+
+void write_scene_json(const std::string& path, const Scene& scene) { write_file_atomic(path, scene_to_json_text(scene, path)); }
+
+} // namespace depthcull::io

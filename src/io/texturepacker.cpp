@@ -1,0 +1,190 @@
+// TexturePacker JSON atlases, hash form {"frames": {"name": {...}}} and
+// array form {"frames": [{"filename": "name", ...}]}, and the placement of
+// a frame's texels so an element draws the untrimmed sprite.
+//
+// Conventions (TexturePacker's, as PixiJS and Phaser read them):
+// - "frame" {x, y, w, h}: w and h are the trimmed sprite's size UNROTATED;
+//   a rotated frame occupies h x w texels of the page at (x, y).
+// - "rotated": the sprite is stored turned 90 degrees clockwise, so sprite
+//   texel (u, v) (u < w, v < h) sits at page (x + h - v, y + u) (continuous
+//   coordinates: the sprite's top-left corner is the stored top-right one).
+// - "spriteSourceSize" {x, y}: where the trimmed sprite's top-left lies in
+//   the untrimmed sprite of "sourceSize" {w, h}.
+// Multipack files with a top-level "textures" list are refused (load each
+// page's own JSON); "meta.related_multi_packs" needs nothing: each page's
+// JSON stands alone.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "depthcull/io.h"
+
+namespace depthcull::io {
+
+namespace {
+
+// Ordered: "in file order" must hold for the hash form too.
+using Json = nlohmann::ordered_json;
+constexpr std::size_t kMaxFrames = 1'000'000;
+
+int int_field(const Json& obj, const char* key, const std::string& where, int min, int max, bool required = true,
+              int fallback = 0) {
+    auto it = obj.find(key);
+    if (it == obj.end()) {
+        if (required) throw Error(where + ": missing \"" + key + "\"");
+        return fallback;
+    }
+    // TexturePacker writes integers; accept integral floats ("12.0") too.
+    double v = it->is_number() ? it->get<double>() : 0.5;
+    if (!std::isfinite(v) || v != std::floor(v)) throw Error(where + ": \"" + key + "\" is not an integer");
+    if (v < min || v > max) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.15g", v);
+        throw Error(where + ": \"" + key + "\" = " + text + " is outside " + std::to_string(min) + ".." + std::to_string(max));
+    }
+    return int(v);
+}
+
+const Json& object_field(const Json& obj, const char* key, const std::string& where) {
+    auto it = obj.find(key);
+    if (it == obj.end() || !it->is_object()) throw Error(where + ": missing object \"" + key + "\"");
+    return *it;
+}
+
+bool bool_field(const Json& obj, const char* key, const std::string& where) {
+    auto it = obj.find(key);
+    if (it == obj.end() || it->is_null()) return false;
+    if (it->is_boolean()) return it->get<bool>();
+    if (it->is_number_integer()) return it->get<std::int64_t>() != 0;
+    throw Error(where + ": \"" + key + "\" is not a boolean");
+}
+
+AtlasFrame read_frame(const std::string& name, const Json& f, const std::string& where) {
+    if (!f.is_object()) throw Error(where + ": frame is not an object");
+    AtlasFrame frame;
+    frame.name = name;
+    const Json& r = object_field(f, "frame", where);
+    int x = int_field(r, "x", where + ": frame", 0, kMaxImageSide);
+    int y = int_field(r, "y", where + ": frame", 0, kMaxImageSide);
+    int w = int_field(r, "w", where + ": frame", 1, kMaxImageSide);
+    int h = int_field(r, "h", where + ": frame", 1, kMaxImageSide);
+    frame.rotated = bool_field(f, "rotated", where);
+    frame.trimmed = bool_field(f, "trimmed", where);
+    frame.frame = frame.rotated ? Rect{x, y, h, w} : Rect{x, y, w, h};
+    frame.sprite_source = {0, 0, w, h};
+    if (auto it = f.find("spriteSourceSize"); it != f.end()) {
+        const std::string here = where + ": spriteSourceSize";
+        if (!it->is_object()) throw Error(here + " is not an object");
+        frame.sprite_source.x = int_field(*it, "x", here, -kMaxImageSide, kMaxImageSide);
+        frame.sprite_source.y = int_field(*it, "y", here, -kMaxImageSide, kMaxImageSide);
+        int sw = int_field(*it, "w", here, 1, kMaxImageSide, false, w);
+        int sh = int_field(*it, "h", here, 1, kMaxImageSide, false, h);
+        if (sw != w || sh != h)
+            throw Error(here + ": size " + std::to_string(sw) + "x" + std::to_string(sh) + " differs from the frame's " +
+                        std::to_string(w) + "x" + std::to_string(h));
+    }
+    frame.source_w = w;
+    frame.source_h = h;
+    if (auto it = f.find("sourceSize"); it != f.end()) {
+        const std::string here = where + ": sourceSize";
+        if (!it->is_object()) throw Error(here + " is not an object");
+        frame.source_w = int_field(*it, "w", here, 1, kMaxImageSide);
+        frame.source_h = int_field(*it, "h", here, 1, kMaxImageSide);
+    }
+    const Rect& s = frame.sprite_source;
+    if (s.x < 0 || s.y < 0 || s.x + s.w > frame.source_w || s.y + s.h > frame.source_h)
+        throw Error(where + ": trimmed sprite at " + std::to_string(s.x) + "," + std::to_string(s.y) + " size " +
+                    std::to_string(s.w) + "x" + std::to_string(s.h) + " lies outside sourceSize " +
+                    std::to_string(frame.source_w) + "x" + std::to_string(frame.source_h));
+    return frame;
+}
+
+} // namespace
+
+const AtlasFrame* Atlas::find(const std::string& name) const {
+    for (const AtlasFrame& f : frames)
+        if (f.name == name) return &f;
+    return nullptr;
+}
+
+Atlas load_texturepacker(const std::string& path) {
+    std::string text = read_file(path);
+    Json doc;
+    try {
+        doc = Json::parse(text);
+    } catch (const Json::parse_error& e) {
+        std::string message = e.what();
+        if (auto pos = message.find("] "); pos != std::string::npos) message = message.substr(pos + 2);
+        throw Error(path + ": " + message);
+    }
+    if (!doc.is_object()) throw Error(path + ": not a TexturePacker atlas (top level is not an object)");
+    if (doc.contains("textures") && !doc.contains("frames"))
+        throw Error(path + ": multipack atlases (\"textures\") are not supported; load each page's JSON (hash or array form)");
+    auto frames = doc.find("frames");
+    if (frames == doc.end() || !(frames->is_object() || frames->is_array()))
+        throw Error(path + ": not a TexturePacker atlas (no \"frames\" object or array)");
+    if (frames->size() > kMaxFrames) throw Error(path + ": more than " + std::to_string(kMaxFrames) + " frames");
+
+    Atlas atlas;
+    atlas.path = path;
+    const Json meta = doc.contains("meta") && doc["meta"].is_object() ? doc["meta"] : Json::object();
+    auto image = meta.find("image");
+    if (image == meta.end() || !image->is_string() || image->get<std::string>().empty())
+        throw Error(path + ": meta.image (the atlas page) is missing");
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    atlas.image_path = (dir / image->get<std::string>()).lexically_normal().string();
+    if (auto size = meta.find("size"); size != meta.end() && size->is_object()) {
+        atlas.width = int_field(*size, "w", path + ": meta.size", 1, kMaxImageSide);
+        atlas.height = int_field(*size, "h", path + ": meta.size", 1, kMaxImageSide);
+    }
+
+    std::set<std::string> names;
+    auto add = [&](const std::string& name, const Json& f) {
+        std::string where = path + ": frame '" + name + "'";
+        if (!names.insert(name).second) throw Error(where + ": duplicate frame name");
+        AtlasFrame frame = read_frame(name, f, where);
+        const Rect& r = frame.frame;
+        if (atlas.width > 0 && (r.x + r.w > atlas.width || r.y + r.h > atlas.height))
+            throw Error(where + ": texels " + std::to_string(r.x) + "," + std::to_string(r.y) + " " + std::to_string(r.w) + "x" +
+                        std::to_string(r.h) + " lie outside the " + std::to_string(atlas.width) + "x" +
+                        std::to_string(atlas.height) + " page");
+        atlas.frames.push_back(std::move(frame));
+    };
+    if (frames->is_object()) {
+        for (const auto& [name, f] : frames->items()) add(name, f);
+    } else {
+        std::size_t index = 0;
+        for (const Json& f : *frames) {
+            auto name = f.is_object() ? f.find("filename") : f.end();
+            if (name == f.end() || !name->is_string())
+                throw Error(path + ": frame " + std::to_string(index) + ": missing \"filename\"");
+            add(name->get<std::string>(), f);
+            ++index;
+        }
+    }
+    return atlas;
+}
+
+FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>& t) {
+    // local: element texel (s, t) of the stored rect -> untrimmed sprite.
+    std::array<double, 6> local;
+    const double sx = frame.sprite_source.x, sy = frame.sprite_source.y;
+    if (frame.rotated) {
+        // Inverse of the clockwise storage turn: sprite (u, v) = (t, h - s)
+        // with h the sprite's height = the stored rect's width.
+        local = {0, -1, 1, 0, sx, sy + double(frame.frame.w)};
+    } else {
+        local = {1, 0, 0, 1, sx, sy};
+    }
+    FramePlacement p;
+    p.rect = frame.frame;
+    p.transform = {t[0] * local[0] + t[2] * local[1],        t[1] * local[0] + t[3] * local[1],
+                   t[0] * local[2] + t[2] * local[3],        t[1] * local[2] + t[3] * local[3],
+                   t[0] * local[4] + t[2] * local[5] + t[4], t[1] * local[4] + t[3] * local[5] + t[5]};
+    return p;
+}
+
+} // namespace depthcull::io

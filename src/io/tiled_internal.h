@@ -1,0 +1,159 @@
+// Internal: the pieces of the Tiled (.tmx) reader.
+//   tiled_data.cpp      layer data: CSV, XML, base64, zlib / gzip, chunks
+//   tiled_tilesets.cpp  tilesets (inline and .tsx), tile rects, images, trans keys
+//   tiled_layers.cpp    layers and objects -> elements, in Tiled's drawing order
+//   tiled_map.cpp       load_tiled_map: the map, its viewport and culling
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <pugixml.hpp>
+
+#include "depthcull/io.h"
+
+namespace depthcull::io::tiled {
+
+// Bounds that keep a hostile map from making us allocate without bound.
+inline constexpr std::int64_t kMaxCells = std::int64_t(1) << 24;    // per tile layer
+inline constexpr std::int64_t kMaxElements = 4'000'000;             // per scene
+inline constexpr int kMaxLayers = 10'000;
+inline constexpr int kMaxTilesets = 10'000;
+inline constexpr std::size_t kMaxXmlBytes = std::size_t(256) << 20; // after gunzip
+
+// The gid flag bits (Tiled's TMX format): the rest is the global tile id.
+inline constexpr std::uint32_t kFlipHorizontal = 0x80000000u;
+inline constexpr std::uint32_t kFlipVertical = 0x40000000u;
+inline constexpr std::uint32_t kFlipDiagonal = 0x20000000u;
+inline constexpr std::uint32_t kRotateHex120 = 0x10000000u;
+inline constexpr std::uint32_t kGidMask = 0x0fffffffu;
+
+// ---- tiled_data.cpp
+
+// An integer attribute; absent gives `fallback`, junk is an error.
+int int_attr(pugi::xml_node node, const char* name, int fallback, const std::string& where);
+
+// The file's bytes, gunzipped when it starts with the gzip magic (so
+// .tmx.gz and .tsx.gz need no special naming).
+std::string read_maybe_gzipped(const std::string& path);
+// zlib or gzip stream -> bytes; more than max_bytes is an error.
+std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where);
+std::vector<std::uint8_t> decode_base64(std::string_view text, const std::string& where);
+
+// A rectangle of cells, row-major; gid 0 is an empty cell.
+struct CellGrid {
+    int x0 = 0, y0 = 0, width = 0, height = 0;
+    std::vector<std::uint32_t> gids;
+};
+
+// The <data> of a tile layer. `where` prefixes errors ("map.tmx: layer 'x'").
+// Finite maps: a width x height grid. Infinite maps: the chunks merged into
+// their bounding grid.
+CellGrid read_layer_data(pugi::xml_node layer, int width, int height, bool infinite, const std::string& where);
+
+// ---- tiled_tilesets.cpp
+
+enum class Alignment { unspecified, topleft, top, topright, left, center, right, bottomleft, bottom, bottomright };
+
+// One tile as drawn: which image, which texels.
+struct Tile {
+    int image = -1; // index into Scene::images; -1: no such tile
+    Rect rect;
+};
+
+struct Tileset {
+    std::uint32_t firstgid = 0;
+    std::string name;
+    std::string source; // the external .tsx as resolved (resolve_tsx); empty when inline
+    int tile_width = 0, tile_height = 0; // the grid of an image tileset
+    double offset_x = 0, offset_y = 0;   // <tileoffset>
+    Alignment alignment = Alignment::unspecified;
+    bool render_grid_size = false;       // tilerendersize="grid": tiles scaled to the map's grid
+    std::vector<Tile> tiles;             // by local id (animations resolved to their first frame)
+};
+
+// Images shared by every tileset of the map: one SceneImage per distinct
+// (file, trans key).
+class ImageTable {
+public:
+    explicit ImageTable(std::vector<SceneImage>& images) : images_(images) {}
+    // `source` is the <image source> attribute, relative to `base_dir`.
+    int add(const std::string& base_dir, const std::string& source, const std::string& trans, const std::string& where);
+    int width(int index) const { return images_[std::size_t(index)].width; }
+    int height(int index) const { return images_[std::size_t(index)].height; }
+
+private:
+    std::vector<SceneImage>& images_;
+    std::map<std::string, int> by_key_;
+    std::set<std::string> ids_;
+};
+
+// An external tileset's path: `source` relative to `base_dir`, or its
+// gzipped twin when only that exists (Debian gzips example tilesets).
+std::string resolve_tsx(const std::string& base_dir, const std::string& source);
+
+// All <tileset> children of the map, sorted by firstgid.
+std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images);
+
+// The tileset and local tile of a gid (flags masked off); throws when the
+// gid names no tile.
+struct TileRef {
+    const Tileset* tileset = nullptr;
+    const Tile* tile = nullptr;
+};
+TileRef find_tile(const std::vector<Tileset>& tilesets, std::uint32_t gid, const std::string& where);
+
+// PNG width/height from the IHDR chunk, without decoding the image.
+void png_size(const std::string& path, int* width, int* height);
+
+// ---- tiled_layers.cpp
+
+// staggered maps are hexagonal ones with hexsidelength 0, as in Tiled.
+enum class Orientation { orthogonal, isometric, hexagonal };
+enum class RenderOrder { right_down, right_up, left_down, left_up };
+
+struct MapInfo {
+    std::string where; // the map's path, for errors
+    Orientation orientation = Orientation::orthogonal;
+    RenderOrder render_order = RenderOrder::right_down;
+    int width = 0, height = 0, tile_width = 0, tile_height = 0;
+    bool infinite = false;
+    // hexagonal / staggered: Tiled's HexagonalRenderer parameters
+    bool stagger_x = false;    // staggeraxis="x"
+    bool stagger_even = false; // staggerindex="even"
+    int hex_side = 0;          // hexsidelength (0 for staggered maps)
+    bool hex_rotation = false; // orientation="hexagonal": gid bits 29 / 28 turn tiles 60 / 120 degrees
+};
+
+// Top-left corner on screen of cell (col, row) of a hexagonal or staggered
+// map (Tiled's HexagonalRenderer::tileToScreenCoords).
+Vec2 hex_cell_top_left(const MapInfo& info, int col, int row);
+
+// Layer state inherited through groups.
+struct LayerState {
+    double offset_x = 0, offset_y = 0;
+    double opacity = 1;
+    std::array<double, 4> tint{1, 1, 1, 1}; // Tiled's effective tint colour, rgba 0..1 (product over groups)
+};
+
+struct Emitter {
+    const MapInfo& info;
+    const std::vector<Tileset>& tilesets;
+    ImageTable& images;
+    const Viewport* cull = nullptr; // drop elements that miss it
+    Scene& scene;
+};
+
+// Walks the layers under `parent` (groups recursively) in Tiled's drawing
+// order and appends their visible tiles to the scene.
+void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out);
+
+// Screen bounding box of an element: [x0, x1) x [y0, y1).
+Box element_bounds(const Element& element);
+
+} // namespace depthcull::io::tiled

@@ -1,0 +1,394 @@
+// Tiled layers -> elements, in the order Tiled draws them: layers in file
+// order (groups recursively), the cells of a tile layer in the map's
+// renderorder on orthogonal maps and in screen raster order on the others
+// (isometric: by col + row, then col; staggered / hexagonal: by the cell's
+// top edge, then left to right), objects of an object group sorted by y
+// (draworder "topdown", the default) or in file order ("index").
+//
+// Placement follows Tiled's CellRenderer: a tile is drawn with its
+// bottom-left at the bottom-left of its cell (a tile taller than the grid
+// reaches upward), shifted by the tileset's tileoffset; flips mirror it
+// about its centre; the anti-diagonal flip is a 90-degree clockwise turn
+// plus a vertical flip, keeping the bottom edge in place. A tile object's
+// (x, y) is its alignment point (bottom-left on orthogonal maps, bottom
+// centre on isometric ones), width/height scale the tile, and rotation
+// turns it clockwise about (x, y).
+//
+// Not drawn: shapes, points and text of object layers (games do not draw
+// them as images) and parallax factors (a static picture of the map, as
+// Tiled's tmxrasterizer draws it).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <numbers>
+
+#include "io/tiled_internal.h"
+
+namespace depthcull::io::tiled {
+
+namespace {
+
+using Affine = std::array<double, 6>;
+
+// a o b: apply b, then a.
+Affine compose(const Affine& a, const Affine& b) {
+    return {a[0] * b[0] + a[2] * b[1],        a[1] * b[0] + a[3] * b[1],        a[0] * b[2] + a[2] * b[3],
+            a[1] * b[2] + a[3] * b[3],        a[0] * b[4] + a[2] * b[5] + a[4], a[1] * b[4] + a[3] * b[5] + a[5]};
+}
+
+// Clockwise (y down) rotation by `degrees` about (px, py). Multiples of 90
+// are exact so axis-aligned results stay on the pixel grid.
+Affine rotation_about(double degrees, double px, double py) {
+    double turns = degrees / 90.0;
+    double c, s;
+    if (turns == std::floor(turns)) {
+        static const double cs[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+        int q = int(std::fmod(std::fmod(turns, 4.0) + 4.0, 4.0));
+        c = cs[q][0];
+        s = cs[q][1];
+    } else {
+        double r = degrees * std::numbers::pi / 180.0;
+        c = std::cos(r);
+        s = std::sin(r);
+    }
+    return {c, s, -s, c, px - c * px + s * py, py - s * px - c * py};
+}
+
+// The tile's texels (w x h) drawn into the box [x, x+bw] x [y, y+bh] with
+// the gid's flips, as Tiled's CellRenderer does. `bottom_fixed`: the
+// anti-diagonal turn keeps the box's bottom edge and horizontal centre
+// (tile layers); otherwise it keeps the centre (objects).
+Affine place_in_box(double w, double h, double x, double y, double bw, double bh, std::uint32_t flags, bool bottom_fixed) {
+    bool flip_h = flags & kFlipHorizontal, flip_v = flags & kFlipVertical;
+    double sx = bw / w, sy = bh / h;
+    double cx = x + bw / 2, cy = y + bh / 2;
+    Affine m;
+    if (flags & kFlipDiagonal) {
+        bool h2 = flip_v, v2 = !flip_h;
+        double fx = h2 ? -sx : sx, fy = v2 ? -sy : sy;
+        m = {0, fx, -fy, 0, 0, 0}; // R90 * diag(fx, fy)
+        double half_diff = bh / 2 - bw / 2;
+        cy += half_diff;
+        if (!bottom_fixed) cy -= half_diff;
+    } else {
+        m = {flip_h ? -sx : sx, 0, 0, flip_v ? -sy : sy, 0, 0};
+    }
+    m[4] = cx - (m[0] * w / 2 + m[2] * h / 2);
+    m[5] = cy - (m[1] * w / 2 + m[3] * h / 2);
+    return m;
+}
+
+double clamp01(double v) { return v < 0 ? 0 : v > 1 ? 1 : v; }
+
+// Tiled colours: "#AARRGGBB" or "#RRGGBB" (the '#' optional).
+std::array<double, 4> parse_color(const std::string& text, const std::string& where) {
+    std::string_view hex = text;
+    if (!hex.empty() && hex[0] == '#') hex.remove_prefix(1);
+    if (hex.size() != 6 && hex.size() != 8) throw Error(where + ": colour '" + text + "' is not #RRGGBB or #AARRGGBB");
+    std::uint32_t v = 0;
+    for (char ch : hex) {
+        int d = ch >= '0' && ch <= '9' ? ch - '0' : ch >= 'a' && ch <= 'f' ? ch - 'a' + 10 : ch >= 'A' && ch <= 'F' ? ch - 'A' + 10 : -1;
+        if (d < 0) throw Error(where + ": colour '" + text + "' is not #RRGGBB or #AARRGGBB");
+        v = v << 4 | std::uint32_t(d);
+    }
+    double a = hex.size() == 8 ? double(v >> 24) / 255.0 : 1.0;
+    return {double((v >> 16) & 255) / 255.0, double((v >> 8) & 255) / 255.0, double(v & 255) / 255.0, a};
+}
+
+// Offsets, opacity and tint of `layer` on top of its parents'.
+LayerState child_state(pugi::xml_node layer, const LayerState& parent, const std::string& where) {
+    LayerState s = parent;
+    s.offset_x += layer.attribute("offsetx").as_double(0);
+    s.offset_y += layer.attribute("offsety").as_double(0);
+    double opacity = layer.attribute("opacity").as_double(1);
+    if (!std::isfinite(s.offset_x) || !std::isfinite(s.offset_y) || !std::isfinite(opacity))
+        throw Error(where + ": offset or opacity is not a finite number");
+    s.opacity *= clamp01(opacity);
+    if (pugi::xml_attribute tint = layer.attribute("tintcolor")) {
+        auto c = parse_color(tint.as_string(), where);
+        for (int i = 0; i < 4; ++i) s.tint[std::size_t(i)] *= c[std::size_t(i)];
+    }
+    return s;
+}
+
+// Element colour: Tiled multiplies the texels by the tint colour blended by
+// the tint's alpha (Qt's Multiply composition: 1 - a + a*c per channel).
+std::array<float, 4> element_color(const LayerState& s) {
+    double a = s.tint[3];
+    return {float(1 - a + a * s.tint[0]), float(1 - a + a * s.tint[1]), float(1 - a + a * s.tint[2]), float(s.opacity)};
+}
+
+bool visible(pugi::xml_node node) { return node.attribute("visible").as_int(1) != 0; }
+
+void push(Emitter& out, const Element& e, const std::string& where) {
+    if (out.cull) {
+        Box b = element_bounds(e);
+        const Viewport& v = *out.cull;
+        if (b.x1 <= v.x || b.y1 <= v.y || b.x0 >= v.x + v.width || b.y0 >= v.y + v.height) return;
+    }
+    if (std::int64_t(out.scene.elements.size()) >= kMaxElements)
+        throw Error(where + ": the scene has more than " + std::to_string(kMaxElements) + " elements (use --viewport)");
+    out.scene.elements.push_back(e);
+}
+
+void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerState& s, const std::array<float, 4>& color,
+               const std::string& where) {
+    const MapInfo& m = out.info;
+    if ((raw & kRotateHex120) && !m.hex_rotation)
+        throw Error(where + ": the 120-degree rotation flag is only valid on hexagonal maps");
+    TileRef ref = find_tile(out.tilesets, raw & kGidMask, where);
+    const Rect& r = ref.tile->rect;
+    double bw = ref.tileset->render_grid_size ? m.tile_width : r.w;
+    double bh = ref.tileset->render_grid_size ? m.tile_height : r.h;
+    // The cell's bottom-left corner on screen.
+    double x, y;
+    if (m.orientation == Orientation::orthogonal) {
+        x = double(col) * m.tile_width;
+        y = double(row + 1) * m.tile_height;
+    } else if (m.orientation == Orientation::hexagonal) {
+        Vec2 top_left = hex_cell_top_left(m, col, row);
+        x = top_left.x;
+        y = top_left.y + (m.tile_height & ~1);
+    } else {
+        double origin_x = double(m.height) * m.tile_width / 2;
+        x = double(col - row) * m.tile_width / 2 + origin_x - m.tile_width / 2.0;
+        y = double(col + row) * m.tile_height / 2 + m.tile_height;
+    }
+    x += s.offset_x + ref.tileset->offset_x * bw / r.w;
+    y += s.offset_y + ref.tileset->offset_y * bh / r.h;
+    Element e;
+    e.image = ref.tile->image;
+    e.rect = r;
+    std::uint32_t flags = raw & ~kGidMask;
+    if (m.hex_rotation && (flags & (kFlipDiagonal | kRotateHex120))) {
+        // Hexagonal maps (TMX format): the anti-diagonal bit turns the tile
+        // 60 degrees clockwise, bit 28 120 degrees, about its centre, after
+        // the horizontal / vertical flips.
+        double degrees = ((flags & kFlipDiagonal) ? 60.0 : 0.0) + ((flags & kRotateHex120) ? 120.0 : 0.0);
+        e.transform = place_in_box(r.w, r.h, x, y - bh, bw, bh, flags & (kFlipHorizontal | kFlipVertical), true);
+        e.transform = compose(rotation_about(degrees, x + bw / 2, y - bh / 2), e.transform);
+    } else {
+        e.transform = place_in_box(r.w, r.h, x, y - bh, bw, bh, flags, true);
+    }
+    e.color = color;
+    push(out, e, where);
+}
+
+void emit_tile_layer(pugi::xml_node layer, const LayerState& s, Emitter& out, const std::string& where) {
+    const MapInfo& m = out.info;
+    CellGrid grid = read_layer_data(layer, layer.attribute("width").as_int(m.width), layer.attribute("height").as_int(m.height),
+                                    m.infinite, where);
+    auto color = element_color(s);
+    auto cell = [&](int c, int r) {
+        std::uint32_t gid = grid.gids[std::size_t(r) * grid.width + c];
+        if (gid & kGidMask) emit_cell(out, gid, grid.x0 + c, grid.y0 + r, s, color, where);
+    };
+    if (m.orientation == Orientation::isometric) {
+        // Tiled's IsometricRenderer draws screen rows top to bottom
+        // (col + row ascending), each left to right (col ascending).
+        for (int sum = 0; sum <= grid.width + grid.height - 2; ++sum)
+            for (int c = std::max(0, sum - grid.height + 1); c <= std::min(grid.width - 1, sum); ++c) cell(c, sum - c);
+        return;
+    }
+    if (m.orientation == Orientation::hexagonal) {
+        // Tiled's HexagonalRenderer draws in screen raster order: by the
+        // cell's top edge, then left to right (with staggeraxis x: the
+        // raised columns of a row before the lowered ones).
+        struct Cell {
+            double y, x;
+            int c, r;
+        };
+        std::vector<Cell> cells;
+        for (int r = 0; r < grid.height; ++r)
+            for (int c = 0; c < grid.width; ++c)
+                if (grid.gids[std::size_t(r) * grid.width + c] & kGidMask) {
+                    Vec2 p = hex_cell_top_left(m, grid.x0 + c, grid.y0 + r);
+                    cells.push_back({p.y, p.x, c, r});
+                }
+        std::stable_sort(cells.begin(), cells.end(), [](const Cell& a, const Cell& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
+        for (const Cell& k : cells) cell(k.c, k.r);
+        return;
+    }
+    bool right = m.render_order == RenderOrder::right_down || m.render_order == RenderOrder::right_up;
+    bool down = m.render_order == RenderOrder::right_down || m.render_order == RenderOrder::left_down;
+    for (int i = 0; i < grid.height; ++i) {
+        int r = down ? i : grid.height - 1 - i;
+        for (int j = 0; j < grid.width; ++j) cell(right ? j : grid.width - 1 - j, r);
+    }
+}
+
+struct TileObject {
+    double x = 0, y = 0, width = 0, height = 0, rotation = 0;
+    std::uint32_t gid = 0;
+    std::string where;
+};
+
+void emit_object(Emitter& out, const TileObject& o, const LayerState& s, const std::array<float, 4>& color) {
+    const MapInfo& m = out.info;
+    TileRef ref = find_tile(out.tilesets, o.gid & kGidMask, o.where);
+    const Rect& r = ref.tile->rect;
+    double w = o.width, h = o.height;
+    if (w <= 0 || h <= 0) return; // a zero-size object draws nothing
+    // The object's alignment point on screen.
+    double px = o.x, py = o.y;
+    if (m.orientation == Orientation::isometric) {
+        double tx = o.x / m.tile_height, ty = o.y / m.tile_height;
+        px = (tx - ty) * m.tile_width / 2 + double(m.height) * m.tile_width / 2;
+        py = (tx + ty) * m.tile_height / 2;
+    }
+    px += s.offset_x;
+    py += s.offset_y;
+    Alignment a = ref.tileset->alignment;
+    if (a == Alignment::unspecified) a = m.orientation == Orientation::isometric ? Alignment::bottom : Alignment::bottomleft;
+    double ax = (a == Alignment::top || a == Alignment::center || a == Alignment::bottom) ? 0.5
+                : (a == Alignment::topright || a == Alignment::right || a == Alignment::bottomright) ? 1.0 : 0.0;
+    double ay = (a == Alignment::left || a == Alignment::center || a == Alignment::right) ? 0.5
+                : (a == Alignment::bottomleft || a == Alignment::bottom || a == Alignment::bottomright) ? 1.0 : 0.0;
+    double bx = px - ax * w + ref.tileset->offset_x * w / r.w;
+    double by = py - ay * h + ref.tileset->offset_y * h / r.h;
+    Element e;
+    e.image = ref.tile->image;
+    e.rect = r;
+    e.transform = place_in_box(r.w, r.h, bx, by, w, h, o.gid & ~kGidMask, false);
+    if (o.rotation != 0) e.transform = compose(rotation_about(o.rotation, px, py), e.transform);
+    e.color = color;
+    push(out, e, o.where);
+}
+
+// An object template (.tx): its <object> gives the defaults an instance
+// overrides; its gid counts in the template's own tileset, which must be
+// one of the map's (matched by file), as Tiled adds it to the map.
+struct Template {
+    pugi::xml_document doc;
+    pugi::xml_node object;
+    std::uint32_t gid = 0; // translated to the map's gids; 0: not a tile object
+};
+
+void load_template(const std::string& source, const Emitter& out, const std::string& where, Template& t) {
+    std::string map_dir = std::filesystem::path(out.info.where).parent_path().string();
+    std::string path = resolve_tsx(map_dir, source);
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw Error(where + ": template '" + source + "' not found (" + path + ")");
+    std::string text = read_maybe_gzipped(path);
+    pugi::xml_parse_result ok = t.doc.load_buffer(text.data(), text.size());
+    if (!ok) throw Error(path + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+    t.object = t.doc.child("template").child("object");
+    if (!t.object) throw Error(path + ": no <template><object> element");
+    std::uint32_t raw = t.object.attribute("gid").as_uint(0);
+    if ((raw & kGidMask) == 0) return;
+    pugi::xml_node ts = t.doc.child("template").child("tileset");
+    if (!ts || !ts.attribute("source")) throw Error(path + ": template's tile object needs an external tileset");
+    std::string tsx = resolve_tsx(std::filesystem::path(path).parent_path().string(), ts.attribute("source").as_string());
+    std::uint32_t first = ts.attribute("firstgid").as_uint(1);
+    for (const Tileset& m : out.tilesets)
+        if (!m.source.empty() && std::filesystem::path(m.source) == std::filesystem::path(tsx) && (raw & kGidMask) >= first) {
+            t.gid = ((raw & kGidMask) - first + m.firstgid) | (raw & ~kGidMask);
+            return;
+        }
+    throw Error(where + ": template " + path + " uses tileset " + tsx + ", which the map does not list");
+}
+
+void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, const std::string& where) {
+    std::vector<TileObject> objects;
+    std::map<std::string, Template> templates;
+    for (pugi::xml_node node : group.children("object")) {
+        std::string here = where + ": object " + node.attribute("id").as_string("?");
+        // Attributes: the instance's, else its template's.
+        pugi::xml_node base;
+        std::uint32_t template_gid = 0;
+        if (pugi::xml_attribute source = node.attribute("template")) {
+            auto [it, fresh] = templates.try_emplace(source.as_string());
+            if (fresh) load_template(source.as_string(), out, here, it->second);
+            base = it->second.object;
+            template_gid = it->second.gid;
+        }
+        auto attr = [&](const char* name) { return node.attribute(name) ? node.attribute(name) : base.attribute(name); };
+        if (attr("visible").as_int(1) == 0) continue;
+        TileObject o;
+        o.where = here;
+        o.gid = node.attribute("gid") ? node.attribute("gid").as_uint(0) : template_gid;
+        if ((o.gid & kGidMask) == 0) continue; // shapes, points, text: not images
+        if (o.gid & kRotateHex120) throw Error(here + ": the hexagonal 120-degree rotation flag is not supported");
+        TileRef ref = find_tile(out.tilesets, o.gid & kGidMask, here);
+        o.x = node.attribute("x").as_double(0);
+        o.y = node.attribute("y").as_double(0);
+        o.width = attr("width").as_double(ref.tile->rect.w);
+        o.height = attr("height").as_double(ref.tile->rect.h);
+        o.rotation = attr("rotation").as_double(0);
+        if (!std::isfinite(o.x) || !std::isfinite(o.y) || !std::isfinite(o.width) || !std::isfinite(o.height) ||
+            !std::isfinite(o.rotation))
+            throw Error(here + ": position, size or rotation is not a finite number");
+        objects.push_back(std::move(o));
+    }
+    std::string order = group.attribute("draworder").as_string("topdown");
+    if (order == "topdown")
+        std::stable_sort(objects.begin(), objects.end(), [](const TileObject& a, const TileObject& b) { return a.y < b.y; });
+    else if (order != "index")
+        throw Error(where + ": unknown draworder '" + order + "'");
+    auto color = element_color(s);
+    for (const TileObject& o : objects) emit_object(out, o, s, color);
+}
+
+void emit_image_layer(pugi::xml_node layer, const LayerState& s, Emitter& out, const std::string& where) {
+    pugi::xml_node image = layer.child("image");
+    if (!image || !image.attribute("source") || !*image.attribute("source").as_string()) return; // Tiled allows an empty image layer
+    if (layer.attribute("repeatx").as_int(0) || layer.attribute("repeaty").as_int(0))
+        throw Error(where + ": repeating image layers are not supported");
+    std::string dir = std::filesystem::path(out.info.where).parent_path().string();
+    int index = out.images.add(dir, image.attribute("source").as_string(), image.attribute("trans").as_string(), where);
+    Element e;
+    e.image = index;
+    e.rect = {0, 0, out.images.width(index), out.images.height(index)};
+    e.transform = {1, 0, 0, 1, s.offset_x, s.offset_y};
+    e.color = element_color(s);
+    push(out, e, where);
+}
+
+} // namespace
+
+Vec2 hex_cell_top_left(const MapInfo& m, int col, int row) {
+    // Tiled rounds the tile size down to even so the half sizes are whole.
+    const double tw = m.tile_width & ~1, th = m.tile_height & ~1;
+    const double side_x = m.stagger_x ? m.hex_side : 0, side_y = m.stagger_x ? 0 : m.hex_side;
+    const double column_width = (tw - side_x) / 2 + side_x, row_height = (th - side_y) / 2 + side_y;
+    if (m.stagger_x) {
+        bool staggered = ((col & 1) != 0) != m.stagger_even;
+        return {double(col) * column_width, double(row) * (th + side_y) + (staggered ? row_height : 0)};
+    }
+    bool staggered = ((row & 1) != 0) != m.stagger_even;
+    return {double(col) * (tw + side_x) + (staggered ? column_width : 0), double(row) * row_height};
+}
+
+Box element_bounds(const Element& e) {
+    Vec2 corners[4] = {apply(e.transform, {0, 0}), apply(e.transform, {double(e.rect.w), 0}),
+                       apply(e.transform, {0, double(e.rect.h)}), apply(e.transform, {double(e.rect.w), double(e.rect.h)})};
+    Box b{corners[0].x, corners[0].y, corners[0].x, corners[0].y};
+    for (const Vec2& p : corners) {
+        b.x0 = std::min(b.x0, p.x);
+        b.y0 = std::min(b.y0, p.y);
+        b.x1 = std::max(b.x1, p.x);
+        b.y1 = std::max(b.y1, p.y);
+    }
+    return b;
+}
+
+void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out) {
+    int count = 0;
+    for (pugi::xml_node layer : parent.children()) {
+        std::string kind = layer.name();
+        if (kind != "layer" && kind != "objectgroup" && kind != "imagelayer" && kind != "group") continue;
+        if (++count > kMaxLayers) throw Error(out.info.where + ": more than " + std::to_string(kMaxLayers) + " layers");
+        std::string where = out.info.where + ": " + (kind == "objectgroup" ? "object layer" : kind == "group" ? "group" : kind == "imagelayer" ? "image layer" : "layer") +
+                            " '" + layer.attribute("name").as_string() + "'";
+        if (!visible(layer)) continue;
+        LayerState s = child_state(layer, state, where);
+        if (s.opacity == 0) continue; // draws nothing
+        if (kind == "layer") emit_tile_layer(layer, s, out, where);
+        else if (kind == "objectgroup") emit_object_group(layer, s, out, where);
+        else if (kind == "imagelayer") emit_image_layer(layer, s, out, where);
+        else emit_layers(layer, s, out);
+    }
+}
+
+} // namespace depthcull::io::tiled

@@ -1,0 +1,274 @@
+// Tiled tilesets: inline and external (.tsx, also gzipped), image tilesets
+// cut into tiles by tile size, margin and spacing, image-collection
+// tilesets, animations (drawn at their first frame, as Tiled shows a map at
+// time zero), and the trans colour key.
+//
+// The trans key: Tiled makes texels of the key colour transparent when it
+// loads the image; the PNG on disk does not say so, and a Scene refers to
+// image files. So we write a keyed copy (RGBA PNG) once into
+// $XDG_CACHE_HOME/depthcull/keyed (default ~/.cache/depthcull/keyed),
+// named by a hash of the file's bytes and the key, and point the
+// SceneImage at it.
+#include <algorithm>
+#include <charconv>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "io/tiled_internal.h"
+
+namespace fs = std::filesystem;
+
+namespace depthcull::io::tiled {
+
+namespace {
+
+std::string keyed_cache_dir() {
+    if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return std::string(d) + "/depthcull/keyed";
+    const char* home = std::getenv("HOME");
+    return std::string(home && *home ? home : "/tmp") + "/.cache/depthcull/keyed";
+}
+
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 14695981039346656037ull) {
+    for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+    return h;
+}
+
+// "ff00ff" or "#ff00ff" -> 0xRRGGBB.
+std::uint32_t parse_trans(const std::string& text, const std::string& where) {
+    std::string_view hex = text;
+    if (!hex.empty() && hex[0] == '#') hex.remove_prefix(1);
+    std::uint32_t value = 0;
+    auto [end, ec] = std::from_chars(hex.data(), hex.data() + hex.size(), value, 16);
+    if (hex.size() != 6 || ec != std::errc() || end != hex.data() + hex.size())
+        throw Error(where + ": trans colour '" + text + "' is not RRGGBB hex");
+    return value;
+}
+
+// The keyed copy of `path`: texels of colour `key` get alpha 0.
+std::string keyed_copy(const std::string& path, std::uint32_t key, const std::string& where) {
+    std::string bytes = read_file(path);
+    char name[64];
+    std::snprintf(name, sizeof name, "%016llx-%06x.png", static_cast<unsigned long long>(fnv1a(bytes)), unsigned(key));
+    fs::path out = fs::path(keyed_cache_dir()) / name;
+    std::error_code ec;
+    if (fs::exists(out, ec)) return out.string();
+    Image image = decode_png(bytes.data(), bytes.size(), path);
+    const std::uint8_t r = std::uint8_t(key >> 16), g = std::uint8_t(key >> 8), b = std::uint8_t(key);
+    for (std::size_t i = 0; i < image.rgba.size(); i += 4)
+        if (image.rgba[i] == r && image.rgba[i + 1] == g && image.rgba[i + 2] == b) image.rgba[i + 3] = 0;
+    fs::create_directories(out.parent_path(), ec);
+    if (ec) throw Error(where + ": cannot create the keyed-image cache " + out.parent_path().string() + " (" + ec.message() + ")");
+    save_png(out.string(), image.view()); // atomic: concurrent writers produce the same bytes
+    return out.string();
+}
+
+// Tiled resolves an image relative to the file naming it. Some games'
+// maps name paths relative to their data root instead (btanks'
+// four_rooms.tmx: "../../../data/tilesets/x.png"); when the Tiled path
+// does not exist we try the path without its leading "../" against the
+// file's directory and its ancestors, nearest first.
+fs::path resolve_image(const std::string& base_dir, const std::string& source) {
+    fs::path base = base_dir.empty() ? fs::path() : fs::path(base_dir);
+    fs::path direct = (fs::path(source).is_absolute() ? fs::path(source) : base / source).lexically_normal();
+    std::error_code ec;
+    if (fs::exists(direct, ec) || fs::path(source).is_absolute()) return direct;
+    fs::path rest;
+    bool leading = true;
+    for (const fs::path& part : fs::path(source)) {
+        if (leading && (part == ".." || part == ".")) continue;
+        leading = false;
+        rest /= part;
+    }
+    fs::path dir = fs::absolute(base.empty() ? fs::path(".") : base, ec).lexically_normal();
+    for (int up = 0; up < 8 && !dir.empty(); ++up) {
+        fs::path candidate = dir / rest;
+        if (fs::exists(candidate, ec)) return (base / fs::relative(candidate, fs::absolute(base.empty() ? "." : base, ec), ec)).lexically_normal();
+        if (dir == dir.root_path()) break;
+        dir = dir.parent_path();
+    }
+    return direct;
+}
+
+std::string dir_of(const std::string& path) { return fs::path(path).parent_path().string(); }
+
+Alignment parse_alignment(const std::string& text, const std::string& where) {
+    static const std::pair<const char*, Alignment> names[] = {
+        {"unspecified", Alignment::unspecified}, {"topleft", Alignment::topleft}, {"top", Alignment::top},
+        {"topright", Alignment::topright},       {"left", Alignment::left},       {"center", Alignment::center},
+        {"right", Alignment::right},             {"bottomleft", Alignment::bottomleft}, {"bottom", Alignment::bottom},
+        {"bottomright", Alignment::bottomright}};
+    if (text.empty()) return Alignment::unspecified;
+    for (const auto& [name, value] : names)
+        if (text == name) return value;
+    throw Error(where + ": unknown objectalignment '" + text + "'");
+}
+
+// An image tileset cut like Tiled's Tileset::sliceImage: tiles start at
+// `margin` and are `spacing` apart; a partial tile at the right or bottom
+// edge is not a tile.
+void slice_image(Tileset& ts, int image, int image_w, int image_h, int margin, int spacing, const std::string& where) {
+    if (ts.tile_width <= 0 || ts.tile_height <= 0) throw Error(where + ": tile size must be positive");
+    if (margin < 0 || spacing < 0) throw Error(where + ": negative margin or spacing");
+    int columns = image_w - margin >= ts.tile_width ? (image_w - margin - ts.tile_width) / (ts.tile_width + spacing) + 1 : 0;
+    int rows = image_h - margin >= ts.tile_height ? (image_h - margin - ts.tile_height) / (ts.tile_height + spacing) + 1 : 0;
+    if (columns == 0 || rows == 0)
+        throw Error(where + ": image " + std::to_string(image_w) + "x" + std::to_string(image_h) + " holds no " +
+                    std::to_string(ts.tile_width) + "x" + std::to_string(ts.tile_height) + " tile");
+    ts.tiles.resize(std::size_t(columns) * std::size_t(rows));
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < columns; ++c)
+            ts.tiles[std::size_t(r) * columns + c] = {
+                image, {margin + c * (ts.tile_width + spacing), margin + r * (ts.tile_height + spacing), ts.tile_width, ts.tile_height}};
+}
+
+Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::string& file, const std::string& where,
+                      ImageTable& images) {
+    Tileset ts;
+    ts.firstgid = firstgid;
+    ts.name = node.attribute("name").as_string();
+    ts.tile_width = int_attr(node, "tilewidth", 0, where);
+    ts.tile_height = int_attr(node, "tileheight", 0, where);
+    ts.alignment = parse_alignment(node.attribute("objectalignment").as_string(), where);
+    std::string render_size = node.attribute("tilerendersize").as_string("tile");
+    std::string fill = node.attribute("fillmode").as_string("stretch");
+    if (render_size != "tile" && render_size != "grid") throw Error(where + ": unknown tilerendersize '" + render_size + "'");
+    if (render_size == "grid" && fill != "stretch") throw Error(where + ": fillmode '" + fill + "' is not supported (only stretch)");
+    ts.render_grid_size = render_size == "grid";
+    if (pugi::xml_node offset = node.child("tileoffset")) {
+        ts.offset_x = offset.attribute("x").as_double(0);
+        ts.offset_y = offset.attribute("y").as_double(0);
+    }
+    std::string base_dir = dir_of(file);
+    auto add_image = [&](pugi::xml_node image, const std::string& here) {
+        if (!image.attribute("source")) throw Error(here + ": embedded image data is not supported (save the image as a file)");
+        return images.add(base_dir, image.attribute("source").as_string(), image.attribute("trans").as_string(), here);
+    };
+    if (pugi::xml_node image = node.child("image")) {
+        int index = add_image(image, where);
+        slice_image(ts, index, images.width(index), images.height(index), int_attr(node, "margin", 0, where),
+                    int_attr(node, "spacing", 0, where), where);
+    }
+    for (pugi::xml_node tile : node.children("tile")) {
+        std::string here = where + ": tile " + tile.attribute("id").as_string();
+        int id = int_attr(tile, "id", -1, here);
+        if (id < 0 || id >= kMaxCells) throw Error(here + ": tile id out of range");
+        pugi::xml_node image = tile.child("image");
+        if (!image) continue;
+        if (node.child("image")) throw Error(here + ": a tile image in a tileset that has one image");
+        int index = add_image(image, here);
+        Rect full{0, 0, images.width(index), images.height(index)};
+        Rect rect{int_attr(tile, "x", 0, here), int_attr(tile, "y", 0, here), int_attr(tile, "width", full.w, here),
+                  int_attr(tile, "height", full.h, here)};
+        if (rect.empty() || rect.x < 0 || rect.y < 0 || rect.x > full.w - rect.w || rect.y > full.h - rect.h)
+            throw Error(here + ": sub-rectangle lies outside its image");
+        if (std::size_t(id) >= ts.tiles.size()) ts.tiles.resize(std::size_t(id) + 1);
+        ts.tiles[std::size_t(id)] = {index, rect};
+    }
+    // Animations: the first frame is what Tiled shows at time zero.
+    std::vector<Tile> still = ts.tiles;
+    for (pugi::xml_node tile : node.children("tile")) {
+        pugi::xml_node frame = tile.child("animation").child("frame");
+        if (!frame) continue;
+        std::string here = where + ": tile " + tile.attribute("id").as_string() + ": animation";
+        int id = int_attr(tile, "id", -1, here);
+        int first = int_attr(frame, "tileid", -1, here);
+        if (first < 0 || std::size_t(first) >= still.size() || still[std::size_t(first)].image < 0)
+            throw Error(here + ": frame names no tile (" + std::to_string(first) + ")");
+        if (std::size_t(id) >= ts.tiles.size()) ts.tiles.resize(std::size_t(id) + 1);
+        ts.tiles[std::size_t(id)] = still[std::size_t(first)];
+    }
+    return ts;
+}
+
+} // namespace
+
+void png_size(const std::string& path, int* width, int* height) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path + ": cannot open image");
+    unsigned char h[24];
+    in.read(reinterpret_cast<char*>(h), sizeof h);
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (in.gcount() != 24 || !std::equal(signature, signature + 8, h) || std::string_view(reinterpret_cast<char*>(h + 12), 4) != "IHDR")
+        throw Error(path + ": not a PNG file");
+    auto be32 = [](const unsigned char* p) { return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3]; };
+    std::uint32_t w = be32(h + 16), hh = be32(h + 20);
+    if (w == 0 || hh == 0 || w > std::uint32_t(kMaxImageSide) || hh > std::uint32_t(kMaxImageSide) ||
+        std::int64_t(w) * hh > kMaxImageTexels)
+        throw Error(path + ": image size " + std::to_string(w) + "x" + std::to_string(hh) + " is outside the supported 1.." +
+                    std::to_string(kMaxImageSide) + " per side");
+    *width = int(w);
+    *height = int(hh);
+}
+
+int ImageTable::add(const std::string& base_dir, const std::string& source, const std::string& trans, const std::string& where) {
+    if (source.empty()) throw Error(where + ": image has no source");
+    fs::path resolved = resolve_image(base_dir, source);
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec)) throw Error(where + ": image '" + source + "' not found (" + resolved.string() + ")");
+    std::string path = resolved.string();
+    std::string key = path + "\n" + trans;
+    if (auto it = by_key_.find(key); it != by_key_.end()) return it->second;
+    if (!trans.empty()) path = keyed_copy(path, parse_trans(trans, where), where);
+    SceneImage image;
+    png_size(path, &image.width, &image.height);
+    // Ids: the file stem, numbered when two files share a stem.
+    std::string stem = resolved.stem().string();
+    if (stem.empty()) stem = "image";
+    image.id = stem;
+    for (int n = 2; ids_.count(image.id); ++n) image.id = stem + "-" + std::to_string(n);
+    ids_.insert(image.id);
+    image.path = path;
+    images_.push_back(std::move(image));
+    int index = int(images_.size()) - 1;
+    by_key_.emplace(key, index);
+    return index;
+}
+
+std::string resolve_tsx(const std::string& base_dir, const std::string& source) {
+    std::string tsx = (fs::path(base_dir) / source).lexically_normal().string();
+    // Debian (dh_compress) gzips example tilesets but not the files naming them.
+    std::error_code ec;
+    if (!fs::exists(tsx, ec) && fs::exists(tsx + ".gz", ec)) tsx += ".gz";
+    return tsx;
+}
+
+std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images) {
+    std::vector<Tileset> tilesets;
+    for (pugi::xml_node node : map.children("tileset")) {
+        if (int(tilesets.size()) >= kMaxTilesets) throw Error(map_path + ": more than " + std::to_string(kMaxTilesets) + " tilesets");
+        std::string where = map_path + ": tileset " + std::to_string(tilesets.size());
+        if (node.attribute("name")) where = map_path + ": tileset '" + node.attribute("name").as_string() + "'";
+        long long firstgid = node.attribute("firstgid").as_llong(0);
+        if (firstgid < 1 || firstgid > kGidMask) throw Error(where + ": firstgid missing or out of range");
+        if (pugi::xml_attribute source = node.attribute("source")) {
+            std::string tsx = resolve_tsx(dir_of(map_path), source.as_string());
+            pugi::xml_document doc;
+            std::string text = read_maybe_gzipped(tsx);
+            pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
+            if (!ok) throw Error(tsx + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+            pugi::xml_node root = doc.child("tileset");
+            if (!root) throw Error(tsx + ": no <tileset> element");
+            std::string here = tsx + (root.attribute("name") ? ": tileset '" + std::string(root.attribute("name").as_string()) + "'" : "");
+            tilesets.push_back(parse_tileset(root, std::uint32_t(firstgid), tsx, here, images));
+            tilesets.back().source = tsx;
+        } else {
+            tilesets.push_back(parse_tileset(node, std::uint32_t(firstgid), map_path, where, images));
+        }
+    }
+    std::stable_sort(tilesets.begin(), tilesets.end(), [](const Tileset& a, const Tileset& b) { return a.firstgid < b.firstgid; });
+    return tilesets;
+}
+
+TileRef find_tile(const std::vector<Tileset>& tilesets, std::uint32_t gid, const std::string& where) {
+    auto it = std::upper_bound(tilesets.begin(), tilesets.end(), gid, [](std::uint32_t g, const Tileset& t) { return g < t.firstgid; });
+    if (it == tilesets.begin()) throw Error(where + ": gid " + std::to_string(gid) + " has no tileset");
+    const Tileset& ts = *(it - 1);
+    std::uint32_t local = gid - ts.firstgid;
+    if (local >= ts.tiles.size() || ts.tiles[local].image < 0)
+        throw Error(where + ": gid " + std::to_string(gid) + " is out of range of tileset '" + ts.name + "' (" +
+                    std::to_string(ts.tiles.size()) + " tiles from gid " + std::to_string(ts.firstgid) + ")");
+    return {&ts, &ts.tiles[local]};
+}
+
+} // namespace depthcull::io::tiled

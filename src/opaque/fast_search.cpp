@@ -1,0 +1,546 @@
+// The fast opaque-polygon search (OpaqueMethod::fast, the default): paper
+// 2.2's greedy loop over the paper's own candidate family, evaluated exactly
+// and cheaply, plus candidates the paper cannot produce. docs/opaque.md has
+// the design and the figures.
+//
+// Faster than paper_quad_search.cpp because:
+// - the quads are enumerated once, not once per polygon, visiting each
+//   (top, left, right, current) state once where the paper re-walks every
+//   path of the segment graph (its exponential part);
+// - counts take O(rows) with row prefix sums, not O(area) (2.2.2);
+// - lazy greedy, best first: one heap of upper bounds (exact floor sums,
+//   then band counts from 2D prefix sums) for all steps, so only quads that
+//   could still win are counted;
+// - a work budget (kFastOpaqueWorkBudget) bounds the worst case.
+// Covers more because: realizations keep an edge on its grid line where the
+// texels beyond it are opaque (the paper always pushes in by half a texel,
+// losing the edge rows), and the largest rectangle of texels with opaque
+// neighbours competes too. Never covers less than the paper because the
+// paper's own sequence is replayed (same quads, same choices) and the better
+// of the two sequences is returned.
+#include <algorithm>
+
+#include "opaque/opaque_internal.h"
+
+namespace depthcull::opaque_detail {
+
+namespace {
+
+// 2D prefix sums of a 0/1 grid: O(1) counts over boxes, for the bounds.
+class BoxSums {
+public:
+    explicit BoxSums(const Mask& m) : w_(m.width), h_(m.height), s_(std::size_t(w_ + 1) * (h_ + 1), 0) {
+        for (int y = 0; y < h_; ++y)
+            for (int x = 0; x < w_; ++x)
+                at(x + 1, y + 1) = at(x, y + 1) + at(x + 1, y) - at(x, y) + (m.bits[std::size_t(y) * w_ + x] != 0);
+    }
+    // Set texels in [x0, x1) x [y0, y1), clamped to the grid.
+    i64 box(int x0, int y0, int x1, int y1) const {
+        x0 = std::clamp(x0, 0, w_), x1 = std::clamp(x1, 0, w_);
+        y0 = std::clamp(y0, 0, h_), y1 = std::clamp(y1, 0, h_);
+        if (x1 <= x0 || y1 <= y0) return 0;
+        return get(x1, y1) - get(x0, y1) - get(x1, y0) + get(x0, y0);
+    }
+
+private:
+    std::int32_t& at(int x, int y) { return s_[std::size_t(y) * (w_ + 1) + x]; }
+    i64 get(int x, int y) const { return s_[std::size_t(y) * (w_ + 1) + x]; }
+    int w_, h_;
+    std::vector<std::int32_t> s_; // counts < 2^31: images hold at most 2^28 texels
+};
+
+// A quad of the paper's family, stored compactly (image sides <= 16384).
+struct StoredQuad {
+    std::int16_t x0, x1, x2, x3, y0, y1;
+    PaperQuad quad() const { return {x0, x1, x2, x3, y0, y1, 0}; }
+    int left() const { return std::min(x0, x3); }
+    int right() const { return std::max(x1, x2); }
+    // Twice the area: every realization has edges no wider and no taller.
+    i64 twice_area() const { return i64(x1 - x0 + x2 - x3) * (y1 - y0); }
+};
+
+// Best-first order: larger bound first, then earlier quad.
+struct Pending {
+    i64 bound;
+    int index;
+    bool operator<(const Pending& o) const { return bound != o.bound ? bound < o.bound : index > o.index; }
+};
+
+struct Best {
+    i64 coverage = 0;
+    Trapezoid quad;
+    bool found = false;
+
+    void offer(const Trapezoid& t, i64 coverage_of_t) {
+        if (coverage_of_t > coverage) {
+            coverage = coverage_of_t;
+            quad = t;
+            found = true;
+        }
+    }
+};
+
+struct Sequence {
+    std::vector<HalfPolygon> polygons;
+    i64 covered = 0; // exact: texel squares inside the polygons
+};
+
+// Candidates kept at most; past this the search uses what it has (the
+// budget of analyze.h). 12 bytes each.
+constexpr std::size_t kMaxStoredQuads = std::size_t(1) << 22;
+
+class FastSearch {
+public:
+    FastSearch(const Mask& safe, int min_area, SearchCounters& counters)
+        : grid_(safe), counters_(counters), segments_(find_opaque_segments(safe, 3)), min_area_(min_area) {
+        // Texels that can sit on a polygon's integer edge: safe with safe
+        // 4-neighbours (see the rectangle candidates).
+        interior_ = safe;
+        for (int y = 0; y < safe.height; ++y)
+            for (int x = 0; x < safe.width; ++x)
+                interior_.bits[std::size_t(y) * safe.width + x] =
+                    grid_.safe(x, y) && grid_.safe(x - 1, y) && grid_.safe(x + 1, y) && grid_.safe(x, y - 1) &&
+                    grid_.safe(x, y + 1);
+        enumerate();
+    }
+
+    // Our greedy sequence, and the paper's own sequence replayed cheaply; the
+    // one that covers more wins (ties go to ours). Replaying the paper is what
+    // makes "never below the paper" hold for the whole sequence and not just
+    // its first step: the paper's heuristic count and its stopping rule can
+    // accept a quad that covers fewer exact texels than min_area, where ours
+    // stops.
+    std::vector<HalfPolygon> run(const OpaqueOptions& options) {
+        budget_base_ = counters_.work;
+        Sequence ours = own_sequence(options);
+        budget_base_ = counters_.work;
+        Sequence paper = paper_sequence(options);
+        return paper.covered > ours.covered ? paper.polygons : ours.polygons;
+    }
+
+private:
+    // The paper's FindOpaqueQuadRecursive over every top in scan order, once:
+    // the quads do not depend on the coverage map, only their counts do, so
+    // every greedy step reuses them. Each (top, left, right, current) state is
+    // expanded once; the paper re-walks every path reaching it, producing the
+    // same quads again later, which never changes its first maximum.
+    void enumerate() {
+        seen_stamp_.assign(segments_.size(), -1);
+        seen_.resize(segments_.size());
+        for (int top = 0; top < int(segments_.size()) && !counters_.budget_exhausted; ++top)
+            recurse(top, top, top, top);
+    }
+
+    bool first_visit(int top, int left, int right, int current) {
+        if (seen_stamp_[current] != top) {
+            seen_stamp_[current] = top;
+            seen_[current].clear();
+        }
+        for (auto [l, r] : seen_[current])
+            if (l == left && r == right) return false;
+        seen_[current].push_back({left, right});
+        return true;
+    }
+
+    void recurse(int top_i, int left_i, int right_i, int current_i) {
+        for (int next_i : segments_[current_i].down) {
+            if (over_budget() || quads_.size() >= kMaxStoredQuads) {
+                counters_.budget_exhausted = true;
+                return;
+            }
+            int new_left = left_i, new_right = right_i;
+            PaperQuad q;
+            if (!paper_step(segments_, top_i, current_i, next_i, new_left, new_right, q)) continue;
+            if (!first_visit(top_i, new_left, new_right, next_i)) continue;
+            ++counters_.candidates;
+            ++counters_.work;
+            // A quad that cannot cover min_area texels in either sequence can
+            // never be chosen; its branch may still hold larger ones.
+            StoredQuad stored{std::int16_t(q.x0), std::int16_t(q.x1), std::int16_t(q.x2), std::int16_t(q.x3),
+                              std::int16_t(q.y0), std::int16_t(q.y1)};
+            if (std::max(paper_cheap_bound(stored), stored.twice_area() / 2) >= min_area_) quads_.push_back(stored);
+            recurse(top_i, new_left, new_right, next_i);
+        }
+    }
+
+    // Lowers a cached bound; true when that changed it. The band bound is
+    // applied lazily, only to quads that reach the top of the heap: at step
+    // 0 nothing is covered yet and the first bounds are tighter.
+    static bool tighten(i64& bound, i64 band) {
+        if (band >= bound) return false;
+        bound = band;
+        return true;
+    }
+
+    // After lowering a popped quad's bound: still ahead of everything in the
+    // heap? Then go on with it instead of a push and a pop.
+    static bool still_top(const std::vector<Pending>& heap, Pending p) { return heap.empty() || !(p < heap.front()); }
+
+    // The enumeration and each sequence get kFastOpaqueWorkBudget of their
+    // own, so running out in ours still leaves the paper's replay its share.
+    bool over_budget() {
+        if (counters_.work - budget_base_ > kFastOpaqueWorkBudget) {
+            counters_.budget_exhausted = true;
+            return true;
+        }
+        return false;
+    }
+
+    static void push(std::vector<Pending>& heap, Pending p) {
+        heap.push_back(p);
+        std::push_heap(heap.begin(), heap.end());
+    }
+
+    // The integer quad itself, which contains every realization we use.
+    static Trapezoid whole(const PaperQuad& q) {
+        return {2 * i64(q.y0), 2 * i64(q.y1), 2 * i64(q.x0), 2 * i64(q.x1), 2 * i64(q.x3), 2 * i64(q.x2)};
+    }
+
+    // Counted texels in up to kBands horizontal bands of the integer quad,
+    // each band as wide as the quad gets within it (its sides at the band's
+    // ends, rounded outward): much tighter than the quad's box for sloped
+    // sides. It bounds both the texel squares inside the quad and the
+    // paper's row spans, which round the same sides to the nearest texel.
+    static constexpr int kBands = 8;
+    // Work units of a heap pop with its bound updates (about the cost of
+    // counting this many rows), so the budget bounds time on images with
+    // millions of quads too.
+    static constexpr i64 kPopWork = 32;
+    static i64 band_bound(const StoredQuad& s, const BoxSums& counted) {
+        const PaperQuad q = s.quad();
+        const int dy = q.y1 - q.y0, bands = std::min(kBands, dy);
+        auto side = [&](int xt, int xb, int y, bool left) {
+            i64 num = i64(xt) * dy + i64(xb - xt) * (y - q.y0);
+            return int(left ? floor_div(num, dy) : ceil_div(num, dy));
+        };
+        i64 n = 0;
+        for (int k = 0; k < bands; ++k) {
+            const int ya = q.y0 + dy * k / bands, yb = q.y0 + dy * (k + 1) / bands;
+            const int lo = std::min(side(q.x0, q.x3, ya, true), side(q.x0, q.x3, yb, true));
+            const int hi = std::max(side(q.x1, q.x2, ya, false), side(q.x1, q.x2, yb, false));
+            n += counted.box(lo, ya, hi, yb);
+        }
+        return n;
+    }
+
+    // True when the realization lies inside the paper's integer quad, which
+    // band_bound assumes (pushing a horizontal edge in without its vertices
+    // can move a steep side outward).
+    static bool inside_quad(const Trapezoid& t, const PaperQuad& q) {
+        const HalfPoint v[4] = {{2 * i64(q.x0), 2 * i64(q.y0)}, {2 * i64(q.x1), 2 * i64(q.y0)},
+                                {2 * i64(q.x2), 2 * i64(q.y1)}, {2 * i64(q.x3), 2 * i64(q.y1)}};
+        const HalfPoint corners[4] = {{t.xlt, t.yt}, {t.xrt, t.yt}, {t.xrb, t.yb}, {t.xlb, t.yb}};
+        for (const HalfPoint& p : corners)
+            for (int k = 0; k < 4; ++k) {
+                const HalfPoint a = v[k], b = v[(k + 1) % 4];
+                if ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x) < 0) return false;
+            }
+        return true;
+    }
+
+    // ---- Ours: exact coverage, more realizations, rectangles.
+    //
+    // Lazy greedy: what a quad covers only shrinks as polygons are added, so
+    // a value computed at an earlier step bounds it at every later one. The
+    // first bound is the exact number of texel squares inside (a sum of
+    // floors, O(log)), which is exact at the first step for a valid quad.
+    // Best first, a quad is re-evaluated only while its bound could win.
+
+    Sequence own_sequence(const OpaqueOptions& options) {
+        Sequence seq;
+        const i64 safe_texels = std::count(grid_.safe_mask.bits.begin(), grid_.safe_mask.bits.end(), 1);
+        if (safe_texels == 0) return seq;
+        covered_ = grid_.safe_mask;
+        std::fill(covered_.bits.begin(), covered_.bits.end(), 0);
+        const std::size_t n = quads_.size();
+        const i64 least = std::max(1, options.min_area); // a smaller gain is never accepted
+        // One heap for all steps (bounds only fall). Per quad: its bound, the
+        // step it was last exact at / band-bounded at, and which realizations
+        // were checked and found valid.
+        std::vector<i64> bound(n);
+        std::vector<int> fresh(n, -1), banded(n, 0);
+        std::vector<std::uint8_t> choice(n, 0), checked(n, 0), valid(n, 0), refined(n, 0);
+        std::vector<Pending> heap;
+        for (std::size_t i = 0; i < n; ++i) {
+            bound[i] = quads_[i].twice_area() / 2;
+            if (bound[i] >= least) heap.push_back({bound[i], int(i)});
+        }
+        std::make_heap(heap.begin(), heap.end());
+        counters_.work += i64(n);
+        for (int step = 0; int(seq.polygons.size()) < options.max_polygons &&
+                           double(seq.covered) / double(safe_texels) < options.min_coverage;
+             ++step) {
+            Mask uncovered = uncovered_safe();
+            // Nothing left that could reach min_area: done, without proving it
+            // quad by quad.
+            if (std::count(uncovered.bits.begin(), uncovered.bits.end(), 1) < least) break;
+            uncovered_ = RowSums(uncovered);
+            BoxSums in_box(uncovered);
+            Best best;
+            best.coverage = least - 1;
+            search_rectangle(best);
+            while (!heap.empty() && heap.front().bound > best.coverage && !over_budget()) {
+                std::pop_heap(heap.begin(), heap.end());
+                const int i = heap.back().index;
+                heap.pop_back();
+                counters_.work += kPopWork;
+                PaperQuad q = quads_[i].quad();
+                if (fresh[i] == step) { // exact now, and no other can beat it
+                    best.offer(realization(q, choice[i]), bound[i]);
+                    push(heap, {bound[i], i});
+                    break;
+                }
+                if (!refined[i]) { // the realizations that can be valid, O(1) each
+                    refined[i] = 1;
+                    i64 b = 0;
+                    for (int r = 0; r < kRealizations; ++r) {
+                        Trapezoid t = realization(q, r);
+                        if (inside_quad(t, q) && trapezoid_edges_valid(t, grid_))
+                            b = std::max(b, trapezoid_squares_bound(t));
+                        else
+                            checked[i] |= std::uint8_t(1 << r); // never valid for us
+                    }
+                    if (tighten(bound[i], b) && !still_top(heap, {bound[i], i})) {
+                        if (bound[i] >= least) push(heap, {bound[i], i});
+                        continue;
+                    }
+                }
+                if (step > 0 && banded[i] != step) {
+                    banded[i] = step;
+                    if (tighten(bound[i], band_bound(quads_[i], in_box)) && !still_top(heap, {bound[i], i})) {
+                        if (bound[i] >= least) push(heap, {bound[i], i});
+                        continue;
+                    }
+                }
+                if (bound[i] <= best.coverage) { // cannot win this step; maybe a later one
+                    if (bound[i] >= least) push(heap, {bound[i], i});
+                    continue;
+                }
+                i64 value = 0;
+                for (int r = 0; r < kRealizations; ++r) {
+                    Trapezoid t = realization(q, r);
+                    if ((checked[i] >> r & 1) && !(valid[i] >> r & 1)) continue;
+                    if (trapezoid_squares_bound(t) <= value) continue;
+                    if (!(checked[i] >> r & 1)) {
+                        checked[i] |= std::uint8_t(1 << r);
+                        if (trapezoid_valid(t, grid_, counters_.work)) valid[i] |= std::uint8_t(1 << r);
+                    }
+                    if (!(valid[i] >> r & 1)) continue;
+                    i64 c = trapezoid_coverage(t, uncovered_, counters_.work);
+                    if (c > value) value = c, choice[i] = std::uint8_t(r);
+                }
+                bound[i] = value;
+                fresh[i] = step;
+                if (value >= least) push(heap, {value, i});
+            }
+            // Out of budget, the best found so far still counts; then stop.
+            if (!best.found || best.coverage < options.min_area) break;
+            HalfPolygon p = best.quad.polygon();
+            mark_covered(p);
+            seq.covered += best.coverage;
+            seq.polygons.push_back(std::move(p));
+            if (over_budget()) break;
+        }
+        return seq;
+    }
+
+    // What a new polygon can gain: texels not yet covered whose four
+    // neighbours are safe. Only those can be covered at all (a covered
+    // texel's side shared with an unsafe texel would be a polygon edge along
+    // that texel), and leaving the others out keeps the bounds tight.
+    Mask uncovered_safe() const {
+        Mask m = interior_;
+        for (std::size_t i = 0; i < m.bits.size(); ++i) m.bits[i] = m.bits[i] && !covered_.bits[i];
+        return m;
+    }
+
+    i64 mark_covered(const HalfPolygon& p) {
+        i64 newly = 0;
+        for (int y = 0; y < grid_.height; ++y) {
+            i64 lo, hi;
+            covered_columns(p, y, lo, hi);
+            for (i64 x = std::max<i64>(lo, 0); x < std::min<i64>(hi, grid_.width); ++x) {
+                std::size_t i = std::size_t(y) * grid_.width + std::size_t(x);
+                newly += covered_.bits[i] == 0 && grid_.safe_mask.bits[i];
+                covered_.bits[i] = 1;
+            }
+        }
+        return newly;
+    }
+
+    // Offers a polygon if it could beat the best and is valid.
+    void offer(const Trapezoid& t, Best& best) {
+        if (trapezoid_squares_bound(t) <= best.coverage) return;
+        if (!trapezoid_valid(t, grid_, counters_.work)) return;
+        best.offer(t, trapezoid_coverage(t, uncovered_, counters_.work));
+    }
+
+    bool row_safe(int y, int x0, int x1) const { return grid_.unsafe.span(y, x0, x1, 1) == 0; }
+
+    // The realizations of one of the paper's integer quads. 0..3: horizontal
+    // edges stay on the grid line when the row beyond is safe, else move in
+    // half a texel; the sides as they are or half a texel in. 4: the paper's
+    // own quad, every vertex pushed in by half a texel.
+    static constexpr int kRealizations = 5;
+    Trapezoid realization(const PaperQuad& q, int r) const {
+        if (r == 4) return paper_pushed(q);
+        const i64 pt = row_safe(q.y0 - 1, q.x0, q.x1) ? 0 : 1;
+        const i64 pb = row_safe(q.y1, q.x3, q.x2) ? 0 : 1;
+        const i64 pl = r & 1, pr = r >> 1;
+        return {2 * i64(q.y0) + pt, 2 * i64(q.y1) - pb, 2 * i64(q.x0) + pl, 2 * i64(q.x1) - pr,
+                2 * i64(q.x3) + pl, 2 * i64(q.x2) - pr};
+    }
+
+    // The largest rectangle of uncovered texels whose 4-neighbours are safe:
+    // its integer edges then run only along safe texels, so every texel in it
+    // counts as covered. Largest rectangle in a histogram, row by row, O(w*h).
+    void search_rectangle(Best& best) {
+        const int w = grid_.width, h = grid_.height;
+        std::vector<int> height(std::size_t(w), 0), stack;
+        i64 best_area = 0;
+        int bx0 = 0, bx1 = 0, by0 = 0, by1 = 0;
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                std::size_t i = std::size_t(y) * w + x;
+                height[x] = interior_.bits[i] && !covered_.bits[i] ? height[x] + 1 : 0;
+            }
+            stack.clear();
+            for (int x = 0; x <= w; ++x) {
+                int hx = x < w ? height[x] : 0;
+                while (!stack.empty() && height[stack.back()] >= hx) {
+                    int hh = height[stack.back()];
+                    stack.pop_back();
+                    int left = stack.empty() ? 0 : stack.back() + 1;
+                    i64 a = i64(hh) * (x - left);
+                    if (a > best_area) {
+                        best_area = a;
+                        bx0 = left, bx1 = x, by0 = y + 1 - hh, by1 = y + 1;
+                    }
+                }
+                stack.push_back(x);
+            }
+        }
+        counters_.work += i64(w) * h;
+        if (best_area <= best.coverage) return;
+        offer({2 * i64(by0), 2 * i64(by1), 2 * i64(bx0), 2 * i64(bx1), 2 * i64(bx0), 2 * i64(bx1)}, best);
+    }
+
+    // ---- The paper's sequence (paper_quad_search.cpp), the same choices,
+    // lazily like ours: its count only shrinks as the map fills, the first
+    // bound is the exact sum of its span lengths (O(log)), and a count costs
+    // O(rows) with row sums instead of O(area). Ties go to the earlier quad,
+    // as the paper's first maximum does: the heap orders equal bounds by
+    // index.
+
+    Sequence paper_sequence(const OpaqueOptions& options) {
+        Sequence seq;
+        const int w = grid_.width;
+        std::vector<std::int8_t> map(grid_.safe_mask.bits.begin(), grid_.safe_mask.bits.end());
+        const i64 opaque = std::count(map.begin(), map.end(), 1);
+        if (opaque == 0) return seq;
+        i64 paper_covered = 0;
+        covered_ = grid_.safe_mask;
+        std::fill(covered_.bits.begin(), covered_.bits.end(), 0);
+        Mask positive = grid_.safe_mask;
+        const std::size_t n = quads_.size();
+        const i64 least = std::max(1, options.min_area); // a smaller count is never accepted
+        std::vector<i64> bound(n);
+        std::vector<int> fresh(n, -1), banded(n, 0);
+        std::vector<std::int8_t> valid(n, -1), refined(n, 0); // valid: unknown, no, yes
+        std::vector<Pending> heap;
+        for (std::size_t i = 0; i < n; ++i) {
+            bound[i] = paper_cheap_bound(quads_[i]);
+            if (bound[i] >= least) heap.push_back({bound[i], int(i)});
+        }
+        std::make_heap(heap.begin(), heap.end());
+        counters_.work += i64(n);
+        for (int step = 0; int(seq.polygons.size()) < options.max_polygons &&
+                           double(paper_covered) / double(opaque) < options.min_coverage;
+             ++step) {
+            for (std::size_t i = 0; i < map.size(); ++i) positive.bits[i] = map[i] > 0;
+            if (std::count(positive.bits.begin(), positive.bits.end(), 1) < least) break; // no count can reach it
+            RowSums counts(positive);
+            BoxSums in_box(positive);
+            int winner = -1;
+            while (!heap.empty() && !over_budget()) {
+                std::pop_heap(heap.begin(), heap.end());
+                const int i = heap.back().index;
+                heap.pop_back();
+                counters_.work += kPopWork;
+                if (fresh[i] == step) {
+                    winner = i;
+                    push(heap, {bound[i], i});
+                    break;
+                }
+                PaperQuad q = quads_[i].quad();
+                if (!refined[i]) {
+                    refined[i] = 1;
+                    if (tighten(bound[i], paper_span_total(q)) && !still_top(heap, {bound[i], i})) {
+                        if (bound[i] >= least) push(heap, {bound[i], i});
+                        continue;
+                    }
+                }
+                if (step > 0 && banded[i] != step) {
+                    banded[i] = step;
+                    if (tighten(bound[i], band_bound(quads_[i], in_box)) && !still_top(heap, {bound[i], i})) {
+                        if (bound[i] >= least) push(heap, {bound[i], i});
+                        continue;
+                    }
+                }
+                if (bound[i] < least) continue; // never accepted, and only falls
+                i64 count = 0;
+                for (int y = q.y0; y < q.y1; ++y) {
+                    int x0, x1;
+                    paper_row_span(q, y, w, x0, x1);
+                    count += counts.span(y, x0, x1);
+                }
+                counters_.work += q.y1 - q.y0;
+                if (count >= least && valid[i] < 0) valid[i] = trapezoid_valid(paper_pushed(q), grid_, counters_.work);
+                bound[i] = valid[i] > 0 ? count : 0;
+                fresh[i] = step;
+                if (bound[i] >= least) push(heap, {bound[i], i});
+            }
+            if (winner < 0) break;
+            PaperQuad best = quads_[winner].quad();
+            for (int y = best.y0; y < best.y1; ++y) {
+                int x0, x1;
+                paper_row_span(best, y, w, x0, x1);
+                for (int x = x0; x < x1; ++x) {
+                    std::int8_t& m = map[std::size_t(y) * w + x];
+                    paper_covered += m > 0;
+                    if (m != 0) m = -1;
+                }
+            }
+            HalfPolygon poly = paper_pushed(best).polygon();
+            seq.covered += mark_covered(poly);
+            seq.polygons.push_back(std::move(poly));
+        }
+        return seq;
+    }
+
+    // Sum of the paper's span lengths without the floor sums: each span is
+    // at most its unrounded width plus one.
+    static i64 paper_cheap_bound(const StoredQuad& q) {
+        const i64 dy = q.y1 - q.y0, wt = q.x1 - q.x0, wb = q.x2 - q.x3;
+        return floor_div(2 * dy * wt + (wb - wt) * (dy - 1), 2) + dy;
+    }
+
+    SafeGrid grid_;
+    SearchCounters& counters_;
+    std::vector<Segment> segments_;
+    std::vector<StoredQuad> quads_; // the paper's candidates, in its order
+    std::vector<int> seen_stamp_;
+    std::vector<std::vector<std::pair<int, int>>> seen_;
+    Mask covered_, interior_;
+    RowSums uncovered_;
+    int min_area_;
+    i64 budget_base_ = 0;
+};
+
+} // namespace
+
+std::vector<HalfPolygon> fast_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters) {
+    return FastSearch(safe, options.min_area, counters).run(options);
+}
+
+} // namespace depthcull::opaque_detail

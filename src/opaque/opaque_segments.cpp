@@ -1,0 +1,110 @@
+// Paper 2.2.1: opaque segments and their graph, plus the exact grid
+// arithmetic (safe texels, span counts, covered columns) both opaque searches
+// share.
+#include <algorithm>
+#include <limits>
+
+#include "opaque/opaque_internal.h"
+
+namespace depthcull::opaque_detail {
+
+Polygon to_polygon(const HalfPolygon& p, Rect rect) {
+    Polygon out;
+    out.reserve(p.size());
+    // Halves are exact in a double, so the public vertices are exact too.
+    for (const auto& v : p) out.push_back({rect.x + double(v.x) / 2, rect.y + double(v.y) / 2});
+    return out;
+}
+
+std::vector<Segment> find_opaque_segments(const Mask& mask, int min_length) {
+    std::vector<Segment> segments;
+    std::size_t prev_begin = 0, prev_end = 0; // segments of the previous row
+    for (int y = 0; y < mask.height; ++y) {
+        std::size_t row_begin = segments.size();
+        for (int x = 0; x < mask.width;) {
+            while (x < mask.width && !mask.at(x, y)) ++x;
+            if (x >= mask.width) break;
+            int x0 = x;
+            while (x < mask.width && mask.at(x, y)) ++x;
+            if (x - x0 < min_length) continue; // paper: ignore runs shorter than 3
+            segments.push_back({x0, x - 1, y, {}});
+        }
+        // Paper 2.2.1 links each segment to the overlapping ones above it; the
+        // rows are sorted by x, so a merge finds them in O(N) instead of the
+        // pseudocode's scan over every segment.
+        std::size_t j = prev_begin;
+        for (std::size_t i = row_begin; i < segments.size(); ++i) {
+            while (j < prev_end && segments[j].x1 < segments[i].x0) ++j;
+            for (std::size_t k = j; k < prev_end && segments[k].x0 <= segments[i].x1; ++k)
+                segments[k].down.push_back(int(i));
+        }
+        prev_begin = row_begin;
+        prev_end = segments.size();
+    }
+    return segments;
+}
+
+Mask safe_mask(ImageView image, Rect rect, Filter filter) {
+    Mask opaque = opaque_mask(image, rect);
+    if (filter == Filter::nearest) return opaque;
+    Mask safe = opaque;
+    for (int y = 0; y < opaque.height; ++y)
+        for (int x = 0; x < opaque.width; ++x) {
+            if (!opaque.at(x, y)) continue;
+            bool ok = true;
+            for (int dy = -1; dy <= 1 && ok; ++dy)
+                for (int dx = -1; dx <= 1 && ok; ++dx) {
+                    int nx = x + dx, ny = y + dy;
+                    ok = nx >= 0 && ny >= 0 && nx < opaque.width && ny < opaque.height && opaque.at(nx, ny);
+                }
+            safe.bits[std::size_t(y) * safe.width + x] = ok ? 1 : 0;
+        }
+    return safe;
+}
+
+RowSums::RowSums(const Mask& mask, bool count_set) : width_(mask.width), height_(mask.height) {
+    sums_.assign(std::size_t(width_ + 1) * height_, 0);
+    for (int y = 0; y < height_; ++y) {
+        std::int32_t* row = &sums_[std::size_t(y) * (width_ + 1)];
+        for (int x = 0; x < width_; ++x) row[x + 1] = row[x] + ((mask.at(x, y) != 0) == count_set ? 1 : 0);
+    }
+}
+
+i64 RowSums::span_clipped(int y, int x0, int x1, i64 outside) const {
+    if (y < 0 || y >= height_) return outside * (x1 - x0);
+    i64 n = 0;
+    if (x0 < 0) n += outside * (std::min(x1, 0) - x0);
+    if (x1 > width_) n += outside * (x1 - std::max(x0, width_));
+    int a = std::clamp(x0, 0, width_), b = std::clamp(x1, 0, width_);
+    if (a < b) {
+        const std::int32_t* row = &sums_[std::size_t(y) * (width_ + 1)];
+        n += i64(row[b]) - row[a];
+    }
+    return n;
+}
+
+void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale) {
+    // A closed texel square is inside a convex polygon iff its four corners
+    // are. Each clockwise edge a->b keeps the points with
+    // cross(b - a, q - a) >= 0; for a fixed corner row that bounds x from one
+    // side, so intersect the bounds of all edges at both corner rows.
+    lo = std::numeric_limits<i64>::min() / 4;
+    hi = std::numeric_limits<i64>::max() / 4;
+    const i64 ys[2] = {scale * i64(row), scale * (i64(row) + 1)};
+    for (std::size_t k = 0, n = p.size(); k < n; ++k) {
+        HalfPoint a = p[k], b = p[(k + 1) % n];
+        i64 dx = b.x - a.x, dy = b.y - a.y;
+        for (i64 y : ys) {
+            if (dy == 0) {
+                if (dx * (y - a.y) < 0) { hi = lo; return; }
+            } else if (dy > 0) { // right boundary: corner x = scale (i + 1) <= a.x + dx (y - a.y) / dy
+                hi = std::min(hi, floor_div(a.x * dy + dx * (y - a.y), scale * dy));
+            } else { // left boundary: corner x = scale i >= a.x - dx (y - a.y) / e
+                i64 e = -dy;
+                lo = std::max(lo, ceil_div(a.x * e - dx * (y - a.y), scale * e));
+            }
+        }
+    }
+}
+
+} // namespace depthcull::opaque_detail

@@ -1,0 +1,503 @@
+// Draws a SceneMeshes the way a game would (paper 3): one draw call per
+// Draw, opaque pass front to back with depth test and write and
+// blending off, blended pass back to front. Overpaint, meshes-only and
+// optimized output all go through the same programs and blend states, so
+// the only thing that differs between them is which pixels get drawn.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <cstring>
+
+#include "render/gl.h"
+
+namespace depthcull::render {
+
+namespace {
+
+// Shared by every blend: world pixels to NDC without flipping y, so
+// framebuffer row 0 (GL's bottom row) is the viewport's top row and
+// glReadPixels returns the image top row first.
+//
+// Texel coordinates are not interpolated from the vertices' u, v: each
+// triangle carries (flat) the affine map from window position to texel
+// position, computed on the CPU in double from texel-exact corners, and
+// the fragment shader applies it to gl_FragCoord. Interpolating u, v in
+// float over different triangles (an element's rect in overpaint, its
+// polygons when optimized) differs in the last bits, and at every pixel
+// centre that lies on a texel edge (any element placed on a half pixel or
+// scaled by 1/2) that picks a different texel. With the map, the texel a
+// pixel shows does not depend on how its element was triangulated.
+const char* const kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec4 a_color;
+layout(location = 2) in vec2 a_texel_origin;
+layout(location = 3) in vec4 a_texel_axes;
+uniform vec2 u_origin;
+uniform vec2 u_scale;
+flat out vec2 v_texel_origin;
+flat out vec4 v_texel_axes;
+out vec4 v_color;
+void main() {
+    gl_Position = vec4((a_position.xy - u_origin) * u_scale - 1.0, a_position.z * 2.0 - 1.0, 1.0);
+    v_texel_origin = a_texel_origin;
+    v_texel_axes = a_texel_axes;
+    v_color = a_color;
+}
+)";
+
+// No discard anywhere: it would switch off early depth rejection, the
+// whole point of the opaque pass. Texels are not premultiplied. Nearest
+// sampling fetches floor(texel position), as GL_NEAREST does.
+const char* const kFragmentShader = R"(#version 330 core
+uniform sampler2D u_texture;
+uniform int u_nearest;
+flat in vec2 v_texel_origin;
+flat in vec4 v_texel_axes;
+in vec4 v_color;
+out vec4 o_color;
+void main() {
+    vec2 t = v_texel_origin + v_texel_axes.xy * gl_FragCoord.x + v_texel_axes.zw * gl_FragCoord.y;
+    vec2 size = vec2(textureSize(u_texture, 0));
+    vec4 texel;
+    if (u_nearest != 0) {
+        // A centre exactly on a texel edge takes the texel on the side the
+        // fill rule gives the pixel to (towards +x, then +y in window
+        // space), so the texel a polygon's edge pixel shows lies inside that
+        // polygon. floor() alone picks the wrong side whenever the texel axis
+        // runs against the window axis (a mirrored or rotated element placed
+        // on a half pixel), and the opaque pass would then write a
+        // non-opaque texel.
+        vec2 along = vec2(v_texel_axes.x != 0.0 ? v_texel_axes.x : v_texel_axes.z,
+                          v_texel_axes.y != 0.0 ? v_texel_axes.y : v_texel_axes.w);
+        vec2 texel_index = floor(t) - vec2(equal(t, floor(t))) * vec2(lessThan(along, vec2(0.0)));
+        texel = texelFetch(u_texture, ivec2(clamp(texel_index, vec2(0.0), size - 1.0)), 0);
+    } else {
+        texel = texture(u_texture, t / size);
+    }
+    vec4 c = texel * v_color;
+#if defined(BLEND_MULTIPLY)
+    // DST_COLOR, ONE_MINUS_SRC_ALPHA: a transparent texel leaves the frame as it is.
+    c.rgb *= c.a;
+#elif defined(BLEND_OPAQUE)
+    c.a = 1.0;
+#endif
+    o_color = c;
+}
+)";
+
+// Per GL vertex: position (3), colour (4), texel map origin (2) and axes (4).
+constexpr int kGlVertexFloats = 13;
+
+constexpr int kBlendCount = 4;
+
+} // namespace
+
+struct GlRenderer::Impl {
+    GlContext context;
+    Gl gl;
+    std::string description;
+    bool software = false;
+    GLuint programs[kBlendCount] = {};
+    GLint origin_location[kBlendCount] = {}, scale_location[kBlendCount] = {}, nearest_location[kBlendCount] = {};
+    GLuint framebuffer = 0, color_buffer = 0, depth_buffer = 0;
+    GLuint query = 0;
+    std::vector<GLuint> textures;
+    std::vector<std::pair<int, int>> texture_sizes;
+    bool nearest = true;
+    int width = 0, height = 0;
+
+    struct Batch {
+        int image;
+        Pass pass;
+        Blend blend;
+        std::size_t first_vertex, vertex_count;
+    };
+    // One uploaded SceneMeshes: its own vertex buffer and vertex array.
+    struct MeshSet {
+        GLuint vao = 0, vertex_buffer = 0;
+        std::vector<Batch> batches;
+        bool depth_test = false;
+        Viewport viewport;
+        std::int64_t triangles = 0, draw_calls = 0;
+    };
+    std::vector<MeshSet> sets;
+    std::size_t current = 0;
+    const MeshSet& set() const {
+        static const MeshSet none;
+        return current < sets.size() ? sets[current] : none;
+    }
+
+    // EGL contexts are current per thread; several renderers on one thread
+    // (tests compare platforms) each make theirs current before GL calls.
+    void make_current() {
+        if (eglGetCurrentContext() != context.context)
+            eglMakeCurrent(context.display, EGL_NO_SURFACE, EGL_NO_SURFACE, context.context);
+    }
+
+    void clear_sets() {
+        for (MeshSet& m : sets) {
+            gl.DeleteBuffers(1, &m.vertex_buffer);
+            gl.DeleteVertexArrays(1, &m.vao);
+        }
+        sets.clear();
+        current = 0;
+    }
+
+    ~Impl() {
+        if (context.context != EGL_NO_CONTEXT && gl.DeleteProgram) {
+            make_current();
+            for (GLuint p : programs) gl.DeleteProgram(p);
+            gl.DeleteTextures(GLsizei(textures.size()), textures.data());
+            clear_sets();
+            gl.DeleteFramebuffers(1, &framebuffer);
+            gl.DeleteRenderbuffers(1, &color_buffer);
+            gl.DeleteRenderbuffers(1, &depth_buffer);
+            gl.DeleteQueries(1, &query);
+        }
+        context.destroy();
+    }
+
+    GLuint compile(GLenum type, const std::string& source) {
+        GLuint shader = gl.CreateShader(type);
+        const char* text = source.c_str();
+        gl.ShaderSource(shader, 1, &text, nullptr);
+        gl.CompileShader(shader);
+        GLint ok = 0;
+        gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+        if (!ok) {
+            char log[512] = {};
+            gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
+            gl.DeleteShader(shader);
+            for (char& c : log)
+                if (c == '\n') c = ' ';
+            throw Error(std::string("GL shader does not compile: ") + log);
+        }
+        return shader;
+    }
+
+    void build_programs() {
+        static const char* const defines[kBlendCount] = {"", "", "#define BLEND_MULTIPLY 1\n", "#define BLEND_OPAQUE 1\n"};
+        std::string fragment_tail = std::strchr(kFragmentShader, '\n') + 1;
+        for (int b = 0; b < kBlendCount; ++b) {
+            GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
+            GLuint fs = compile(GL_FRAGMENT_SHADER, std::string("#version 330 core\n") + defines[b] + fragment_tail);
+            GLuint program = gl.CreateProgram();
+            gl.AttachShader(program, vs);
+            gl.AttachShader(program, fs);
+            gl.LinkProgram(program);
+            gl.DeleteShader(vs);
+            gl.DeleteShader(fs);
+            GLint ok = 0;
+            gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
+            if (!ok) throw Error("GL program does not link");
+            programs[b] = program;
+            origin_location[b] = gl.GetUniformLocation(program, "u_origin");
+            scale_location[b] = gl.GetUniformLocation(program, "u_scale");
+            nearest_location[b] = gl.GetUniformLocation(program, "u_nearest");
+            gl.UseProgram(program);
+            gl.Uniform1i(gl.GetUniformLocation(program, "u_texture"), 0);
+        }
+    }
+
+    void resize(int w, int h) {
+        if (w == width && h == height) return;
+        GLint max_size = 0;
+        gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+        if (w <= 0 || h <= 0 || w > max_size || h > max_size)
+            throw Error("viewport " + std::to_string(w) + "x" + std::to_string(h) + " is outside this GL's framebuffer limit " +
+                        std::to_string(max_size));
+        if (!framebuffer) {
+            gl.GenFramebuffers(1, &framebuffer);
+            gl.GenRenderbuffers(1, &color_buffer);
+            gl.GenRenderbuffers(1, &depth_buffer);
+        }
+        gl.BindRenderbuffer(GL_RENDERBUFFER, color_buffer);
+        gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+        gl.BindRenderbuffer(GL_RENDERBUFFER, depth_buffer);
+        gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_buffer);
+        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_buffer);
+        if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw Error("GL framebuffer RGBA8 + DEPTH_COMPONENT24 is incomplete");
+        width = w;
+        height = h;
+    }
+
+    // GL state per (pass, blend); see the Blend comment in scene.h.
+    void set_state(Pass pass, Blend blend) {
+        if (pass == Pass::opaque || blend == Blend::opaque) {
+            gl.Disable(GL_BLEND);
+        } else {
+            gl.Enable(GL_BLEND);
+            switch (blend) {
+            case Blend::alpha:
+                gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+                break;
+            case Blend::add:
+                gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE, GL_SRC_ALPHA, GL_ONE);
+                break;
+            case Blend::multiply:
+                gl.BlendFuncSeparate(GL_DST_COLOR, GL_ONE_MINUS_SRC_ALPHA, GL_DST_COLOR, GL_ONE_MINUS_SRC_ALPHA);
+                break;
+            case Blend::opaque:
+                break;
+            }
+        }
+        if (set().depth_test) gl.DepthMask(pass == Pass::opaque ? GL_TRUE : GL_FALSE);
+    }
+
+    void draw_frame() {
+        const MeshSet& m = set();
+        gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        gl.Viewport(0, 0, width, height);
+        gl.ClearColor(0, 0, 0, 0);
+        // Overpaint needs no depth buffer, so it does not pay for clearing one.
+        if (m.depth_test) {
+            gl.DepthMask(GL_TRUE);
+            gl.ClearDepth(0.0);
+            gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            gl.Enable(GL_DEPTH_TEST);
+            gl.DepthFunc(GL_GREATER); // larger z is nearer (scene.h)
+        } else {
+            gl.Clear(GL_COLOR_BUFFER_BIT);
+            gl.Disable(GL_DEPTH_TEST);
+        }
+        if (m.batches.empty()) return;
+        const Viewport& viewport = m.viewport;
+        gl.BindVertexArray(m.vao);
+        gl.ActiveTexture(GL_TEXTURE0);
+        int bound_program = -1, bound_image = -1;
+        for (const Batch& b : m.batches) {
+            int program = int(b.blend);
+            if (program != bound_program) {
+                gl.UseProgram(programs[program]);
+                gl.Uniform2f(origin_location[program], float(viewport.x), float(viewport.y));
+                gl.Uniform2f(scale_location[program], 2.0f / float(width), 2.0f / float(height));
+                gl.Uniform1i(nearest_location[program], nearest ? 1 : 0);
+                bound_program = program;
+            }
+            if (b.image != bound_image) {
+                gl.BindTexture(GL_TEXTURE_2D, textures[std::size_t(b.image)]);
+                bound_image = b.image;
+            }
+            set_state(b.pass, b.blend);
+            gl.DrawArrays(GL_TRIANGLES, GLint(b.first_vertex), GLsizei(b.vertex_count));
+        }
+    }
+};
+
+GlRenderer::GlRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+GlRenderer::~GlRenderer() = default;
+
+std::unique_ptr<GlRenderer> GlRenderer::create(const GlOptions& options, std::string* error) {
+    auto impl = std::make_unique<Impl>();
+    std::string why = create_gl_context(options.platform, &impl->context);
+    if (why.empty()) {
+        std::string missing = impl->gl.load();
+        if (!missing.empty()) why = impl->context.platform + ": GL lacks " + missing;
+    }
+    if (!why.empty()) {
+        if (error) *error = "no OpenGL context: " + why;
+        return nullptr;
+    }
+    Gl& gl = impl->gl;
+    auto text = [&](GLenum name) {
+        const GLubyte* s = gl.GetString(name);
+        return s ? std::string(reinterpret_cast<const char*>(s)) : std::string("?");
+    };
+    std::string renderer = text(GL_RENDERER);
+    impl->description = renderer + ", OpenGL " + text(GL_VERSION) + ", " + impl->context.platform;
+    impl->software = renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
+    try {
+        impl->build_programs();
+    } catch (const Error& e) {
+        if (error) *error = std::string("no usable OpenGL: ") + e.what();
+        return nullptr;
+    }
+    gl.GenQueries(1, &impl->query);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    return std::unique_ptr<GlRenderer>(new GlRenderer(std::move(impl)));
+}
+
+const std::string& GlRenderer::description() const { return impl_->description; }
+bool GlRenderer::is_software() const { return impl_->software; }
+
+void GlRenderer::set_images(const std::vector<ImageView>& images, Filter filter) {
+    impl_->make_current();
+    Impl& r = *impl_;
+    Gl& gl = r.gl;
+    gl.DeleteTextures(GLsizei(r.textures.size()), r.textures.data());
+    r.textures.assign(images.size(), 0);
+    r.texture_sizes.clear();
+    r.nearest = filter == Filter::nearest;
+    gl.GenTextures(GLsizei(r.textures.size()), r.textures.data());
+    GLint max_size = 0;
+    gl.GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    const GLint mode = filter == Filter::linear ? GL_LINEAR : GL_NEAREST;
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const ImageView& v = images[i];
+        if (v.width <= 0 || v.height <= 0 || v.width > max_size || v.height > max_size)
+            throw Error("image " + std::to_string(i) + " (" + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                        ") is outside this GL's texture limit " + std::to_string(max_size));
+        gl.BindTexture(GL_TEXTURE_2D, r.textures[i]);
+        r.texture_sizes.emplace_back(v.width, v.height);
+        gl.PixelStorei(GL_UNPACK_ROW_LENGTH, GLint(v.stride / 4));
+        gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, v.width, v.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, v.rgba);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mode);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, mode);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    gl.PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    if (GLenum e = gl.GetError(); e != GL_NO_ERROR) throw Error("GL error " + std::to_string(e) + " uploading textures");
+}
+
+namespace {
+
+// Appends triangle (a, b, c) of `d` as three GL vertices carrying the map
+// from window position to texel position (see kVertexShader). Returns
+// false for a triangle with no area, which GL would not draw either.
+bool append_triangle(const Draw& d, const std::uint32_t (&corner)[3], const Viewport& vp, int image_w, int image_h,
+                     std::vector<float>& out) {
+    double X[3][2], T[3][2];
+    for (int k = 0; k < 3; ++k) {
+        const float* v = &d.vertices[std::size_t(corner[k]) * kVertexFloats];
+        X[k][0] = double(v[0]) - vp.x;
+        X[k][1] = double(v[1]) - vp.y;
+        // Polygon corners sit on the texel grid (geometry.h); undo the float
+        // rounding of u = texel / width so every triangle of an element
+        // derives its map from the same exact corners.
+        T[k][0] = std::round(double(v[3]) * image_w * 256.0) / 256.0;
+        T[k][1] = std::round(double(v[4]) * image_h * 256.0) / 256.0;
+    }
+    const double dx1 = X[1][0] - X[0][0], dy1 = X[1][1] - X[0][1];
+    const double dx2 = X[2][0] - X[0][0], dy2 = X[2][1] - X[0][1];
+    const double det = dx1 * dy2 - dy1 * dx2;
+    if (!(det != 0) || !std::isfinite(det)) return false;
+    double axis_x[2], axis_y[2], origin[2];
+    for (int c = 0; c < 2; ++c) {
+        const double dt1 = T[1][c] - T[0][c], dt2 = T[2][c] - T[0][c];
+        axis_x[c] = (dt1 * dy2 - dt2 * dy1) / det;
+        axis_y[c] = (dt2 * dx1 - dt1 * dx2) / det;
+        origin[c] = T[0][c] - axis_x[c] * X[0][0] - axis_y[c] * X[0][1];
+    }
+    for (int k = 0; k < 3; ++k) {
+        const float* v = &d.vertices[std::size_t(corner[k]) * kVertexFloats];
+        out.insert(out.end(), {v[0], v[1], v[2], v[5], v[6], v[7], v[8], float(origin[0]), float(origin[1]), float(axis_x[0]),
+                               float(axis_x[1]), float(axis_y[0]), float(axis_y[1])});
+    }
+    return true;
+}
+
+} // namespace
+
+void GlRenderer::set_meshes(const SceneMeshes& meshes) {
+    impl_->make_current();
+    impl_->clear_sets();
+    select_meshes(add_meshes(meshes));
+}
+
+int GlRenderer::add_meshes(const SceneMeshes& meshes) {
+    impl_->make_current();
+    Impl& r = *impl_;
+    Gl& gl = r.gl;
+    Impl::MeshSet m;
+    m.viewport = meshes.viewport;
+    m.depth_test = meshes.depth_test;
+    std::vector<float> vertices;
+    for (const Draw& d : meshes.draws) {
+        if (d.image < 0 || std::size_t(d.image) >= r.textures.size())
+            throw Error("draw names image " + std::to_string(d.image) + " but " + std::to_string(r.textures.size()) +
+                        " images are loaded");
+        const auto [image_w, image_h] = r.texture_sizes[std::size_t(d.image)];
+        const std::size_t first = vertices.size() / kGlVertexFloats;
+        for (std::size_t t = 0; t + 3 <= d.indices.size(); t += 3) {
+            const std::uint32_t corner[3] = {d.indices[t], d.indices[t + 1], d.indices[t + 2]};
+            for (std::uint32_t i : corner)
+                if (i >= d.vertex_count()) throw Error("draw has index " + std::to_string(i) + " past its vertices");
+            append_triangle(d, corner, m.viewport, image_w, image_h, vertices);
+        }
+        // Counted as the scene draws them, degenerate triangles included.
+        if (d.triangle_count() == 0) continue;
+        m.triangles += std::int64_t(d.triangle_count());
+        ++m.draw_calls;
+        const std::size_t count = vertices.size() / kGlVertexFloats - first;
+        if (count) m.batches.push_back({d.image, d.pass, d.blend, first, count});
+    }
+    gl.GenVertexArrays(1, &m.vao);
+    gl.GenBuffers(1, &m.vertex_buffer);
+    gl.BindVertexArray(m.vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, m.vertex_buffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
+    const GLsizei stride = kGlVertexFloats * sizeof(float);
+    const int sizes[4] = {3, 4, 2, 4};
+    for (GLuint i = 0, offset = 0; i < 4; offset += GLuint(sizes[i]), ++i) {
+        gl.VertexAttribPointer(i, sizes[i], GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(std::uintptr_t(offset * sizeof(float))));
+        gl.EnableVertexAttribArray(i);
+    }
+    r.sets.push_back(std::move(m));
+    if (GLenum e = gl.GetError(); e != GL_NO_ERROR) throw Error("GL error " + std::to_string(e) + " uploading meshes");
+    return int(r.sets.size()) - 1;
+}
+
+void GlRenderer::select_meshes(int slot) {
+    impl_->make_current();
+    Impl& r = *impl_;
+    if (slot < 0 || std::size_t(slot) >= r.sets.size()) throw Error("no meshes uploaded in slot " + std::to_string(slot));
+    r.current = std::size_t(slot);
+    r.resize(r.sets[r.current].viewport.width, r.sets[r.current].viewport.height);
+}
+
+double GlRenderer::time_frame() {
+    impl_->make_current();
+    Impl& r = *impl_;
+    auto start = std::chrono::steady_clock::now();
+    r.draw_frame();
+    r.gl.Finish();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+void GlRenderer::draw() {
+    impl_->make_current();
+    impl_->draw_frame();
+}
+
+FrameCounts GlRenderer::draw_counted() {
+    impl_->make_current();
+    Impl& r = *impl_;
+    r.gl.BeginQuery(GL_SAMPLES_PASSED, r.query);
+    r.draw_frame();
+    r.gl.EndQuery(GL_SAMPLES_PASSED);
+    GLuint64 samples = 0;
+    r.gl.GetQueryObjectui64v(r.query, GL_QUERY_RESULT, &samples);
+    return {r.set().draw_calls, r.set().triangles, std::int64_t(samples)};
+}
+
+Image GlRenderer::read_pixels() {
+    impl_->make_current();
+    Impl& r = *impl_;
+    Image image;
+    image.width = r.width;
+    image.height = r.height;
+    image.rgba.resize(std::size_t(r.width) * std::size_t(r.height) * 4);
+    r.gl.BindFramebuffer(GL_FRAMEBUFFER, r.framebuffer);
+    r.gl.ReadPixels(0, 0, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+    return image;
+}
+
+std::vector<double> GlRenderer::time_frames(int frames, int warmup) {
+    impl_->make_current();
+    Impl& r = *impl_;
+    for (int i = 0; i < warmup; ++i) r.draw_frame();
+    r.gl.Finish();
+    std::vector<double> ms;
+    ms.reserve(std::size_t(std::max(frames, 0)));
+    for (int i = 0; i < frames; ++i) ms.push_back(time_frame());
+    return ms;
+}
+
+} // namespace depthcull::render

@@ -1,0 +1,317 @@
+// The overdraw analyzers: what a frame shades (analyze_overdraw, a software
+// rasterizer modelled on meshoptimizer's meshopt_analyzeOverdraw) and the
+// least it could shade (ideal_overdraw). Paper 3 measured overdraw by
+// drawing untextured polygons with additive blending; counting on the CPU
+// gives the same figure without a GPU, per pixel, for tests and heatmaps.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "depthcull/render.h"
+
+namespace depthcull::render {
+
+namespace {
+
+// llvmpipe snaps vertices to 1/256 pixel (FIXED_ORDER 8) before it
+// evaluates edge functions in integers; doing the same makes coverage on
+// an edge through a pixel centre come out as it does there, not as
+// floating-point noise decides.
+constexpr int kSubpixelBits = 8;
+constexpr double kSubpixel = 1 << kSubpixelBits;
+// Beyond this a triangle is clipped by GL; we skip it rather than overflow
+// 64-bit edge products (2^27 pixels * 2^8 subpixels, squared, < 2^63).
+constexpr double kMaxCoordinate = double(1 << 27);
+
+struct Fixed {
+    std::int64_t x, y;
+};
+
+// Which pixel centres exactly on an edge belong to the triangle, so a
+// pixel on an edge two triangles share is shaded once. Edges are oriented
+// so the interior is on the positive side; with window y growing down the
+// rows, llvmpipe keeps centres on "top" edges (horizontal, interior below,
+// dx > 0) and "left" edges (dy < 0). tests/render checks this against
+// GL_SAMPLES_PASSED. Exact for triangles inside the viewport; GL clips
+// those that cross its edge, and a centre exactly on a clipped edge may
+// then fall either way.
+bool owns_ties(Fixed a, Fixed b) {
+    std::int64_t dx = b.x - a.x, dy = b.y - a.y;
+    return dy < 0 || (dy == 0 && dx > 0);
+}
+
+struct Edge {
+    std::int64_t a, b, c; // E(x, y) = a*x + b*y + c, in subpixel units squared
+    std::int64_t bias;    // 0 when ties count as inside, else 1
+
+    Edge(Fixed p, Fixed q) {
+        a = -(q.y - p.y);
+        b = q.x - p.x;
+        c = -(a * p.x + b * p.y);
+        bias = owns_ties(p, q) ? 0 : 1;
+    }
+    std::int64_t at(std::int64_t x, std::int64_t y) const { return a * x + b * y + c; }
+};
+
+std::uint32_t depth24(double z) {
+    z = std::clamp(z, 0.0, 1.0);
+    return std::uint32_t(std::lround(z * 16777215.0));
+}
+
+} // namespace
+
+OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map) {
+    const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
+    OverdrawStats stats;
+    stats.pixels = std::int64_t(width) * height;
+    std::vector<std::uint32_t> counts(std::size_t(stats.pixels), 0);
+    std::vector<std::uint32_t> depth(meshes.depth_test ? std::size_t(stats.pixels) : 0, 0);
+
+    for (const Draw& draw : meshes.draws) {
+        const bool write_depth = meshes.depth_test && draw.pass == Pass::opaque;
+        const std::size_t vertex_count = draw.vertex_count();
+        for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3) {
+            Fixed p[3];
+            double z[3];
+            bool skip = false;
+            for (int k = 0; k < 3; ++k) {
+                std::uint32_t i = draw.indices[t + std::size_t(k)];
+                if (i >= vertex_count) {
+                    skip = true;
+                    break;
+                }
+                const float* v = &draw.vertices[std::size_t(i) * kVertexFloats];
+                double x = double(v[0]) - meshes.viewport.x, y = double(v[1]) - meshes.viewport.y;
+                if (!(std::abs(x) < kMaxCoordinate && std::abs(y) < kMaxCoordinate)) {
+                    skip = true;
+                    break;
+                }
+                p[k] = {std::llround(x * kSubpixel), std::llround(y * kSubpixel)};
+                z[k] = v[2];
+            }
+            if (skip) continue;
+            std::int64_t area = Edge(p[0], p[1]).at(p[2].x, p[2].y);
+            if (area == 0) continue; // degenerate: GL draws nothing
+            if (area < 0) {
+                std::swap(p[1], p[2]);
+                std::swap(z[1], z[2]);
+                area = -area;
+            }
+            // Edge k is opposite vertex k, so its value is vertex k's barycentric weight.
+            const Edge e[3] = {Edge(p[1], p[2]), Edge(p[2], p[0]), Edge(p[0], p[1])};
+            auto lo = [](std::int64_t v) { return int(std::floor((double(v) / kSubpixel) - 0.5)); };
+            auto hi = [](std::int64_t v) { return int(std::ceil((double(v) / kSubpixel) - 0.5)); };
+            int x0 = std::max(0, lo(std::min({p[0].x, p[1].x, p[2].x})));
+            int x1 = std::min(width - 1, hi(std::max({p[0].x, p[1].x, p[2].x})));
+            int y0 = std::max(0, lo(std::min({p[0].y, p[1].y, p[2].y})));
+            int y1 = std::min(height - 1, hi(std::max({p[0].y, p[1].y, p[2].y})));
+            const bool flat = z[0] == z[1] && z[1] == z[2];
+            const std::uint32_t flat_depth = depth24(z[0]);
+            for (int py = y0; py <= y1; ++py) {
+                const std::int64_t cy = std::int64_t(py) * (1 << kSubpixelBits) + (1 << (kSubpixelBits - 1));
+                for (int px = x0; px <= x1; ++px) {
+                    const std::int64_t cx = std::int64_t(px) * (1 << kSubpixelBits) + (1 << (kSubpixelBits - 1));
+                    const std::int64_t w0 = e[0].at(cx, cy), w1 = e[1].at(cx, cy), w2 = e[2].at(cx, cy);
+                    if (w0 < e[0].bias || w1 < e[1].bias || w2 < e[2].bias) continue;
+                    const std::size_t pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                    if (meshes.depth_test) {
+                        std::uint32_t d = flat ? flat_depth
+                                               : depth24((double(w0) * z[0] + double(w1) * z[1] + double(w2) * z[2]) / double(area));
+                        if (d <= depth[pixel]) continue; // GL_GREATER against a buffer cleared to 0
+                        if (write_depth) depth[pixel] = d;
+                    }
+                    ++counts[pixel];
+                    ++stats.shaded;
+                }
+            }
+        }
+    }
+    if (map) {
+        map->width = width;
+        map->height = height;
+        map->counts = std::move(counts);
+    }
+    return stats;
+}
+
+OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map) {
+    const Viewport& vp = scene.viewport;
+    const int width = std::max(vp.width, 0), height = std::max(vp.height, 0);
+    OverdrawStats stats;
+    stats.pixels = std::int64_t(width) * height;
+    std::vector<std::uint32_t> counts(std::size_t(stats.pixels), 0);
+    // Set once a pixel has met a fully opaque element: nothing behind it counts.
+    std::vector<std::uint8_t> covered(std::size_t(stats.pixels), 0);
+
+    // Front to back, each element over its screen bounding box only, so the
+    // cost is the sum of element areas, not elements * pixels.
+    for (std::size_t k = scene.elements.size(); k-- > 0;) {
+        const Element& e = scene.elements[k];
+        if (e.image < 0 || std::size_t(e.image) >= images.size() || e.rect.empty()) continue;
+        if (e.color[3] <= 0.0f) continue; // draws nothing a viewer can see
+        const ImageView& image = images[std::size_t(e.image)];
+        if (!image.contains(e.rect)) continue;
+        const auto& m = e.transform;
+        const double det = m[0] * m[3] - m[1] * m[2];
+        if (!(det != 0) || !std::isfinite(det)) continue;
+        double bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
+        for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), 0}, Vec2{0, double(e.rect.h)}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
+            Vec2 s = apply(m, c);
+            bx0 = std::min(bx0, s.x - vp.x);
+            by0 = std::min(by0, s.y - vp.y);
+            bx1 = std::max(bx1, s.x - vp.x);
+            by1 = std::max(by1, s.y - vp.y);
+        }
+        const int x0 = int(std::max(0.0, std::floor(bx0 - 0.5))), x1 = int(std::min(double(width) - 1, std::ceil(bx1 - 0.5)));
+        const int y0 = int(std::max(0.0, std::floor(by0 - 0.5))), y1 = int(std::min(double(height) - 1, std::ceil(by1 - 0.5)));
+        const bool can_cover = (e.blend == Blend::alpha && e.color[3] >= 1.0f) || e.blend == Blend::opaque;
+        for (int py = y0; py <= y1; ++py) {
+            for (int px = x0; px <= x1; ++px) {
+                const std::size_t pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                if (covered[pixel]) continue;
+                // Pixel centre back to texel space of the rect (inverse of the SVG matrix).
+                const double qx = vp.x + px + 0.5 - m[4], qy = vp.y + py + 0.5 - m[5];
+                const double u = (m[3] * qx - m[2] * qy) / det, v = (m[0] * qy - m[1] * qx) / det;
+                if (!(u >= 0 && v >= 0 && u < e.rect.w && v < e.rect.h)) continue;
+                const int tx = std::min(e.rect.x + int(u), e.rect.x + e.rect.w - 1);
+                const int ty = std::min(e.rect.y + int(v), e.rect.y + e.rect.h - 1);
+                const std::uint8_t alpha = e.blend == Blend::opaque ? 255 : image.alpha(tx, ty);
+                if (is_transparent(alpha)) continue;
+                ++counts[pixel];
+                ++stats.shaded;
+                if (can_cover && is_opaque(alpha)) covered[pixel] = 1;
+            }
+        }
+    }
+    if (map) {
+        map->width = width;
+        map->height = height;
+        map->counts = std::move(counts);
+    }
+    return stats;
+}
+
+ImageDiff compare_images(ImageView a, ImageView b) {
+    ImageDiff diff;
+    if (a.width != b.width || a.height != b.height) {
+        diff.same_size = false;
+        return diff;
+    }
+    for (int y = 0; y < a.height; ++y) {
+        for (int x = 0; x < a.width; ++x) {
+            const std::uint8_t *p = a.texel(x, y), *q = b.texel(x, y);
+            int worst = 0;
+            for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(int(p[c]) - int(q[c])));
+            if (worst) ++diff.pixels_differ;
+            diff.max_channel_diff = std::max(diff.max_channel_diff, worst);
+        }
+    }
+    return diff;
+}
+
+} // namespace depthcull::render
+
+namespace depthcull::render {
+
+namespace {
+
+// Squared distance from p to segment ab.
+double distance2(double px, double py, double ax, double ay, double bx, double by) {
+    const double dx = bx - ax, dy = by - ay;
+    const double len2 = dx * dx + dy * dy;
+    double t = len2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / len2 : 0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double ex = ax + t * dx - px, ey = ay + t * dy - py;
+    return ex * ex + ey * ey;
+}
+
+// Marks pixels whose centre lies within `tolerance` of an edge of any
+// triangle, walking each edge along its major axis, so the cost is the
+// total edge length, not pixels * triangles.
+void mark_edges(const SceneMeshes& meshes, double tolerance, int width, int height, std::vector<std::uint8_t>& mask) {
+    const double tol2 = tolerance * tolerance;
+    auto mark = [&](int x, int y, double ax, double ay, double bx, double by) {
+        if (x < 0 || y < 0 || x >= width || y >= height) return;
+        if (distance2(x + 0.5, y + 0.5, ax, ay, bx, by) <= tol2) mask[std::size_t(y) * std::size_t(width) + std::size_t(x)] = 1;
+    };
+    for (const Draw& d : meshes.draws) {
+        for (std::size_t t = 0; t + 3 <= d.indices.size(); t += 3) {
+            double x[3], y[3];
+            bool valid = true;
+            for (int k = 0; k < 3 && valid; ++k) {
+                const std::uint32_t i = d.indices[t + std::size_t(k)];
+                valid = i < d.vertex_count();
+                if (!valid) break;
+                x[k] = double(d.vertices[std::size_t(i) * kVertexFloats]) - meshes.viewport.x;
+                y[k] = double(d.vertices[std::size_t(i) * kVertexFloats + 1]) - meshes.viewport.y;
+            }
+            if (!valid) continue;
+            for (int k = 0; k < 3; ++k) {
+                const double ax = x[k], ay = y[k], bx = x[(k + 1) % 3], by = y[(k + 1) % 3];
+                const bool steep = std::abs(by - ay) > std::abs(bx - ax);
+                // Major axis m, minor axis n: visit each pixel column (row) the
+                // edge spans and the pixels either side of it.
+                const double m0 = steep ? std::min(ay, by) : std::min(ax, bx), m1 = steep ? std::max(ay, by) : std::max(ax, bx);
+                const int limit = steep ? height : width;
+                const int c0 = std::max(0, int(std::floor(m0 - tolerance - 0.5))), c1 = std::min(limit - 1, int(std::ceil(m1 + tolerance - 0.5)));
+                for (int c = c0; c <= c1; ++c) {
+                    const double m = c + 0.5;
+                    const double am = steep ? ay : ax, bm = steep ? by : bx, an = steep ? ax : ay, bn = steep ? bx : by;
+                    const double f = bm != am ? std::clamp((m - am) / (bm - am), 0.0, 1.0) : 0.0;
+                    const double n = an + f * (bn - an);
+                    for (int r = int(std::floor(n - 1.5)); r <= int(std::ceil(n + 0.5)); ++r) {
+                        if (steep) mark(r, c, ax, ay, bx, by);
+                        else mark(c, r, ax, ay, bx, by);
+                    }
+                }
+            }
+        }
+    }
+}
+
+// True when the centre of pixel (x, y) lies inside the rect of an element
+// of `scene` and within `tolerance` pixels (on screen) of one of its texel
+// edges.
+bool near_texel_edge(const Scene& scene, int x, int y, double tolerance) {
+    const double px = scene.viewport.x + x + 0.5, py = scene.viewport.y + y + 0.5;
+    for (const Element& e : scene.elements) {
+        const auto& m = e.transform;
+        const double det = m[0] * m[3] - m[1] * m[2];
+        if (!(det != 0) || !std::isfinite(det)) continue;
+        const double qx = px - m[4], qy = py - m[5];
+        const double u = (m[3] * qx - m[2] * qy) / det, v = (m[0] * qy - m[1] * qx) / det;
+        if (!(u >= -tolerance && v >= -tolerance && u <= e.rect.w + tolerance && v <= e.rect.h + tolerance)) continue;
+        // |grad u| and |grad v| in texels per pixel turn texel distances into pixels.
+        const double grad_u = std::hypot(m[3], m[2]) / std::abs(det), grad_v = std::hypot(m[1], m[0]) / std::abs(det);
+        if (std::abs(u - std::round(u)) <= tolerance * grad_u || std::abs(v - std::round(v)) <= tolerance * grad_v) return true;
+    }
+    return false;
+}
+
+} // namespace
+
+DiffCauses classify_differences(ImageView a, const SceneMeshes& meshes_a, ImageView b, const SceneMeshes& meshes_b, const Scene* scene,
+                                double tolerance) {
+    DiffCauses causes;
+    if (a.width != b.width || a.height != b.height) {
+        causes.elsewhere = std::int64_t(std::max(a.width, b.width)) * std::max(a.height, b.height);
+        return causes;
+    }
+    std::vector<std::uint8_t> near;
+    for (int y = 0; y < a.height; ++y) {
+        for (int x = 0; x < a.width; ++x) {
+            if (std::equal(a.texel(x, y), a.texel(x, y) + 4, b.texel(x, y))) continue;
+            if (near.empty()) { // only frames that differ pay for the edge mask
+                near.assign(std::size_t(a.width) * std::size_t(a.height), 0);
+                mark_edges(meshes_a, tolerance, a.width, a.height, near);
+                mark_edges(meshes_b, tolerance, a.width, a.height, near);
+            }
+            if (near[std::size_t(y) * std::size_t(a.width) + std::size_t(x)] || (scene && near_texel_edge(*scene, x, y, tolerance)))
+                ++causes.near_edges;
+            else ++causes.elsewhere;
+        }
+    }
+    return causes;
+}
+
+} // namespace depthcull::render

@@ -1,2 +1,0 @@
-// STUB: replaced by the headless renderer (issue 5).
-namespace depthcull {}

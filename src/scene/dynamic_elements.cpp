@@ -1,0 +1,82 @@
+// Dynamic elements (beyond the paper: section 4, caveat 2, notes that a
+// changing scene must be reconstructed). Moving elements drawn on top of a
+// static scene need no graph: levels above every static level, one per
+// element in drawing order, keep each in front of everything drawn before
+// it. The static scene reserves those levels (reserved_dynamic_levels) so
+// its depth mapping already leaves room; nothing static is recomputed.
+#include <algorithm>
+
+#include "scene/internal.h"
+
+namespace depthcull {
+
+using namespace detail;
+
+ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const Scene& scene,
+                                       const std::vector<Element>& elements,
+                                       const std::vector<const ImageAnalysis*>& analyses, SceneMeshes* frame) {
+    if (!frame || analyses.size() != elements.size() || static_meshes.stats.depth_bits < 2)
+        return ReconstructStatus::invalid_scene;
+    const std::int64_t denominator = std::int64_t(1) << (static_meshes.stats.depth_bits - 2);
+    const std::int64_t first_level = static_meshes.stats.depth_levels;
+    // Levels k with (2k+2)/D <= 1 are usable.
+    if (first_level + std::int64_t(elements.size()) > denominator / 2 - 1) return ReconstructStatus::too_many_depth_levels;
+
+    Scene dynamic;
+    dynamic.viewport = scene.viewport;
+    dynamic.filter = scene.filter;
+    dynamic.images = scene.images;
+    dynamic.elements = elements;
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+        const Element& e = elements[i];
+        if (!element_is_valid(dynamic, e)) return ReconstructStatus::invalid_scene;
+        if (!analyses[i] && e.blend != Blend::opaque && e.blend != Blend::multiply) return ReconstructStatus::invalid_scene;
+    }
+    ElementShapes shapes = element_shapes(dynamic, analyses, static_meshes.depth_test);
+    std::vector<std::int32_t> keys = mesh_keys(dynamic);
+    std::vector<std::int64_t> levels(elements.size());
+    std::vector<std::uint32_t> order;
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+        levels[i] = first_level + std::int64_t(i);
+        if (shapes.blended[i]) order.push_back(std::uint32_t(i));
+    }
+
+    SceneMeshes out;
+    out.viewport = static_meshes.viewport;
+    out.depth_test = static_meshes.depth_test;
+    MeshBuilder builder(dynamic);
+    std::vector<std::uint32_t> all(elements.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
+    // Dynamic opaque draws first: they are nearest, so they reject the most.
+    append_opaque_draws(dynamic, all, levels, shapes, analyses, keys, denominator, builder, out.draws);
+    out.draws.insert(out.draws.end(), static_meshes.draws.begin(), static_meshes.draws.end());
+    const std::vector<int> canon = canonical_images(dynamic);
+    std::int32_t last = -1;
+    bool first_blend = true;
+    for (std::uint32_t e : order) {
+        const Element& el = elements[e];
+        // Never merge into the last static draw: dynamic elements must come
+        // after every static one.
+        if (first_blend || keys[e] != last) {
+            Draw d;
+            d.image = canon[std::size_t(el.image)];
+            d.pass = Pass::blend;
+            d.blend = el.blend;
+            out.draws.push_back(std::move(d));
+            last = keys[e];
+            first_blend = false;
+        }
+        builder.add_boundary(out.draws.back(), el, shapes.boundary[e], analyses[e], depth_z(levels[e], false, denominator));
+    }
+    out.stats = static_meshes.stats;
+    out.stats.elements += std::int64_t(elements.size());
+    std::int64_t used = 0;
+    for (std::size_t i = 0; i < elements.size(); ++i)
+        if (shapes.boundary[i] != Shape::none) used = std::int64_t(i) + 1;
+    out.stats.depth_levels += used;
+    finish_stats(out);
+    *frame = std::move(out);
+    return ReconstructStatus::ok;
+}
+
+} // namespace depthcull

@@ -1,0 +1,87 @@
+// Internal to src/scene: what each element draws, shared by the element
+// graph, sorting and mesh generation.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "depthcull/scene.h"
+
+namespace depthcull::detail {
+
+// Where an element's polygons come from (texel space of its image).
+enum class Shape : std::uint8_t {
+    none,     // draws nothing (fully transparent rect): dropped
+    analysis, // the per-image analysis polygons (paper 2.1 / 2.2)
+    rect,     // the whole rect, one quad
+};
+
+struct ElementShapes {
+    std::vector<Shape> boundary; // per element: blend pass polygons (and graph overlap)
+    std::vector<Shape> opaque;   // per element: opaque pass polygons
+    // Per element: whether it has a blend-pass draw. Blend "opaque"
+    // elements with an opaque pass draw only there.
+    std::vector<std::uint8_t> blended;
+};
+
+bool element_is_valid(const Scene& scene, const Element& e);
+
+// Decides each element's shapes: see the rules in shapes.cpp.
+ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, bool opaque_pass);
+
+// Marks elements whose rect lies entirely outside the viewport (by more
+// than a pixel, for float rounding) as drawing nothing.
+void cull_to_viewport(const Scene& scene, ElementShapes& shapes);
+
+// The whole rect as a clockwise (y down) quad in texel space of the image.
+Polygon rect_polygon(const Rect& r);
+
+// Mesh keys: elements with equal keys can share a draw (CanShareMesh).
+// Image entries with the same path share a texture, so the key uses the
+// first image index with that path. Returns key per element.
+std::vector<std::int32_t> mesh_keys(const Scene& scene);
+// First image index with the same path as image i.
+std::vector<int> canonical_images(const Scene& scene);
+
+// The blend-pass order over elements whose key >= 0; elements with key < 0
+// take no part (their edges are ignored: they draw nothing in this pass,
+// so their order relative to others cannot change a blended pixel).
+std::vector<std::uint32_t> sort_order(const ElementGraph& graph, const std::vector<std::int32_t>& keys, SortMethod method);
+std::int64_t count_runs(const std::vector<std::uint32_t>& order, const std::vector<std::int32_t>& keys);
+
+ElementGraph build_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
+                         const std::vector<Shape>& shapes, GraphMode mode);
+
+} // namespace depthcull::detail
+
+#include <unordered_map>
+
+namespace depthcull::detail {
+
+// Appends elements' polygons to draws (paper 2.3.3 AddPolygon), caching
+// the triangulation of each analysis polygon: elements sharing an image
+// rect share the texel-space triangulation, and an affine transform keeps
+// it valid.
+class MeshBuilder {
+public:
+    explicit MeshBuilder(const Scene& scene) : scene_(scene) {}
+    void add_boundary(Draw& d, const Element& e, Shape shape, const ImageAnalysis* a, float z);
+    void add_opaque(Draw& d, const Element& e, Shape shape, const ImageAnalysis* a, float z);
+
+private:
+    void add_polygon(Draw& d, const Element& e, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z);
+    const Scene& scene_;
+    std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
+};
+
+// Opaque-pass draws for `elements` (with their levels), one per mesh key,
+// front to back: keys by their nearest element, elements nearest first
+// within a draw, so the depth test rejects as early as it can.
+void append_opaque_draws(const Scene& scene, const std::vector<std::uint32_t>& elements, const std::vector<std::int64_t>& levels,
+                         const ElementShapes& shapes, const std::vector<const ImageAnalysis*>& analyses,
+                         const std::vector<std::int32_t>& keys, std::int64_t denominator, MeshBuilder& builder,
+                         std::vector<Draw>& draws);
+
+void finish_stats(SceneMeshes& out);
+
+} // namespace depthcull::detail

@@ -1,0 +1,136 @@
+// What each element draws. The rules keep every element looking exactly
+// as overpaint draws it (its whole rect, blended):
+// - alpha / add: the boundary polygons; outside them every texel is
+//   transparent, which these blend modes leave unchanged (paper 2.1).
+// - multiply: the whole rect. Whether a transparent texel leaves the pixel
+//   unchanged depends on the renderer's multiply equation, so we do not
+//   rely on it; multiply sprites are rare and gain little.
+// - opaque: texel alpha is ignored, so the whole rect is both the boundary
+//   and the opaque polygon.
+// - a boundary that leaves the rect (e.g. grown half a texel for linear
+//   filtering at the rect's edge) would draw pixels overpaint never
+//   touches, so such an element falls back to its rect.
+// - colour alpha 0 with alpha / add changes nothing: dropped.
+// Opaque polygons (paper 2.2) only where the opaque pass writes exactly
+// what blending would: blend alpha with colour alpha 1. Elements whose
+// opaque polygons cover all they draw skip the blend pass (see below).
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "scene/internal.h"
+
+namespace depthcull::detail {
+
+bool element_is_valid(const Scene& scene, const Element& e) {
+    if (e.image < 0 || std::size_t(e.image) >= scene.images.size() || e.rect.empty()) return false;
+    for (double v : e.transform)
+        if (!std::isfinite(v)) return false;
+    for (float c : e.color)
+        if (!std::isfinite(c)) return false;
+    return true;
+}
+
+Polygon rect_polygon(const Rect& r) {
+    double x0 = r.x, y0 = r.y, x1 = double(r.x) + r.w, y1 = double(r.y) + r.h;
+    return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+
+namespace {
+
+bool inside_rect(const std::vector<Polygon>& polygons, const Rect& r) {
+    for (const Polygon& p : polygons)
+        for (const Vec2& v : p)
+            if (v.x < r.x || v.y < r.y || v.x > double(r.x) + r.w || v.y > double(r.y) + r.h) return false;
+    return true;
+}
+
+Shape boundary_shape(const Scene& scene, const Element& e, const ImageAnalysis* a) {
+    if (!element_is_valid(scene, e)) return Shape::none;
+    if (e.blend == Blend::opaque || e.blend == Blend::multiply) return Shape::rect;
+    if (e.color[3] <= 0.0f) return Shape::none;
+    if (!a || a->boundary.empty()) return Shape::none;
+    return inside_rect(a->boundary, e.rect) ? Shape::analysis : Shape::rect;
+}
+
+} // namespace
+
+ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, bool opaque_pass) {
+    const std::size_t n = scene.elements.size();
+    ElementShapes s;
+    s.boundary.resize(n, Shape::none);
+    s.opaque.resize(n, Shape::none);
+    s.blended.resize(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Element& e = scene.elements[i];
+        const ImageAnalysis* a = i < analyses.size() ? analyses[i] : nullptr;
+        s.boundary[i] = boundary_shape(scene, e, a);
+        if (s.boundary[i] == Shape::none) continue;
+        if (opaque_pass) {
+            if (e.blend == Blend::opaque) s.opaque[i] = Shape::rect;
+            else if (e.blend == Blend::alpha && e.color[3] == 1.0f && a && !a->opaque.empty()) s.opaque[i] = Shape::analysis;
+        }
+        s.blended[i] = !(opaque_pass && e.blend == Blend::opaque);
+        // Beyond the paper: when the opaque polygons cover every
+        // non-transparent texel (all of them opaque), the blend pass could
+        // only draw transparent texels or fragments the element's own opaque
+        // polygons reject, so the element needs no blend draw. Only with
+        // nearest sampling: bilinear filtering blends the texels around the
+        // opaque polygons' edges into partly transparent fragments.
+        if (s.opaque[i] == Shape::analysis && scene.filter == Filter::nearest && a->stats.nontransparent_texels > 0 &&
+            a->stats.opaque_covered_texels == a->stats.nontransparent_texels && s.boundary[i] == Shape::analysis)
+            s.blended[i] = 0;
+    }
+    return s;
+}
+
+void cull_to_viewport(const Scene& scene, ElementShapes& shapes) {
+    const Viewport& vp = scene.viewport;
+    if (vp.width <= 0 || vp.height <= 0) return;
+    const double x0 = vp.x - 1, y0 = vp.y - 1, x1 = vp.x + vp.width + 1, y1 = vp.y + vp.height + 1;
+    for (std::size_t i = 0; i < scene.elements.size(); ++i) {
+        if (shapes.boundary[i] == Shape::none) continue;
+        const Element& e = scene.elements[i];
+        double bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
+        for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), 0}, Vec2{0, double(e.rect.h)}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
+            Vec2 s = apply(e.transform, c);
+            bx0 = std::min(bx0, s.x), by0 = std::min(by0, s.y), bx1 = std::max(bx1, s.x), by1 = std::max(by1, s.y);
+        }
+        if (bx1 < x0 || bx0 > x1 || by1 < y0 || by0 > y1) {
+            shapes.boundary[i] = Shape::none;
+            shapes.opaque[i] = Shape::none;
+            shapes.blended[i] = 0;
+        }
+    }
+}
+
+std::vector<int> canonical_images(const Scene& scene) {
+    std::vector<int> canon(scene.images.size());
+    std::map<std::string, int> first;
+    for (std::size_t i = 0; i < scene.images.size(); ++i)
+        canon[i] = first.emplace(scene.images[i].path, int(i)).first->second;
+    return canon;
+}
+
+std::vector<std::int32_t> mesh_keys(const Scene& scene) {
+    std::vector<int> canon = canonical_images(scene);
+    std::vector<std::int32_t> keys(scene.elements.size(), -1);
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const Element& e = scene.elements[i];
+        if (e.image < 0 || std::size_t(e.image) >= canon.size()) continue;
+        keys[i] = std::int32_t(canon[std::size_t(e.image)] * 4 + int(e.blend));
+    }
+    return keys;
+}
+
+} // namespace depthcull::detail
+
+namespace depthcull {
+
+bool can_share_mesh(const Scene& scene, const Element& a, const Element& b) {
+    auto valid = [&](const Element& e) { return e.image >= 0 && std::size_t(e.image) < scene.images.size(); };
+    if (!valid(a) || !valid(b) || a.blend != b.blend) return false;
+    return a.image == b.image || scene.images[std::size_t(a.image)].path == scene.images[std::size_t(b.image)].path;
+}
+
+} // namespace depthcull

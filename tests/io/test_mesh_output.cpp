@@ -1,0 +1,90 @@
+// The meshes JSON and binary writers, and determinism of the whole
+// pipeline across thread counts.
+#include <cstring>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "test_scene_json_helpers.h"
+
+namespace depthcull::test {
+namespace {
+
+std::string write_scene(const SceneDir& dir) {
+    dir.standard_art();
+    std::string elements;
+    for (int i = 0; i < 40; ++i) {
+        if (i) elements += ",";
+        elements += R"({"image": ")" + std::string(i % 3 ? "blob" : "tiles") + R"(", "rect": )" +
+                    (i % 3 ? "[0, 0, 8, 8]" : (i % 2 ? "[8, 0, 8, 8]" : "[0, 0, 8, 8]")) + R"(, "transform": [1, 0, 0, 1, )" +
+                    std::to_string((i * 7) % 50) + ", " + std::to_string((i * 5) % 30) + "]" +
+                    (i % 5 == 0 ? R"(, "blend": "opaque")" : "") + "}";
+    }
+    return dir.write("scene.json", R"({"viewport": {"width": 64, "height": 48},
+        "images": [{"id": "blob", "path": "art/blob.png"}, {"id": "tiles", "path": "art/tiles.png"}], "elements": [)" + elements + "]}");
+}
+
+SceneMeshes optimize(const io::PreparedScene& p) {
+    SceneMeshes m;
+    EXPECT_EQ(reconstruct_scene(p.scene, p.element_analysis, {}, &m), ReconstructStatus::ok);
+    return m;
+}
+
+TEST(MeshOutput, JsonHasTheDocumentedShape) {
+    SceneDir dir("mesh_json");
+    io::PreparedScene p = io::prepare_scene(write_scene(dir), {});
+    SceneMeshes m = optimize(p);
+    std::filesystem::create_directories(dir.path("out"));
+    io::write_meshes_json(dir.path("out/meshes.json"), p.scene, m, false);
+    nlohmann::json j = nlohmann::json::parse(io::read_file(dir.path("out/meshes.json")));
+    EXPECT_EQ(j["viewport"]["width"], 64);
+    EXPECT_EQ(j["images"][0]["id"], "blob");
+    EXPECT_EQ(j["images"][0]["path"], "../art/blob.png"); // relative to the output file
+    ASSERT_EQ(j["draws"].size(), m.draws.size());
+    std::int64_t triangles = 0;
+    for (const auto& d : j["draws"]) {
+        EXPECT_TRUE(d["pass"] == "opaque" || d["pass"] == "blend");
+        EXPECT_EQ(d["vertices"].size() % kVertexFloats, 0u);
+        EXPECT_EQ(d["indices"].size() % 3, 0u);
+        for (const auto& i : d["indices"]) EXPECT_LT(i.get<std::size_t>(), d["vertices"].size() / kVertexFloats);
+        triangles += std::int64_t(d["indices"].size() / 3);
+    }
+    EXPECT_EQ(j["stats"]["triangles"], triangles);
+    EXPECT_EQ(j["stats"]["elements"], 40);
+    EXPECT_EQ(j["stats"]["seconds"], 0);
+    // Floats read back exactly.
+    EXPECT_EQ(j["draws"][0]["vertices"][2].get<float>(), m.draws[0].vertices[2]);
+}
+
+TEST(MeshOutput, BinaryHeaderAndSize) {
+    SceneDir dir("mesh_bin");
+    io::PreparedScene p = io::prepare_scene(write_scene(dir), {});
+    SceneMeshes m = optimize(p);
+    std::string b = io::meshes_to_binary(p.scene, m, dir.path("meshes.bin"), false);
+    ASSERT_GT(b.size(), 8u);
+    EXPECT_EQ(std::memcmp(b.data(), "DCMESH\0\0", 8), 0);
+    std::uint32_t images = 0, draws = 0;
+    std::memcpy(&images, b.data() + 8 + 4 + 4 + 8 + 8 + 4 + 4, 4);
+    std::memcpy(&draws, b.data() + 8 + 4 + 4 + 8 + 8 + 4 + 4 + 4, 4);
+    EXPECT_EQ(images, 2u);
+    EXPECT_EQ(draws, m.draws.size());
+    std::size_t expected = 8 + 4 + 4 + 8 + 8 + 4 + 4 + 4 + 4 + 6 * 8 + 8;
+    std::size_t payload = 0;
+    for (const Draw& d : m.draws) payload += 16 + d.vertices.size() * 4 + d.indices.size() * 4;
+    EXPECT_GT(b.size(), expected + payload);
+}
+
+TEST(MeshOutput, ByteIdenticalWhateverTheThreadCount) {
+    SceneDir dir("mesh_threads");
+    std::string scene = write_scene(dir);
+    io::PrepareOptions one, four;
+    one.threads = 1;
+    four.threads = 4;
+    io::PreparedScene a = io::prepare_scene(scene, one), b = io::prepare_scene(scene, four);
+    std::string out = dir.path("m.json");
+    EXPECT_EQ(io::meshes_to_json(a.scene, optimize(a), out, false), io::meshes_to_json(b.scene, optimize(b), out, false));
+    EXPECT_EQ(io::meshes_to_binary(a.scene, optimize(a), out, false), io::meshes_to_binary(b.scene, optimize(b), out, false));
+}
+
+} // namespace
+} // namespace depthcull::test

@@ -1,0 +1,176 @@
+// Property tests: the guarantee of analyze.h for both methods and both
+// filters over random shapes, the shape of the output (convex, clockwise,
+// half grid, inside the rect, count), and the exact arithmetic underneath.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "depthcull/analyze.h"
+#include "opaque/opaque_internal.h"
+#include "testing/random_shapes.h"
+
+namespace depthcull {
+namespace {
+
+void check_guarantee(const Image& image, Rect rect, const OpaqueOptions& o) {
+    auto polygons = generate_opaque_polygons(image.view(), rect, o);
+    RC_ASSERT(int(polygons.size()) <= std::max(0, o.max_polygons));
+    RC_TAG(polygons.empty() ? "no polygon" : "polygons");
+    RC_ASSERT(count_opaque_violations(image.view(), rect, polygons, o.filter) == 0);
+    for (const auto& p : polygons) {
+        RC_ASSERT(p.size() >= 3u);
+        RC_ASSERT(is_convex(p));
+        RC_ASSERT(signed_area(p) > 0); // clockwise, y down
+        for (const auto& v : p) {
+            RC_ASSERT(v.x * 2 == std::floor(v.x * 2)); // half grid
+            RC_ASSERT(v.y * 2 == std::floor(v.y * 2));
+            RC_ASSERT(v.x >= rect.x && v.x <= rect.x + rect.w);
+            RC_ASSERT(v.y >= rect.y && v.y <= rect.y + rect.h);
+        }
+    }
+}
+
+OpaqueOptions options(OpaqueMethod method, Filter filter, int min_area, int max_polygons) {
+    OpaqueOptions o;
+    o.method = method;
+    o.filter = filter;
+    o.min_area = min_area;
+    o.max_polygons = max_polygons;
+    return o;
+}
+
+RC_GTEST_PROP(OpaqueProperties, GuaranteeHoldsForBothMethodsAndFilters, ()) {
+    Image image = *test::gen_shape(40);
+    const int min_area = *rc::gen::inRange(1, 40);
+    const int max_polygons = *rc::gen::inRange(1, 7);
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast})
+        for (auto filter : {Filter::nearest, Filter::linear})
+            check_guarantee(image, image.view().bounds(), options(method, filter, min_area, max_polygons));
+}
+
+// Larger, mostly solid shapes, so most cases do produce polygons.
+rc::Gen<Image> gen_solid_shape() {
+    return rc::gen::apply(
+        [](std::uint64_t seed, int w, int h, int blobs, int holes, bool rim, bool noise) {
+            return test::random_shape(seed, {w, h, blobs, holes, rim, noise});
+        },
+        rc::gen::arbitrary<std::uint64_t>(), rc::gen::inRange(8, 72), rc::gen::inRange(8, 72), rc::gen::inRange(1, 5),
+        rc::gen::inRange(0, 4), rc::gen::arbitrary<bool>(),
+        rc::gen::weightedOneOf<bool>({{5, rc::gen::just(false)}, {1, rc::gen::just(true)}}));
+}
+
+RC_GTEST_PROP(OpaqueProperties, GuaranteeHoldsOnSolidShapes, ()) {
+    Image image = *gen_solid_shape();
+    const int min_area = *rc::gen::inRange(1, 40);
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast})
+        for (auto filter : {Filter::nearest, Filter::linear})
+            check_guarantee(image, image.view().bounds(), options(method, filter, min_area, 6));
+}
+
+RC_GTEST_PROP(OpaqueProperties, GuaranteeHoldsInSubRects, ()) {
+    Image image = *test::gen_shape(40);
+    const int x = *rc::gen::inRange(0, image.width), y = *rc::gen::inRange(0, image.height);
+    const int w = *rc::gen::inRange(0, image.width - x + 1), h = *rc::gen::inRange(0, image.height - y + 1);
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast})
+        check_guarantee(image, {x, y, w, h}, options(method, Filter::nearest, 1, 4));
+}
+
+RC_GTEST_PROP(OpaqueProperties, FastCoversAtLeastThePaper, ()) {
+    Image image = *gen_solid_shape();
+    const int min_area = *rc::gen::inRange(1, 64);
+    Rect all = image.view().bounds();
+    auto paper = generate_opaque_polygons(image.view(), all, options(OpaqueMethod::paper, Filter::nearest, min_area, 4));
+    auto fast = generate_opaque_polygons(image.view(), all, options(OpaqueMethod::fast, Filter::nearest, min_area, 4));
+    RC_ASSERT(count_covered_opaque_texels(image.view(), all, fast) >=
+              count_covered_opaque_texels(image.view(), all, paper));
+}
+
+TEST(OpaqueProperties, Deterministic) {
+    test::ShapeParams params;
+    params.width = params.height = 64;
+    params.holes = 3;
+    Image image = test::random_shape(7, params);
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast}) {
+        OpaqueOptions o = options(method, Filter::nearest, 8, 4);
+        EXPECT_EQ(generate_opaque_polygons(image.view(), image.view().bounds(), o),
+                  generate_opaque_polygons(image.view(), image.view().bounds(), o));
+    }
+}
+
+TEST(OpaqueProperties, EmptyAndTransparentInputs) {
+    Image empty;
+    EXPECT_TRUE(generate_opaque_polygons(empty.view(), {0, 0, 0, 0}, {}).empty());
+    test::ShapeParams params;
+    params.blobs = 0;
+    Image clear = test::random_shape(1, params);
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast}) {
+        OpaqueOptions o = options(method, Filter::nearest, 1, 4);
+        EXPECT_TRUE(generate_opaque_polygons(clear.view(), clear.view().bounds(), o).empty());
+        // A rect outside the image is rejected, not read.
+        EXPECT_TRUE(generate_opaque_polygons(clear.view(), {30, 30, 10, 10}, o).empty());
+    }
+}
+
+// ---- The exact arithmetic the fast search's bounds rest on.
+
+TEST(OpaqueArithmetic, FloorSumMatchesTheLoop) {
+    std::mt19937 rng(3);
+    for (int k = 0; k < 2000; ++k) {
+        std::int64_t n = rng() % 60, m = 1 + rng() % 40, a = std::int64_t(rng() % 200) - 100,
+                     b = std::int64_t(rng() % 200) - 100, sum = 0;
+        for (std::int64_t i = 0; i < n; ++i) sum += opaque_detail::floor_div(a * i + b, m);
+        ASSERT_EQ(opaque_detail::floor_sum(n, m, a, b), sum) << n << " " << m << " " << a << " " << b;
+    }
+}
+
+TEST(OpaqueArithmetic, SquaresBoundIsExactOrAbove) {
+    // On an all-counted grid the bound equals the counted coverage whenever
+    // every row is wide, and never falls below it.
+    Mask all;
+    all.width = all.height = 120;
+    all.bits.assign(std::size_t(120) * 120, 1);
+    opaque_detail::RowSums sums(all);
+    std::mt19937 rng(5);
+    int exact = 0;
+    for (int k = 0; k < 5000; ++k) {
+        opaque_detail::Trapezoid t;
+        t.yt = rng() % 80;
+        t.yb = t.yt + 1 + rng() % 80;
+        t.xlt = 60 + rng() % 60;
+        t.xrt = t.xlt + rng() % 50;
+        t.xlb = 60 + rng() % 60;
+        t.xrb = t.xlb + rng() % 50;
+        std::int64_t work = 0;
+        std::int64_t covered = opaque_detail::trapezoid_coverage(t, sums, work);
+        std::int64_t bound = opaque_detail::trapezoid_squares_bound(t);
+        ASSERT_GE(bound, covered);
+        exact += bound == covered;
+    }
+    EXPECT_GT(exact, 2500);
+}
+
+TEST(OpaqueArithmetic, CoveredColumnsMatchTheChecker) {
+    // covered_columns at scale 2 and count_covered_opaque_texels agree.
+    std::vector<std::string> rows(12, std::string(12, '#'));
+    Image image;
+    image.width = image.height = 12;
+    image.rgba.assign(12 * 12 * 4, 255);
+    std::mt19937 rng(9);
+    for (int k = 0; k < 500; ++k) {
+        opaque_detail::HalfPolygon tri{{std::int64_t(rng() % 25), 0}, {24, std::int64_t(rng() % 25)}, {0, 24}};
+        std::int64_t n = 0;
+        for (int y = 0; y < 12; ++y) {
+            std::int64_t lo, hi;
+            opaque_detail::covered_columns(tri, y, lo, hi);
+            n += std::max<std::int64_t>(0, std::min<std::int64_t>(hi, 12) - std::max<std::int64_t>(lo, 0));
+        }
+        Polygon p = opaque_detail::to_polygon(tri, {0, 0, 12, 12});
+        if (signed_area(p) <= 0) continue;
+        ASSERT_EQ(count_covered_opaque_texels(image.view(), image.view().bounds(), {p}), n);
+    }
+}
+
+} // namespace
+} // namespace depthcull

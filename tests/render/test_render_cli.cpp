@@ -1,0 +1,80 @@
+// `depthcull render` and `depthcull bench` on the bundled example scene,
+// end to end. Skips where the CLI is not built or no GL context exists.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "depthcull/render.h"
+#include "testing/corpus.h"
+
+namespace depthcull {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int status = -1;
+    std::string output;
+};
+
+CliRun run_cli(const std::string& args) {
+    const fs::path out = fs::temp_directory_path() / ("depthcull_render_cli_" + std::to_string(::getpid()) + ".txt");
+    const std::string command = std::string("\"") + DEPTHCULL_CLI_PATH + "\" " + args + " > \"" + out.string() + "\" 2>&1";
+    CliRun run;
+    run.status = std::system(command.c_str());
+    std::ifstream in(out);
+    std::stringstream text;
+    text << in.rdbuf();
+    run.output = text.str();
+    fs::remove(out);
+    return run;
+}
+
+std::string skip_reason() {
+    if (std::string(DEPTHCULL_CLI_PATH).empty() || !fs::exists(DEPTHCULL_CLI_PATH)) return "depthcull CLI not built";
+    if (!fs::exists(test::source_path("examples/meadow.json"))) return "examples/meadow.json missing";
+    std::string error;
+    if (!render::GlRenderer::create({}, &error) && error.rfind("no OpenGL context", 0) == 0) return error;
+    return {};
+}
+
+TEST(RenderCli, ComparesWithOverpaintAndWritesPictures) {
+    if (auto why = skip_reason(); !why.empty()) GTEST_SKIP() << why;
+    const fs::path dir = fs::temp_directory_path() / ("depthcull_render_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string scene = test::source_path("examples/meadow.json");
+    CliRun r = run_cli("render \"" + scene + "\" --no-cache --mode optimized --compare -o \"" + (dir / "frame.png").string() +
+                    "\" --heatmap \"" + (dir / "heat.png").string() + "\"");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir / "frame.png"));
+    EXPECT_TRUE(fs::exists(dir / "heat.png"));
+    EXPECT_NE(r.output.find("0 elsewhere"), std::string::npos) << r.output;
+
+    r = run_cli("render \"" + scene + "\" --no-cache");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("nothing to do"), std::string::npos) << r.output;
+    r = run_cli("render \"" + (dir / "missing.json").string() + "\" --no-cache --compare");
+    EXPECT_NE(r.status, 0);
+    fs::remove_all(dir);
+}
+
+TEST(BenchCli, PrintsTableTwoAsJson) {
+    if (auto why = skip_reason(); !why.empty()) GTEST_SKIP() << why;
+    const std::string scene = test::source_path("examples/meadow.json");
+    CliRun r = run_cli("bench \"" + scene + "\" --no-cache --frames 2 --warmup 0 --json");
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const char* key : {"\"overpaint\"", "\"meshes\"", "\"optimized\"", "\"ideal_overdraw\"", "\"samples_passed\""})
+        EXPECT_NE(r.output.find(key), std::string::npos) << key;
+    r = run_cli("bench \"" + scene + "\" --no-cache --frames 1 --modes optimized,bogus");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("unknown mode 'bogus'"), std::string::npos) << r.output;
+}
+
+} // namespace
+} // namespace depthcull

@@ -1,0 +1,214 @@
+// "The look never changes": a small software rasterizer draws random
+// scenes the plain way (overpaint) and from the reconstructed meshes, with
+// the renderer contract of docs/mesh-format.md (opaque pass: GL_GREATER,
+// depth write, no blending; blend pass: GL_GREATER, no depth write), and
+// the two frames must be identical, pixel for pixel. Transforms are integer
+// translations with quarter turns and mirrors, so every pixel centre maps
+// to a texel centre and nearest sampling is exact in both paths; the
+// images and their analyses are real (random shapes through analyze_image).
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "depthcull/scene.h"
+#include "testing/random_shapes.h"
+
+namespace depthcull::test {
+namespace {
+
+struct Frame {
+    int w = 0, h = 0;
+    std::vector<double> rgb, depth;
+};
+
+struct Texel {
+    double r, g, b, a;
+};
+
+Texel sample(const Image& img, double u, double v) {
+    int x = std::clamp(int(std::floor(u * img.width)), 0, img.width - 1);
+    int y = std::clamp(int(std::floor(v * img.height)), 0, img.height - 1);
+    const std::uint8_t* t = img.view().texel(x, y);
+    return {t[0] / 255.0, t[1] / 255.0, t[2] / 255.0, t[3] / 255.0};
+}
+
+// Top-left style ownership so a pixel centre on an edge shared by two
+// triangles of one polygon is drawn exactly once.
+bool owns(Vec2 a, Vec2 b) { return (b.y - a.y) > 0 || ((b.y - a.y) == 0 && (b.x - a.x) < 0); }
+bool inside(Vec2 a, Vec2 b, Vec2 p) {
+    double e = orient(a, b, p);
+    return e > 0 || (e == 0 && owns(a, b));
+}
+
+void draw(Frame& f, const Draw& d, const std::vector<Image>& images, bool depth_test) {
+    const Image& img = images[std::size_t(d.image)];
+    auto vert = [&](std::uint32_t i) { return &d.vertices[std::size_t(i) * kVertexFloats]; };
+    for (std::size_t t = 0; t < d.indices.size(); t += 3) {
+        const float* v[3] = {vert(d.indices[t]), vert(d.indices[t + 1]), vert(d.indices[t + 2])};
+        Vec2 p[3] = {{v[0][0], v[0][1]}, {v[1][0], v[1][1]}, {v[2][0], v[2][1]}};
+        double area = orient(p[0], p[1], p[2]);
+        if (area == 0) continue;
+        if (area < 0) {
+            std::swap(p[1], p[2]);
+            std::swap(v[1], v[2]);
+            area = -area;
+        }
+        int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
+        int x1 = std::min(f.w - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
+        int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
+        int y1 = std::min(f.h - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
+        for (int y = y0; y <= y1; ++y) {
+            for (int x = x0; x <= x1; ++x) {
+                Vec2 c{x + 0.5, y + 0.5};
+                if (!inside(p[1], p[2], c) || !inside(p[2], p[0], c) || !inside(p[0], p[1], c)) continue;
+                double w0 = orient(p[1], p[2], c) / area, w1 = orient(p[2], p[0], c) / area, w2 = 1 - w0 - w1;
+                std::size_t px = std::size_t(y) * std::size_t(f.w) + std::size_t(x);
+                double z = v[0][2]; // one element per triangle: one z
+                if (depth_test && !(z > f.depth[px])) continue;
+                Texel s = sample(img, w0 * v[0][3] + w1 * v[1][3] + w2 * v[2][3], w0 * v[0][4] + w1 * v[1][4] + w2 * v[2][4]);
+                const double col[4] = {v[0][5], v[0][6], v[0][7], v[0][8]};
+                double src[3] = {s.r * col[0], s.g * col[1], s.b * col[2]};
+                double a = s.a * col[3];
+                double* dst = &f.rgb[px * 3];
+                if (d.pass == Pass::opaque) {
+                    for (int k = 0; k < 3; ++k) dst[k] = src[k];
+                    f.depth[px] = z;
+                    continue;
+                }
+                for (int k = 0; k < 3; ++k) {
+                    switch (d.blend) {
+                    case Blend::alpha: dst[k] = src[k] * a + dst[k] * (1 - a); break;
+                    case Blend::add: dst[k] = src[k] * a + dst[k]; break;
+                    case Blend::multiply: dst[k] = src[k] * a * dst[k]; break;
+                    case Blend::opaque: dst[k] = src[k]; break;
+                    }
+                }
+            }
+        }
+    }
+}
+
+Frame render(const SceneMeshes& m, const std::vector<Image>& images) {
+    Frame f;
+    f.w = m.viewport.width;
+    f.h = m.viewport.height;
+    f.rgb.assign(std::size_t(f.w * f.h * 3), 0.25);
+    f.depth.assign(std::size_t(f.w * f.h), 0.0);
+    for (const Draw& d : m.draws) draw(f, d, images, m.depth_test);
+    return f;
+}
+
+struct RandomScene {
+    Scene scene;
+    std::vector<Image> images;
+    std::vector<ImageAnalysis> analyses;
+    std::vector<const ImageAnalysis*> element_analysis;
+};
+
+RandomScene random_scene(std::uint64_t seed, int elements) {
+    std::mt19937_64 rng(seed);
+    RandomScene r;
+    r.scene.viewport = {0, 0, 48, 48};
+    const int images = 1 + int(rng() % 4);
+    for (int k = 0; k < images; ++k) {
+        ShapeParams p;
+        p.width = 6 + int(rng() % 20);
+        p.height = 6 + int(rng() % 20);
+        p.blobs = 1 + int(rng() % 3);
+        p.noise = rng() % 4 == 0;
+        r.images.push_back(random_shape(seed * 131 + std::uint64_t(k), p));
+        // Some images are solid (tiles): their opaque polygons cover all
+        // they draw, so they skip the blend pass.
+        if (rng() % 4 == 0)
+            for (std::size_t t = 3; t < r.images.back().rgba.size(); t += 4) r.images.back().rgba[t] = 255;
+        // Two entries name the same file for some images (tiles of a sheet).
+        r.scene.images.push_back({"img" + std::to_string(k), "img" + std::to_string(k) + ".png", p.width, p.height});
+    }
+    r.analyses.reserve(std::size_t(elements));
+    const double turns[4][4] = {{1, 0, 0, 1}, {0, 1, -1, 0}, {-1, 0, 0, -1}, {0, -1, 1, 0}};
+    for (int i = 0; i < elements; ++i) {
+        Element e;
+        e.image = int(rng() % std::uint64_t(images));
+        const Image& img = r.images[std::size_t(e.image)];
+        // Sometimes a sub-rect (an atlas frame) rather than the whole image.
+        if (rng() % 3 == 0) {
+            int w = 3 + int(rng() % std::uint64_t(img.width - 2)), h = 3 + int(rng() % std::uint64_t(img.height - 2));
+            w = std::min(w, img.width);
+            h = std::min(h, img.height);
+            e.rect = {int(rng() % std::uint64_t(img.width - w + 1)), int(rng() % std::uint64_t(img.height - h + 1)), w, h};
+        } else {
+            e.rect = img.view().bounds();
+        }
+        const double* t = turns[rng() % 4];
+        double mirror = rng() % 4 == 0 ? -1 : 1;
+        e.transform = {t[0] * mirror, t[1] * mirror, t[2], t[3], double(int(rng() % 90) - 20), double(int(rng() % 90) - 20)};
+        const float tints[3] = {1.0f, 0.5f, 0.75f};
+        e.color = {tints[rng() % 3], tints[rng() % 3], 1.0f, rng() % 4 == 0 ? 0.5f : 1.0f};
+        const Blend blends[6] = {Blend::alpha, Blend::alpha, Blend::alpha, Blend::add, Blend::multiply, Blend::opaque};
+        e.blend = blends[rng() % 6];
+        r.scene.elements.push_back(e);
+        r.analyses.push_back(analyze_image(img.view(), e.rect, {}));
+    }
+    for (const ImageAnalysis& a : r.analyses) r.element_analysis.push_back(&a);
+    return r;
+}
+
+void expect_same_frame(const Frame& a, const Frame& b, std::uint64_t seed, const char* what) {
+    std::size_t diffs = 0, first = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+        if (a.rgb[i] != b.rgb[i] && diffs++ == 0) first = i / 3;
+    }
+    EXPECT_EQ(diffs, 0u) << what << ", seed " << seed << ": first differing pixel (" << first % std::size_t(a.w) << ", "
+                         << first / std::size_t(a.w) << ")";
+}
+
+TEST(LookUnchanged, OptimizedFramesMatchOverpaintPixelForPixel) {
+    for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+        RandomScene r = random_scene(seed, 10 + int(seed % 50));
+        const Frame plain = render(overpaint_meshes(r.scene), r.images);
+        for (SortMethod sort : {SortMethod::batch, SortMethod::paper, SortMethod::none}) {
+            for (GraphMode graph : {GraphMode::polygons, GraphMode::boxes}) {
+                ReconstructOptions o;
+                o.sort = sort;
+                o.graph = graph;
+                SceneMeshes m;
+                ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m), ReconstructStatus::ok);
+                expect_same_frame(plain, render(m, r.images), seed, "reconstruct_scene");
+            }
+        }
+        ReconstructOptions cull;
+        cull.cull_to_viewport = true;
+        SceneMeshes culled;
+        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, cull, &culled), ReconstructStatus::ok);
+        expect_same_frame(plain, render(culled, r.images), seed, "culled to the viewport");
+        ReconstructOptions no_opaque;
+        no_opaque.opaque_polygons = false;
+        SceneMeshes m;
+        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, no_opaque, &m), ReconstructStatus::ok);
+        expect_same_frame(plain, render(m, r.images), seed, "no opaque pass");
+        ASSERT_EQ(rectangle_meshes(r.scene, {}, &m), ReconstructStatus::ok);
+        expect_same_frame(plain, render(m, r.images), seed, "rectangle_meshes");
+    }
+}
+
+TEST(LookUnchanged, DynamicElementsDrawOnTop) {
+    for (std::uint64_t seed = 100; seed < 110; ++seed) {
+        RandomScene r = random_scene(seed, 30);
+        // The last 8 elements move: the static scene is the rest.
+        RandomScene stat = r;
+        stat.scene.elements.resize(22);
+        stat.element_analysis.resize(22);
+        std::vector<Element> moving(r.scene.elements.begin() + 22, r.scene.elements.end());
+        std::vector<const ImageAnalysis*> moving_analysis(r.element_analysis.begin() + 22, r.element_analysis.end());
+        ReconstructOptions o;
+        o.reserved_dynamic_levels = 8;
+        SceneMeshes base, frame;
+        ASSERT_EQ(reconstruct_scene(stat.scene, stat.element_analysis, o, &base), ReconstructStatus::ok);
+        ASSERT_EQ(add_dynamic_elements(base, stat.scene, moving, moving_analysis, &frame), ReconstructStatus::ok);
+        expect_same_frame(render(overpaint_meshes(r.scene), r.images), render(frame, r.images), seed, "dynamic");
+    }
+}
+
+} // namespace
+} // namespace depthcull::test
