@@ -21,7 +21,7 @@ void write_output(const std::string& path, const std::string& text) {
 
 void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
     cmd.add_option("--max-vertices", o.boundary.max_vertices, "Most vertices per boundary polygon (paper: MAX_BOUNDARY_VERTICES)")
-        ->check(CLI::Range(3, 1000))
+        ->check(CLI::Range(kMinBoundaryVertices, 1000))
         ->capture_default_str();
     cmd.add_option("--filter", o.boundary.filter, "Texture filtering the polygons must be correct for")
         ->transform(CLI::CheckedTransformer(std::map<std::string, Filter>{{"nearest", Filter::nearest}, {"linear", Filter::linear}}))

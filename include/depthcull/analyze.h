@@ -19,9 +19,18 @@ namespace depthcull {
 // away from every non-opaque texel square.
 enum class Filter { nearest, linear };
 
+// The least vertex budget that always fits inside the rect (content in all
+// four corners of a rect has no containing triangle inside it).
+inline constexpr int kMinBoundaryVertices = 4;
+
+// Bumped whenever a change to the analysis (src/boundary, src/opaque) can
+// change its output, so the on-disk cache never serves results of an older
+// algorithm. tests/cli/test_analysis_version.cpp fails until it is bumped.
+inline constexpr int kAnalysisVersion = 1;
+
 // Paper 2.1. MAX_BOUNDARY_VERTICES = 10.
 struct BoundaryOptions {
-    int max_vertices = 10;        // per polygon, >= 3
+    int max_vertices = 10;        // per polygon; values below kMinBoundaryVertices act as it
     Filter filter = Filter::nearest;
     bool split_parts = true;      // beyond the paper (section 4, caveat 1)
 };

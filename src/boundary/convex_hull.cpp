@@ -1,14 +1,13 @@
-// The convex hull of the occupied cells, reduced to a vertex budget: a
-// second starting polygon for paper 2.1's search (beyond the paper), and
-// the baseline bench/bench_boundary.cpp compares against.
+// The convex hull of the occupied cells, reduced to a vertex budget: the
+// baseline bench/bench_boundary.cpp compares paper 2.1's polygons against
+// (and a possible starting polygon; tried, see boundary_polygon.cpp).
 //
-// The paper starts from the bounding box and can only add a vertex at a
-// time; for round sprites the hull reduced to the budget is often already
-// tighter than what the greedy search reaches from the box. The reduction
-// removes one edge at a time by extending its two neighbouring edges until
-// they meet (the new corner rounded to a grid point outside both lines, so
-// only area is added), choosing the least area increase; each step passes
-// accept_candidate, so the result is exact like every other move.
+// The reduction removes one edge at a time by extending its two
+// neighbouring edges until they meet (the new corner rounded to a grid
+// point outside both lines, so only area is added), choosing the least area
+// increase; each step passes accept_candidate, so the result is exact like
+// every other move. It gives up (empty result) when the budget cannot be
+// met inside the bounds, e.g. a round sprite that fills its rect.
 #include <algorithm>
 
 #include "boundary/boundary_internal.h"

@@ -154,7 +154,9 @@ std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, cons
     if (rect.empty() || !image.contains(rect)) return {};
     const CellGrid grid = make_cell_grid(image, rect, options.filter);
     if (grid.empty()) return {};
-    const int max_vertices = std::max(3, options.max_vertices);
+    // Four is the least budget that always fits: content in all four
+    // corners of its rect leaves no containing triangle inside the rect.
+    const int max_vertices = std::max(kMinBoundaryVertices, options.max_vertices);
     const Bounds whole{0, 0, grid.width(), grid.height()};
 
     std::vector<IPolygon> result{fit(grid, whole, max_vertices)};

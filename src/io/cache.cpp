@@ -143,6 +143,7 @@ CacheKey hash_bytes_128(const void* data, std::size_t size, std::uint64_t seed) 
 CacheKey analysis_key(ImageView image, Rect rect, const AnalyzeOptions& o) {
     Hasher128 h(0x6465707468637563ull); // "depthcuc"
     h.value(kCacheFormatVersion);
+    h.value(std::int32_t(kAnalysisVersion)); // a newer algorithm never reads an older one's results
     h.value(std::int32_t(rect.w));
     h.value(std::int32_t(rect.h));
     h.value(std::int32_t(o.boundary.max_vertices));

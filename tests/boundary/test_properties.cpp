@@ -90,9 +90,9 @@ RC_GTEST_PROP(BoundaryProperties, GuaranteesHoldOnSubRects, ()) {
     RC_ASSERT(test::boundary_guarantee_failure(img.view(), r, polys, o) == "");
 }
 
-RC_GTEST_PROP(BoundaryProperties, TriangleBudgetIsBestEffortButSound, ()) {
+RC_GTEST_PROP(BoundaryProperties, BudgetsBelowFourActAsFour, ()) {
     // A budget of 3 cannot always be met inside the rect (content in all
-    // four corners); containment and simplicity must hold regardless.
+    // four corners), so kMinBoundaryVertices is 4 and smaller budgets act as it.
     Image img = *test::gen_shape(24);
     BoundaryOptions o;
     o.max_vertices = 3;
