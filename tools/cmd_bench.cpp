@@ -144,7 +144,8 @@ void run_bench(BenchArgs& args) {
         text += "# Obj: draw calls; Tri: triangles; OD: fragments passing the depth test (GL_SAMPLES_PASSED) / viewport pixels;\n"
                 "# ideal: per pixel, elements with a visible texel down to the first fully opaque one;\n"
                 "# ms, min ms: median and fastest frame (modes take turns frame by frame);\n"
-                "# maxdiff, diffpx: largest RGBA channel difference and pixels that differ from the overpaint frame;\n"
+                "# maxdiff, diffpx: largest RGBA channel difference and pixels that differ from the overpaint frame\n"
+                "#   (both drawn with 1/64 px coverage skirts and the rect test; with nearest filtering both must be 0);\n"
                 "# offedge: of those, pixels farther than 1/64 px from every triangle edge and texel edge (rounding cannot explain them).\n";
     }
     write_output(args.output, text);

@@ -66,8 +66,11 @@ struct ImageDiff {
 };
 ImageDiff compare_images(ImageView a, ImageView b);
 
-// Where frames of the same scene drawn from different meshes may honestly
-// differ. Coverage: GL snaps vertices to 1/256 pixel, so two
+// Where frames of the same scene drawn from different meshes differ, as a
+// diagnostic. With nearest filtering and element maps (SceneMeshes::
+// element_maps) reconstruction's output must not differ at all; without
+// them, or with bilinear filtering, rounding explains differences here.
+// Coverage: GL snaps vertices to 1/256 pixel, so two
 // triangulations whose edges lie on the same line (an element's rect edge
 // in overpaint, a boundary polygon edge along it when optimized) can
 // disagree about a pixel centre within about 1/512 pixel of that line.
@@ -135,9 +138,11 @@ public:
     bool is_software() const;
 
     // One texture per scene image, sampled with `filter`, clamped to edge.
-    // Texel positions come from each triangle's exact window-to-texel map,
-    // not from float-interpolated u, v, so the texel a pixel shows does not
-    // depend on how its element was triangulated; with nearest filtering a
+    // Texel positions come from each element's window-to-texel map
+    // (SceneMeshes::element_maps; per triangle, from its vertices, for
+    // meshes without maps), not from float-interpolated u, v, so the texel
+    // a pixel shows does not depend on how its element was triangulated;
+    // with nearest filtering a
     // pixel centre exactly on a texel edge takes the texel on the side the
     // fill rule gives the pixel to (see gl_renderer.cpp).
     void set_images(const std::vector<ImageView>& images, Filter filter);
@@ -180,9 +185,20 @@ enum class Mode {
 const char* mode_name(Mode mode); // "overpaint", "meshes", "optimized"
 
 // The meshes a mode draws. analyses: per element, as reconstruct_scene
-// takes them (only `optimized` reads them).
+// takes them (only `optimized` reads them). options.coverage_margin
+// applies to every mode (overpaint too).
 ReconstructStatus build_meshes(Mode mode, const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
                                const ReconstructOptions& options, SceneMeshes* out);
+
+// The margin frames are compared with (ReconstructOptions::
+// coverage_margin): 8x llvmpipe's 1/512 pixel snapping error and far above
+// the float error of an element map (about 1e-4 texel in a frame a few
+// thousand pixels wide). GlRenderer samples through element maps with a
+// rect test, so with this margin in every mode nearest filtering gives the
+// same frame exactly. exact_coverage: options with this margin unless one
+// is set.
+inline constexpr double kCoverageMargin = 1.0 / 64;
+ReconstructOptions exact_coverage(ReconstructOptions options);
 
 struct ModeMeasurement {
     Mode mode = Mode::overpaint;
@@ -191,7 +207,7 @@ struct ModeMeasurement {
     double cpu_overdraw = 0;     // analyze_overdraw's figure, for comparison
     double ms_median = 0;        // per frame, glFinish-synchronized
     double ms_min = 0;
-    ImageDiff diff;              // this frame against the overpaint frame
+    ImageDiff diff;              // this frame against overpaint's, both with exact_coverage
     DiffCauses causes;           // diff.pixels_differ split by cause
     Image frame;                 // kept when asked (MeasureOptions::keep_frames)
     OverdrawMap map;             // CPU per-pixel counts when asked

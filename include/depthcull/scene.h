@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -68,12 +69,64 @@ enum class Pass {
 // u, v (0..1 of the whole image), r, g, b, a (colour multiplier).
 inline constexpr int kVertexFloats = 9;
 
+// Where on the image an element's pixels come from: the texel position
+// (texels of the whole image, not 0..1) of screen point (x, y), exact in
+// double. u = u0 + ux*x + uy*y, v = v0 + vx*x + vy*y.
+// `rect` is the element's rect: the texels it may show (a renderer draws
+// nothing where the map leads outside it).
+struct TexelMap {
+    double u0 = 0, ux = 1, uy = 0;
+    double v0 = 0, vx = 0, vy = 1;
+    Rect rect;
+};
+
+// The map of e's rect as GL sees it: solved, in double, from the float
+// screen positions of the rect's corners (0, 0), (w, 0), (0, h), the
+// vertices overpaint draws. Every way of drawing an element (overpaint's
+// rect, meshes only, boundary and opaque polygons, dynamic elements) takes
+// its map from this one function, so a renderer that samples through it
+// shows the same texel at every pixel whatever triangles cover it. From the
+// float corners rather than the transform's inverse: a quarter turn built
+// with cos and sin has entries like 6e-17 that float corners round away,
+// so a pixel centre on a texel edge stays exactly on it and the renderer's
+// tie rule agrees with GL's fill rule. A transform that collapses the rect
+// (the element draws nothing) gives a map of zeros at the rect's origin.
+inline TexelMap texel_map(const Element& e) {
+    TexelMap t;
+    t.rect = e.rect;
+    auto corner = [&](double u, double v) {
+        const auto& m = e.transform;
+        return std::array<double, 2>{double(float(m[0] * u + m[2] * v + m[4])), double(float(m[1] * u + m[3] * v + m[5]))};
+    };
+    const auto o = corner(0, 0), a = corner(e.rect.w, 0), b = corner(0, e.rect.h);
+    const double ax = a[0] - o[0], ay = a[1] - o[1], bx = b[0] - o[0], by = b[1] - o[1];
+    const double det = ax * by - ay * bx;
+    if (!(det != 0) || !std::isfinite(det)) {
+        t.u0 = e.rect.x, t.v0 = e.rect.y;
+        t.ux = t.uy = t.vx = t.vy = 0;
+        return t;
+    }
+    // Screen offset (x, y) - o = u' * a + v' * b with u' = (u - x0) / w, v' = (v - y0) / h.
+    t.ux = by / det * e.rect.w;
+    t.uy = -bx / det * e.rect.w;
+    t.vx = -ay / det * e.rect.h;
+    t.vy = ax / det * e.rect.h;
+    t.u0 = double(e.rect.x) - (t.ux * o[0] + t.uy * o[1]);
+    t.v0 = double(e.rect.y) - (t.vx * o[0] + t.vy * o[1]);
+    return t;
+}
+
 struct Draw {
     int image = 0;            // index into Scene::images
     Pass pass = Pass::blend;
     Blend blend = Blend::alpha;
     std::vector<float> vertices;        // kVertexFloats per vertex
     std::vector<std::uint32_t> indices; // triangles
+    // Per vertex: which entry of SceneMeshes::element_maps its texels come
+    // from (one element per triangle). Empty when unknown (meshes read
+    // from a file): renderers then derive texel positions from the
+    // vertices' u, v. In memory only; the mesh file formats do not carry it.
+    std::vector<std::uint32_t> vertex_elements;
 
     std::size_t vertex_count() const { return vertices.size() / kVertexFloats; }
     std::size_t triangle_count() const { return indices.size() / 3; }
@@ -98,6 +151,10 @@ struct SceneMeshes {
     bool depth_test = false;  // false for overpaint and meshes-only output
     std::vector<Draw> draws;  // in the order to draw them
     SceneStats stats;
+    // texel_map of each element the draws name in vertex_elements: for
+    // reconstruction output indexed like Scene::elements (dynamic elements
+    // follow the static ones). In memory only, like vertex_elements.
+    std::vector<TexelMap> element_maps;
 };
 
 // ---- Reconstruction (paper 2.3)
@@ -124,6 +181,21 @@ struct ReconstructOptions {
     // that frame). Off by default: engines usually scroll the camera over
     // the meshes.
     bool cull_to_viewport = false;
+    // Screen pixels by which what alpha / add / multiply elements draw in
+    // the blend pass (boundary polygons or rect) is grown, by a skirt of
+    // extra triangles around each polygon (its own triangles stay as they
+    // are); overpaint_meshes takes the same margin. For renderers that sample through
+    // SceneMeshes::element_maps and output alpha 0 for a texel position
+    // outside the element's rect (render::GlRenderer): GL snaps vertices
+    // (llvmpipe to 1/256 pixel), so a pixel centre that close to a polygon
+    // edge may be left out although its texel is inside; grown, every such
+    // pixel is covered, and the extra fragments sample transparent texels
+    // or fall outside the rect, changing nothing. 0 (no skirt) for meshes
+    // an engine draws: without the rect test an edge pixel could sample the
+    // neighbouring atlas frame. A polygon closer than 3 margins to another
+    // of its element's polygons (or to itself) gets no skirt, which would
+    // blend the other's texels twice.
+    double coverage_margin = 0;
 };
 
 enum class ReconstructStatus {
@@ -217,6 +289,9 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
 
 // Overpaint (the unoptimized method, Table 2 "Unoptimized"): one draw per
 // element, its whole rect as two triangles, in painter's order, no depth.
-SceneMeshes overpaint_meshes(const Scene& scene);
+// coverage_margin: as ReconstructOptions::coverage_margin, around every
+// rect but those of Blend::opaque elements (drawn with blending off, where
+// the renderer's rect test would not leave the pixel as it is).
+SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin = 0);
 
 } // namespace depthcull

@@ -11,6 +11,9 @@
 // - lazy greedy, best first: one heap of upper bounds (exact floor sums,
 //   then band counts from 2D prefix sums) for all steps, so only quads that
 //   could still win are counted;
+// - a value or bound from an earlier step is reused while no polygon placed
+//   since touched the quad's box, and a realization inside a valid one is
+//   never evaluated (it cannot cover more);
 // - a work budget (kFastOpaqueWorkBudget) bounds the worst case.
 // Covers more because: realizations keep an edge on its grid line where the
 // texels beyond it are opaque (the paper always pushes in by half a texel,
@@ -49,21 +52,77 @@ private:
     std::vector<std::int32_t> s_; // counts < 2^31: images hold at most 2^28 texels
 };
 
+// Texels [x0, x1) x [y0, y1).
+struct TexelBox {
+    int x0, y0, x1, y1;
+    bool meets(const TexelBox& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+};
+
 // A quad of the paper's family, stored compactly (image sides <= 16384).
 struct StoredQuad {
     std::int16_t x0, x1, x2, x3, y0, y1;
     PaperQuad quad() const { return {x0, x1, x2, x3, y0, y1, 0}; }
-    int left() const { return std::min(x0, x3); }
-    int right() const { return std::max(x1, x2); }
+    // Every texel any count or bound of this quad reads: its realizations
+    // lie inside the integer quad, and the paper's row spans and the band
+    // boxes lie between its sides.
+    TexelBox box() const { return {std::min(x0, x3), y0, std::max(x1, x2), y1}; }
     // Twice the area: every realization has edges no wider and no taller.
     i64 twice_area() const { return i64(x1 - x0 + x2 - x3) * (y1 - y0); }
 };
 
-// Best-first order: larger bound first, then earlier quad.
-struct Pending {
-    i64 bound;
-    int index;
-    bool operator<(const Pending& o) const { return bound != o.bound ? bound < o.bound : index > o.index; }
+// Best-first order: larger bound first, then earlier quad, packed into one
+// integer (bound above, complemented index below) so that the heap compares
+// and moves 8 bytes: the heap is most of the cost on solid shapes, where
+// every quad is popped once per step.
+using Key = std::uint64_t;
+inline Key make_key(i64 bound, int index) { return Key(bound) << 32 | Key(~std::uint32_t(index)); }
+inline i64 key_bound(Key k) { return i64(k >> 32); }
+inline int key_index(Key k) { return int(~std::uint32_t(k)); }
+
+// A 4-ary max-heap of keys with an in-place update of the top: the lazy
+// greedy mostly lowers the top's bound, which is one sift-down here instead
+// of a pop and a push. Four children share a cache line.
+class KeyHeap {
+public:
+    void assign(std::vector<Key>&& keys) {
+        v_ = std::move(keys);
+        for (std::size_t i = (v_.size() + 2) / 4; i-- > 0;) sift_down(i, v_[i]);
+    }
+    bool empty() const { return v_.empty(); }
+    Key top() const { return v_.front(); }
+    void pop() {
+        Key last = v_.back();
+        v_.pop_back();
+        if (!v_.empty()) sift_down(0, last);
+    }
+    void replace_top(Key k) { sift_down(0, k); } // any key: the top has no parent
+
+private:
+    void sift_down(std::size_t i, Key k) {
+        const std::size_t n = v_.size();
+        while (true) {
+            std::size_t c = 4 * i + 1;
+            if (c >= n) break;
+            std::size_t best = c;
+            const std::size_t end = std::min(c + 4, n);
+            for (std::size_t j = c + 1; j < end; ++j)
+                if (v_[j] > v_[best]) best = j;
+            if (v_[best] <= k) break;
+            v_[i] = v_[best];
+            i = best;
+        }
+        v_[i] = k;
+    }
+    std::vector<Key> v_;
+};
+
+// Per-quad state of one greedy sequence: its cached bound, the step it was
+// last exact at / band-bounded at, and (ours) which realizations were
+// checked and found valid. One record, so a pop touches one cache line.
+struct QuadState {
+    std::int32_t bound; // < 2^31: areas of images with sides <= 16384
+    std::int32_t fresh, banded;
+    std::uint8_t choice, checked, valid, refined; // paper: valid is unknown 0, no 1, yes 2
 };
 
 struct Best {
@@ -163,18 +222,33 @@ private:
         }
     }
 
-    // Lowers a cached bound; true when that changed it. The band bound is
-    // applied lazily, only to quads that reach the top of the heap: at step
-    // 0 nothing is covered yet and the first bounds are tighter.
-    static bool tighten(i64& bound, i64 band) {
-        if (band >= bound) return false;
-        bound = band;
+    // True when no polygon placed at steps [since, placed.size()) touched a
+    // texel the quad reads: then a bound or exact value it had at step
+    // `since` still holds, and recomputing it would give the same number.
+    // Saves most of the work after the first step on images whose polygons
+    // are far apart.
+    static bool untouched_since(int since, const StoredQuad& q, const std::vector<TexelBox>& placed) {
+        if (since < 0) return false;
+        const TexelBox b = q.box();
+        for (std::size_t k = std::size_t(since); k < placed.size(); ++k)
+            if (placed[k].meets(b)) return false;
         return true;
     }
 
-    // After lowering a popped quad's bound: still ahead of everything in the
-    // heap? Then go on with it instead of a push and a pop.
-    static bool still_top(const std::vector<Pending>& heap, Pending p) { return heap.empty() || !(p < heap.front()); }
+    // Sets the bound of quad i, the heap's top; below `least` it can never
+    // be accepted and leaves the heap.
+    static void set_top_bound(KeyHeap& heap, QuadState& st, int i, i64 b, i64 least) {
+        if (b == st.bound) return;
+        st.bound = std::int32_t(b);
+        if (b < least) heap.pop();
+        else heap.replace_top(make_key(b, i));
+    }
+
+    // The per-quad states, shared by both sequences (one allocation).
+    std::vector<QuadState>& reset_states() {
+        states_.assign(quads_.size(), QuadState{0, -1, 0, 0, 0, 0, 0});
+        return states_;
+    }
 
     // The enumeration and each sequence get kFastOpaqueWorkBudget of their
     // own, so running out in ours still leaves the paper's replay its share.
@@ -186,10 +260,6 @@ private:
         return false;
     }
 
-    static void push(std::vector<Pending>& heap, Pending p) {
-        heap.push_back(p);
-        std::push_heap(heap.begin(), heap.end());
-    }
 
     // The integer quad itself, which contains every realization we use.
     static Trapezoid whole(const PaperQuad& q) {
@@ -201,25 +271,29 @@ private:
     // ends, rounded outward): much tighter than the quad's box for sloped
     // sides. It bounds both the texel squares inside the quad and the
     // paper's row spans, which round the same sides to the nearest texel.
+    // Applied lazily, only to quads that reach the top of the heap: at step
+    // 0 nothing is covered yet and the first bounds are tighter.
     static constexpr int kBands = 8;
     // Work units of a heap pop with its bound updates (about the cost of
     // counting this many rows), so the budget bounds time on images with
     // millions of quads too.
     static constexpr i64 kPopWork = 32;
     static i64 band_bound(const StoredQuad& s, const BoxSums& counted) {
-        const PaperQuad q = s.quad();
-        const int dy = q.y1 - q.y0, bands = std::min(kBands, dy);
-        auto side = [&](int xt, int xb, int y, bool left) {
-            i64 num = i64(xt) * dy + i64(xb - xt) * (y - q.y0);
-            return int(left ? floor_div(num, dy) : ceil_div(num, dy));
-        };
-        i64 n = 0;
-        for (int k = 0; k < bands; ++k) {
-            const int ya = q.y0 + dy * k / bands, yb = q.y0 + dy * (k + 1) / bands;
-            const int lo = std::min(side(q.x0, q.x3, ya, true), side(q.x0, q.x3, yb, true));
-            const int hi = std::max(side(q.x1, q.x2, ya, false), side(q.x1, q.x2, yb, false));
-            n += counted.box(lo, ya, hi, yb);
+        const int y0 = s.y0, dy = s.y1 - s.y0, bands = std::min(kBands, dy);
+        // The sides at the band ends, each computed once and in 32 bits (the
+        // numerators stay below 2^30): divisions are most of this bound's
+        // cost, and it runs once per quad and step.
+        auto floor32 = [](int n, int d) { return n >= 0 ? n / d : -((-n + d - 1) / d); };
+        int ys[kBands + 1], lefts[kBands + 1], rights[kBands + 1];
+        for (int k = 0; k <= bands; ++k) {
+            const int y = y0 + dy * k / bands;
+            ys[k] = y;
+            lefts[k] = floor32(s.x0 * dy + (s.x3 - s.x0) * (y - y0), dy);
+            rights[k] = -floor32(-(s.x1 * dy + (s.x2 - s.x1) * (y - y0)), dy);
         }
+        i64 n = 0;
+        for (int k = 0; k < bands; ++k)
+            n += counted.box(std::min(lefts[k], lefts[k + 1]), ys[k], std::max(rights[k], rights[k + 1]), ys[k + 1]);
         return n;
     }
 
@@ -254,19 +328,17 @@ private:
         std::fill(covered_.bits.begin(), covered_.bits.end(), 0);
         const std::size_t n = quads_.size();
         const i64 least = std::max(1, options.min_area); // a smaller gain is never accepted
-        // One heap for all steps (bounds only fall). Per quad: its bound, the
-        // step it was last exact at / band-bounded at, and which realizations
-        // were checked and found valid.
-        std::vector<i64> bound(n);
-        std::vector<int> fresh(n, -1), banded(n, 0);
-        std::vector<std::uint8_t> choice(n, 0), checked(n, 0), valid(n, 0), refined(n, 0);
-        std::vector<Pending> heap;
+        // One heap for all steps (bounds only fall).
+        std::vector<QuadState>& state = reset_states();
+        std::vector<Key> keys;
         for (std::size_t i = 0; i < n; ++i) {
-            bound[i] = quads_[i].twice_area() / 2;
-            if (bound[i] >= least) heap.push_back({bound[i], int(i)});
+            state[i].bound = std::int32_t(quads_[i].twice_area() / 2);
+            if (state[i].bound >= least) keys.push_back(make_key(state[i].bound, int(i)));
         }
-        std::make_heap(heap.begin(), heap.end());
+        KeyHeap heap;
+        heap.assign(std::move(keys));
         counters_.work += i64(n);
+        std::vector<TexelBox> placed; // where each step's polygon covered texels
         for (int step = 0; int(seq.polygons.size()) < options.max_polygons &&
                            double(seq.covered) / double(safe_texels) < options.min_coverage;
              ++step) {
@@ -279,63 +351,75 @@ private:
             Best best;
             best.coverage = least - 1;
             search_rectangle(best);
-            while (!heap.empty() && heap.front().bound > best.coverage && !over_budget()) {
-                std::pop_heap(heap.begin(), heap.end());
-                const int i = heap.back().index;
-                heap.pop_back();
+            while (!heap.empty() && key_bound(heap.top()) > best.coverage && !over_budget()) {
+                const int i = key_index(heap.top());
+                QuadState& st = state[i];
                 counters_.work += kPopWork;
                 PaperQuad q = quads_[i].quad();
-                if (fresh[i] == step) { // exact now, and no other can beat it
-                    best.offer(realization(q, choice[i]), bound[i]);
-                    push(heap, {bound[i], i});
+                if (st.fresh != step && untouched_since(st.fresh, quads_[i], placed)) st.fresh = step;
+                if (st.fresh == step) { // exact now, and no other can beat it
+                    best.offer(realization(q, st.choice), st.bound);
                     break;
                 }
-                if (!refined[i]) { // the realizations that can be valid, O(1) each
-                    refined[i] = 1;
+                // Lowers the top's bound; true when it is no longer on top
+                // (or dropped: below `least` it can never be accepted).
+                auto lowered = [&](i64 b) {
+                    if (b >= st.bound) return false;
+                    set_top_bound(heap, st, i, b, least);
+                    return heap.empty() || key_index(heap.top()) != i;
+                };
+                if (!st.refined) { // the realizations that can be valid, O(1) each
+                    st.refined = 1;
                     i64 b = 0;
+                    std::uint8_t may = 0; // realizations that can be valid
                     for (int r = 0; r < kRealizations; ++r) {
                         Trapezoid t = realization(q, r);
-                        if (inside_quad(t, q) && trapezoid_edges_valid(t, grid_))
+                        if (inside_quad(t, q) && trapezoid_edges_valid(t, grid_)) {
+                            may |= std::uint8_t(1 << r);
+                            // Inside another candidate (see below): its squares
+                            // are among that one's, which the bound covers.
+                            if ((r != 0 && (may & 1)) || (r == 3 && (may & 7))) continue;
                             b = std::max(b, trapezoid_squares_bound(t));
-                        else
-                            checked[i] |= std::uint8_t(1 << r); // never valid for us
+                        } else {
+                            st.checked |= std::uint8_t(1 << r); // never valid for us
+                        }
                     }
-                    if (tighten(bound[i], b) && !still_top(heap, {bound[i], i})) {
-                        if (bound[i] >= least) push(heap, {bound[i], i});
-                        continue;
-                    }
+                    if (lowered(b)) continue;
                 }
-                if (step > 0 && banded[i] != step) {
-                    banded[i] = step;
-                    if (tighten(bound[i], band_bound(quads_[i], in_box)) && !still_top(heap, {bound[i], i})) {
-                        if (bound[i] >= least) push(heap, {bound[i], i});
-                        continue;
-                    }
+                if (step > 0 && st.banded != step) {
+                    const bool same = st.banded > 0 && untouched_since(st.banded, quads_[i], placed);
+                    st.banded = step;
+                    if (!same && lowered(band_bound(quads_[i], in_box))) continue;
                 }
-                if (bound[i] <= best.coverage) { // cannot win this step; maybe a later one
-                    if (bound[i] >= least) push(heap, {bound[i], i});
-                    continue;
-                }
+                if (st.bound <= best.coverage) break; // on top: nothing else can win either
                 i64 value = 0;
                 for (int r = 0; r < kRealizations; ++r) {
+                    // Realization 0 is the integer quad cut to its top and
+                    // bottom rows; 1-3 move its sides in, and 4, kept only
+                    // when inside the integer quad, lies between those rows
+                    // too: all lie inside 0, and 3 inside 1 and 2. Inside a
+                    // valid one they are valid and cover no more, so the
+                    // first maximum is never theirs.
+                    if (r != 0 && (st.valid & 1)) break;
+                    if (r == 3 && (st.valid & 7)) continue;
                     Trapezoid t = realization(q, r);
-                    if ((checked[i] >> r & 1) && !(valid[i] >> r & 1)) continue;
-                    if (trapezoid_squares_bound(t) <= value) continue;
-                    if (!(checked[i] >> r & 1)) {
-                        checked[i] |= std::uint8_t(1 << r);
-                        if (trapezoid_valid(t, grid_, counters_.work)) valid[i] |= std::uint8_t(1 << r);
+                    if ((st.checked >> r & 1) && !(st.valid >> r & 1)) continue;
+                    if (value > 0 && trapezoid_squares_bound(t) <= value) continue;
+                    if (!(st.checked >> r & 1)) {
+                        st.checked |= std::uint8_t(1 << r);
+                        if (trapezoid_valid(t, grid_, counters_.work)) st.valid |= std::uint8_t(1 << r);
                     }
-                    if (!(valid[i] >> r & 1)) continue;
+                    if (!(st.valid >> r & 1)) continue;
                     i64 c = trapezoid_coverage(t, uncovered_, counters_.work);
-                    if (c > value) value = c, choice[i] = std::uint8_t(r);
+                    if (c > value) value = c, st.choice = std::uint8_t(r);
                 }
-                bound[i] = value;
-                fresh[i] = step;
-                if (value >= least) push(heap, {value, i});
+                st.fresh = step;
+                set_top_bound(heap, st, i, value, least);
             }
             // Out of budget, the best found so far still counts; then stop.
             if (!best.found || best.coverage < options.min_area) break;
             HalfPolygon p = best.quad.polygon();
+            placed.push_back(texel_box(best.quad));
             mark_covered(p);
             seq.covered += best.coverage;
             seq.polygons.push_back(std::move(p));
@@ -366,6 +450,12 @@ private:
             }
         }
         return newly;
+    }
+
+    // The texels whose squares may lie inside the trapezoid.
+    static TexelBox texel_box(const Trapezoid& t) {
+        return {int(floor_div(std::min(t.xlt, t.xlb), 2)), int(floor_div(t.yt, 2)),
+                int(ceil_div(std::max(t.xrt, t.xrb), 2)), int(ceil_div(t.yb, 2))};
     }
 
     // Offers a polygon if it could beat the best and is valid.
@@ -444,16 +534,16 @@ private:
         Mask positive = grid_.safe_mask;
         const std::size_t n = quads_.size();
         const i64 least = std::max(1, options.min_area); // a smaller count is never accepted
-        std::vector<i64> bound(n);
-        std::vector<int> fresh(n, -1), banded(n, 0);
-        std::vector<std::int8_t> valid(n, -1), refined(n, 0); // valid: unknown, no, yes
-        std::vector<Pending> heap;
+        std::vector<QuadState>& state = reset_states(); // valid: unknown (0), no (1), yes (2)
+        std::vector<Key> keys;
         for (std::size_t i = 0; i < n; ++i) {
-            bound[i] = paper_cheap_bound(quads_[i]);
-            if (bound[i] >= least) heap.push_back({bound[i], int(i)});
+            state[i].bound = std::int32_t(paper_cheap_bound(quads_[i]));
+            if (state[i].bound >= least) keys.push_back(make_key(state[i].bound, int(i)));
         }
-        std::make_heap(heap.begin(), heap.end());
+        KeyHeap heap;
+        heap.assign(std::move(keys));
         counters_.work += i64(n);
+        std::vector<TexelBox> placed; // where each step changed the paper's map
         for (int step = 0; int(seq.polygons.size()) < options.max_polygons &&
                            double(paper_covered) / double(opaque) < options.min_coverage;
              ++step) {
@@ -463,45 +553,39 @@ private:
             BoxSums in_box(positive);
             int winner = -1;
             while (!heap.empty() && !over_budget()) {
-                std::pop_heap(heap.begin(), heap.end());
-                const int i = heap.back().index;
-                heap.pop_back();
+                const int i = key_index(heap.top());
+                QuadState& st = state[i];
                 counters_.work += kPopWork;
-                if (fresh[i] == step) {
+                if (st.fresh != step && untouched_since(st.fresh, quads_[i], placed)) st.fresh = step;
+                if (st.fresh == step) {
                     winner = i;
-                    push(heap, {bound[i], i});
                     break;
                 }
+                auto lowered = [&](i64 b) {
+                    if (b >= st.bound) return false;
+                    set_top_bound(heap, st, i, b, least);
+                    return heap.empty() || key_index(heap.top()) != i;
+                };
                 PaperQuad q = quads_[i].quad();
-                if (!refined[i]) {
-                    refined[i] = 1;
-                    if (tighten(bound[i], paper_span_total(q)) && !still_top(heap, {bound[i], i})) {
-                        if (bound[i] >= least) push(heap, {bound[i], i});
-                        continue;
-                    }
+                if (!st.refined) {
+                    st.refined = 1;
+                    if (lowered(paper_span_total(q))) continue;
                 }
-                if (step > 0 && banded[i] != step) {
-                    banded[i] = step;
-                    if (tighten(bound[i], band_bound(quads_[i], in_box)) && !still_top(heap, {bound[i], i})) {
-                        if (bound[i] >= least) push(heap, {bound[i], i});
-                        continue;
-                    }
+                if (step > 0 && st.banded != step) {
+                    const bool same = st.banded > 0 && untouched_since(st.banded, quads_[i], placed);
+                    st.banded = step;
+                    if (!same && lowered(band_bound(quads_[i], in_box))) continue;
                 }
-                if (bound[i] < least) continue; // never accepted, and only falls
-                i64 count = 0;
-                for (int y = q.y0; y < q.y1; ++y) {
-                    int x0, x1;
-                    paper_row_span(q, y, w, x0, x1);
-                    count += counts.span(y, x0, x1);
-                }
+                const i64 count = paper_count(q, counts);
                 counters_.work += q.y1 - q.y0;
-                if (count >= least && valid[i] < 0) valid[i] = trapezoid_valid(paper_pushed(q), grid_, counters_.work);
-                bound[i] = valid[i] > 0 ? count : 0;
-                fresh[i] = step;
-                if (bound[i] >= least) push(heap, {bound[i], i});
+                if (count >= least && st.valid == 0)
+                    st.valid = trapezoid_valid(paper_pushed(q), grid_, counters_.work) ? 2 : 1;
+                st.fresh = step;
+                set_top_bound(heap, st, i, st.valid == 2 ? count : 0, least);
             }
             if (winner < 0) break;
             PaperQuad best = quads_[winner].quad();
+            placed.push_back(quads_[winner].box());
             for (int y = best.y0; y < best.y1; ++y) {
                 int x0, x1;
                 paper_row_span(best, y, w, x0, x1);
@@ -518,6 +602,23 @@ private:
         return seq;
     }
 
+    // CountCoveredPixels with row sums: paper_row_span for every row, its
+    // rounded sides stepped without a division per row.
+    i64 paper_count(const PaperQuad& q, const RowSums& counts) const {
+        const i64 dy = q.y1 - q.y0, w = grid_.width;
+        // round(d k / dy), half away from zero, is floor((2 d k + dy) / 2 dy)
+        // for d >= 0 and its mirror for d < 0; both linear in k.
+        const i64 dl = q.x3 - q.x0, dr = q.x2 - q.x1;
+        FloorStepper left(2 * std::abs(dl), dy, 2 * dy), right(2 * std::abs(dr), dy, 2 * dy);
+        i64 n = 0;
+        for (int y = q.y0; y < q.y1; ++y, left.next(), right.next()) {
+            const i64 l = q.x0 + (dl >= 0 ? left.value() : -left.value());
+            const i64 r = q.x1 + (dr >= 0 ? right.value() : -right.value());
+            n += counts.span(y, int(std::clamp<i64>(l, 0, w)), int(std::clamp<i64>(r, 0, w)));
+        }
+        return n;
+    }
+
     // Sum of the paper's span lengths without the floor sums: each span is
     // at most its unrounded width plus one.
     static i64 paper_cheap_bound(const StoredQuad& q) {
@@ -529,6 +630,7 @@ private:
     SearchCounters& counters_;
     std::vector<Segment> segments_;
     std::vector<StoredQuad> quads_; // the paper's candidates, in its order
+    std::vector<QuadState> states_;
     std::vector<int> seen_stamp_;
     std::vector<std::vector<std::pair<int, int>>> seen_;
     Mask covered_, interior_;

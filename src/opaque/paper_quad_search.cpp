@@ -16,7 +16,6 @@
 // - A work budget (kPaperOpaqueWorkBudget) stops the exponential search
 //   (2.2.2, section 4 caveat 3) and keeps the best quad found.
 #include <algorithm>
-#include <numeric>
 
 #include "opaque/opaque_internal.h"
 
@@ -95,40 +94,29 @@ public:
         i64 covered = 0;
         while (int(polygons.size()) < options.max_polygons &&
                double(covered) / double(opaque) < options.min_coverage && !counters_.budget_exhausted) {
-            std::vector<PaperQuad> candidates = find_opaque_quad();
-            const PaperQuad* best = best_valid(candidates);
-            if (!best || best->count < options.min_area) break;
-            covered += fill_covered_pixels(*best);
-            polygons.push_back(paper_pushed(*best).polygon());
+            PaperQuad best = find_opaque_quad();
+            if (best.count == 0 || best.count < options.min_area) break;
+            covered += fill_covered_pixels(best);
+            polygons.push_back(paper_pushed(best).polygon());
         }
         return polygons;
     }
 
 private:
-    // max(candidates), skipping quads the exact check rejects (see top).
-    const PaperQuad* best_valid(std::vector<PaperQuad>& candidates) {
-        std::vector<std::size_t> order(candidates.size());
-        std::iota(order.begin(), order.end(), 0);
-        // Stable: among equal counts the first found wins, deterministically.
-        std::stable_sort(order.begin(), order.end(),
-                         [&](std::size_t a, std::size_t b) { return candidates[a].count > candidates[b].count; });
-        for (std::size_t i : order) {
-            if (candidates[i].count <= 0) break;
-            if (trapezoid_valid(paper_pushed(candidates[i]), grid_, counters_.work)) return &candidates[i];
-        }
-        return nullptr;
-    }
-
-    std::vector<PaperQuad> find_opaque_quad() {
-        std::vector<PaperQuad> candidates;
+    // FindOpaqueQuad: max(candidates), skipping quads the exact check
+    // rejects (see top); among equal counts the first found wins. Keeping
+    // only the running best is the same choice as collecting every
+    // candidate, without the memory.
+    PaperQuad find_opaque_quad() {
+        best_ = {};
         for (std::size_t s = 0; s < segments_.size() && !counters_.budget_exhausted; ++s)
-            recurse(int(s), int(s), int(s), int(s), candidates);
-        return candidates;
+            recurse(int(s), int(s), int(s), int(s));
+        return best_;
     }
 
     // FindOpaqueQuadRecursive(top, left, right, current). Recursion depth is
     // at most the image height (one level per row).
-    void recurse(int top_i, int left_i, int right_i, int current_i, std::vector<PaperQuad>& candidates) {
+    void recurse(int top_i, int left_i, int right_i, int current_i) {
         for (int next_i : segments_[current_i].down) {
             if (counters_.work > kPaperOpaqueWorkBudget) {
                 counters_.budget_exhausted = true;
@@ -139,8 +127,8 @@ private:
             if (!paper_step(segments_, top_i, current_i, next_i, new_left, new_right, q)) continue;
             q.count = count_covered_pixels(q);
             ++counters_.candidates;
-            candidates.push_back(q);
-            recurse(top_i, new_left, new_right, next_i, candidates);
+            if (q.count > best_.count && trapezoid_valid(paper_pushed(q), grid_, counters_.work)) best_ = q;
+            recurse(top_i, new_left, new_right, next_i);
         }
     }
 
@@ -181,6 +169,7 @@ private:
     SearchCounters& counters_;
     std::vector<Segment> segments_;
     std::vector<std::int8_t> map_; // paper's coverage map: 0, +1, -1
+    PaperQuad best_;               // of the current FindOpaqueQuad
 };
 
 } // namespace

@@ -23,8 +23,13 @@ Mask transposed(const Mask& m) {
     t.width = m.height;
     t.height = m.width;
     t.bits.resize(m.bits.size());
-    for (int y = 0; y < m.height; ++y)
-        for (int x = 0; x < m.width; ++x) t.bits[std::size_t(x) * m.height + y] = m.bits[std::size_t(y) * m.width + x];
+    // In tiles, so that large images do not miss the cache on every write.
+    constexpr int kTile = 64;
+    for (int y0 = 0; y0 < m.height; y0 += kTile)
+        for (int x0 = 0; x0 < m.width; x0 += kTile)
+            for (int y = y0; y < std::min(y0 + kTile, m.height); ++y)
+                for (int x = x0; x < std::min(x0 + kTile, m.width); ++x)
+                    t.bits[std::size_t(x) * m.height + y] = m.bits[std::size_t(y) * m.width + x];
     return t;
 }
 

@@ -4,6 +4,7 @@
 // optimized output all go through the same programs and blend states, so
 // the only thing that differs between them is which pixels get drawn.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,27 +23,34 @@ namespace {
 //
 // Texel coordinates are not interpolated from the vertices' u, v: each
 // triangle carries (flat) the affine map from window position to texel
-// position, computed on the CPU in double from texel-exact corners, and
-// the fragment shader applies it to gl_FragCoord. Interpolating u, v in
-// float over different triangles (an element's rect in overpaint, its
-// polygons when optimized) differs in the last bits, and at every pixel
-// centre that lies on a texel edge (any element placed on a half pixel or
-// scaled by 1/2) that picks a different texel. With the map, the texel a
-// pixel shows does not depend on how its element was triangulated.
+// position and the fragment shader applies it to gl_FragCoord.
+// Interpolating u, v in float over different triangles (an element's rect
+// in overpaint, its polygons when optimized) differs in the last bits, and
+// at every pixel centre that lies on a texel edge (any element placed on a
+// half pixel or scaled by 1/2) that picks a different texel. The map is the
+// element's own (SceneMeshes::element_maps, from its transform), rounded
+// to float once, so every triangle of an element in every mode carries
+// bit-identical attributes and the shader computes the same texel position
+// at each pixel: the texel a pixel shows does not depend on how its element
+// was triangulated. Meshes without element maps get each triangle's map
+// solved from its float vertices, which agree only to about 1e-4 texel.
 const char* const kVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec4 a_color;
 layout(location = 2) in vec2 a_texel_origin;
 layout(location = 3) in vec4 a_texel_axes;
+layout(location = 4) in vec4 a_texel_rect;
 uniform vec2 u_origin;
 uniform vec2 u_scale;
 flat out vec2 v_texel_origin;
 flat out vec4 v_texel_axes;
+flat out vec4 v_texel_rect;
 out vec4 v_color;
 void main() {
     gl_Position = vec4((a_position.xy - u_origin) * u_scale - 1.0, a_position.z * 2.0 - 1.0, 1.0);
     v_texel_origin = a_texel_origin;
     v_texel_axes = a_texel_axes;
+    v_texel_rect = a_texel_rect;
     v_color = a_color;
 }
 )";
@@ -50,17 +58,30 @@ void main() {
 // No discard anywhere: it would switch off early depth rejection, the
 // whole point of the opaque pass. Texels are not premultiplied. Nearest
 // sampling fetches floor(texel position), as GL_NEAREST does.
+//
+// The rect test: a texel position outside the element's rect (x0, y0, x1,
+// y1 in texels) outputs alpha 0, which every blend but opaque turns into
+// "leave the pixel as it is". GL snaps vertices to its subpixel grid, so
+// a pixel centre that close to a rect or polygon edge may be covered in
+// one mode and not in another; with the test, and boundary polygons grown
+// by a skirt (ReconstructOptions::coverage_margin), such a pixel draws only
+// when its texel is inside the rect, in every mode, and otherwise adds a
+// fragment that changes nothing. Blend opaque elements draw the same rect
+// quad in every mode (so the same coverage) and keep no test: with
+// blending off alpha 0 would not be a no-op.
 const char* const kFragmentShader = R"(#version 330 core
 uniform sampler2D u_texture;
 uniform int u_nearest;
 flat in vec2 v_texel_origin;
 flat in vec4 v_texel_axes;
+flat in vec4 v_texel_rect;
 in vec4 v_color;
 out vec4 o_color;
 void main() {
     vec2 t = v_texel_origin + v_texel_axes.xy * gl_FragCoord.x + v_texel_axes.zw * gl_FragCoord.y;
     vec2 size = vec2(textureSize(u_texture, 0));
     vec4 texel;
+    vec2 cell;
     if (u_nearest != 0) {
         // A centre exactly on a texel edge takes the texel on the side the
         // fill rule gives the pixel to (towards +x, then +y in window
@@ -68,15 +89,24 @@ void main() {
         // polygon. floor() alone picks the wrong side whenever the texel axis
         // runs against the window axis (a mirrored or rotated element placed
         // on a half pixel), and the opaque pass would then write a
-        // non-opaque texel.
+        // non-opaque texel. The shared element map does not make this
+        // redundant: it makes overpaint and the optimized meshes pick the
+        // same texel, but the opaque pass must also pick one its polygon
+        // covers, and exact ties are common (polygon edges lie on texel
+        // edges, and half-pixel placements put pixel centres on them).
         vec2 along = vec2(v_texel_axes.x != 0.0 ? v_texel_axes.x : v_texel_axes.z,
                           v_texel_axes.y != 0.0 ? v_texel_axes.y : v_texel_axes.w);
         vec2 texel_index = floor(t) - vec2(equal(t, floor(t))) * vec2(lessThan(along, vec2(0.0)));
         texel = texelFetch(u_texture, ivec2(clamp(texel_index, vec2(0.0), size - 1.0)), 0);
+        cell = texel_index;
     } else {
         texel = texture(u_texture, t / size);
+        cell = floor(t);
     }
     vec4 c = texel * v_color;
+#if !defined(BLEND_OPAQUE)
+    if (any(lessThan(cell, v_texel_rect.xy)) || any(greaterThanEqual(cell, v_texel_rect.zw))) c = vec4(0.0);
+#endif
 #if defined(BLEND_MULTIPLY)
     // DST_COLOR, ONE_MINUS_SRC_ALPHA: a transparent texel leaves the frame as it is.
     c.rgb *= c.a;
@@ -87,8 +117,9 @@ void main() {
 }
 )";
 
-// Per GL vertex: position (3), colour (4), texel map origin (2) and axes (4).
-constexpr int kGlVertexFloats = 13;
+// Per GL vertex: position (3), colour (4), texel map origin (2), axes (4)
+// and rect (4).
+constexpr int kGlVertexFloats = 17;
 
 constexpr int kBlendCount = 4;
 
@@ -358,11 +389,40 @@ void GlRenderer::set_images(const std::vector<ImageView>& images, Filter filter)
 
 namespace {
 
-// Appends triangle (a, b, c) of `d` as three GL vertices carrying the map
-// from window position to texel position (see kVertexShader). Returns
-// false for a triangle with no area, which GL would not draw either.
-bool append_triangle(const Draw& d, const std::uint32_t (&corner)[3], const Viewport& vp, int image_w, int image_h,
-                     std::vector<float>& out) {
+// A triangle's window-to-texel map as the vertex shader takes it: origin
+// (u, v at window (0, 0)), then d(u, v)/dx, then d(u, v)/dy, then the rect
+// (x0, y0, x1, y1) outside which it draws nothing.
+using GlTexelMap = std::array<float, 10>;
+
+// Meshes without element maps do not say which rect a triangle belongs
+// to: no rect test for them.
+constexpr float kNoRect = 1e30f;
+
+// An element's exact map (SceneMeshes::element_maps, screen pixels) moved
+// to window coordinates and rounded to float once, so every triangle of the
+// element, in every mode, hands the shader bit-identical attributes and the
+// shader computes the same texel position at each pixel.
+GlTexelMap element_gl_map(const TexelMap& t, const Viewport& vp) {
+    return {float(t.u0 + t.ux * vp.x + t.uy * vp.y),
+            float(t.v0 + t.vx * vp.x + t.vy * vp.y),
+            float(t.ux),
+            float(t.vx),
+            float(t.uy),
+            float(t.vy),
+            float(t.rect.x),
+            float(t.rect.y),
+            float(double(t.rect.x) + t.rect.w),
+            float(double(t.rect.y) + t.rect.h)};
+}
+
+// For meshes without element maps (read from a file): the map of triangle
+// `corner` of `d` itself, solved in double from its float vertices.
+// Triangulations of one element agree only up to the float rounding of
+// their vertices, so a pixel centre within about 1e-4 texel of a texel edge
+// may show different texels in different meshes. Returns false for a
+// triangle with no area, which GL would not draw either.
+bool triangle_gl_map(const Draw& d, const std::uint32_t (&corner)[3], const Viewport& vp, int image_w, int image_h,
+                     GlTexelMap& map) {
     double X[3][2], T[3][2];
     for (int k = 0; k < 3; ++k) {
         const float* v = &d.vertices[std::size_t(corner[k]) * kVertexFloats];
@@ -385,12 +445,29 @@ bool append_triangle(const Draw& d, const std::uint32_t (&corner)[3], const View
         axis_y[c] = (dt2 * dx1 - dt1 * dx2) / det;
         origin[c] = T[0][c] - axis_x[c] * X[0][0] - axis_y[c] * X[0][1];
     }
+    map = {float(origin[0]), float(origin[1]), float(axis_x[0]), float(axis_x[1]), float(axis_y[0]), float(axis_y[1]),
+           -kNoRect, -kNoRect, kNoRect, kNoRect};
+    return true;
+}
+
+// True when GL draws nothing for the triangle: no area in double, as GL
+// would see its float vertices (up to its own snapping).
+bool degenerate(const Draw& d, const std::uint32_t (&corner)[3]) {
+    const float* a = &d.vertices[std::size_t(corner[0]) * kVertexFloats];
+    const float* b = &d.vertices[std::size_t(corner[1]) * kVertexFloats];
+    const float* c = &d.vertices[std::size_t(corner[2]) * kVertexFloats];
+    const double det = (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(b[1]) - a[1]) * (double(c[0]) - a[0]);
+    return !(det != 0) || !std::isfinite(det);
+}
+
+// Appends triangle `corner` of `d` as three GL vertices carrying `map`
+// (see kVertexShader).
+void append_triangle(const Draw& d, const std::uint32_t (&corner)[3], const GlTexelMap& map, std::vector<float>& out) {
     for (int k = 0; k < 3; ++k) {
         const float* v = &d.vertices[std::size_t(corner[k]) * kVertexFloats];
-        out.insert(out.end(), {v[0], v[1], v[2], v[5], v[6], v[7], v[8], float(origin[0]), float(origin[1]), float(axis_x[0]),
-                               float(axis_x[1]), float(axis_y[0]), float(axis_y[1])});
+        out.insert(out.end(), {v[0], v[1], v[2], v[5], v[6], v[7], v[8]});
+        out.insert(out.end(), map.begin(), map.end());
     }
-    return true;
 }
 
 } // namespace
@@ -409,17 +486,31 @@ int GlRenderer::add_meshes(const SceneMeshes& meshes) {
     m.viewport = meshes.viewport;
     m.depth_test = meshes.depth_test;
     std::vector<float> vertices;
+    std::vector<GlTexelMap> element_maps;
+    element_maps.reserve(meshes.element_maps.size());
+    for (const TexelMap& t : meshes.element_maps) element_maps.push_back(element_gl_map(t, m.viewport));
     for (const Draw& d : meshes.draws) {
         if (d.image < 0 || std::size_t(d.image) >= r.textures.size())
             throw Error("draw names image " + std::to_string(d.image) + " but " + std::to_string(r.textures.size()) +
                         " images are loaded");
         const auto [image_w, image_h] = r.texture_sizes[std::size_t(d.image)];
         const std::size_t first = vertices.size() / kGlVertexFloats;
+        const bool has_elements = d.vertex_elements.size() == d.vertex_count();
         for (std::size_t t = 0; t + 3 <= d.indices.size(); t += 3) {
             const std::uint32_t corner[3] = {d.indices[t], d.indices[t + 1], d.indices[t + 2]};
             for (std::uint32_t i : corner)
                 if (i >= d.vertex_count()) throw Error("draw has index " + std::to_string(i) + " past its vertices");
-            append_triangle(d, corner, m.viewport, image_w, image_h, vertices);
+            GlTexelMap map;
+            // The element's own map when the triangle names one (all three
+            // corners alike); else the triangle's.
+            const std::uint32_t element = has_elements ? d.vertex_elements[corner[0]] : ~0u;
+            if (element < element_maps.size() && d.vertex_elements[corner[1]] == element && d.vertex_elements[corner[2]] == element) {
+                if (degenerate(d, corner)) continue;
+                map = element_maps[element];
+            } else if (!triangle_gl_map(d, corner, m.viewport, image_w, image_h, map)) {
+                continue;
+            }
+            append_triangle(d, corner, map, vertices);
         }
         // Counted as the scene draws them, degenerate triangles included.
         if (d.triangle_count() == 0) continue;
@@ -434,8 +525,8 @@ int GlRenderer::add_meshes(const SceneMeshes& meshes) {
     gl.BindBuffer(GL_ARRAY_BUFFER, m.vertex_buffer);
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
     const GLsizei stride = kGlVertexFloats * sizeof(float);
-    const int sizes[4] = {3, 4, 2, 4};
-    for (GLuint i = 0, offset = 0; i < 4; offset += GLuint(sizes[i]), ++i) {
+    const int sizes[5] = {3, 4, 2, 4, 4};
+    for (GLuint i = 0, offset = 0; i < 5; offset += GLuint(sizes[i]), ++i) {
         gl.VertexAttribPointer(i, sizes[i], GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(std::uintptr_t(offset * sizeof(float))));
         gl.EnableVertexAttribArray(i);
     }

@@ -21,7 +21,7 @@ ReconstructStatus build_meshes(Mode mode, const Scene& scene, const std::vector<
                                const ReconstructOptions& options, SceneMeshes* out) {
     switch (mode) {
     case Mode::overpaint:
-        *out = overpaint_meshes(scene);
+        *out = overpaint_meshes(scene, options.coverage_margin);
         return ReconstructStatus::ok;
     case Mode::meshes:
         return rectangle_meshes(scene, options, out);
@@ -29,6 +29,11 @@ ReconstructStatus build_meshes(Mode mode, const Scene& scene, const std::vector<
         return reconstruct_scene(scene, analyses, options, out);
     }
     return ReconstructStatus::invalid_scene;
+}
+
+ReconstructOptions exact_coverage(ReconstructOptions options) {
+    if (options.coverage_margin == 0) options.coverage_margin = kCoverageMargin;
+    return options;
 }
 
 namespace {
@@ -62,14 +67,21 @@ SceneMeasurement measure_scene(GlRenderer& renderer, const Scene& scene, const s
     std::vector<Mode> order{Mode::overpaint};
     for (Mode m : options.modes)
         if (std::find(order.begin(), order.end(), m) == order.end()) order.push_back(m);
-    std::vector<SceneMeshes> meshes(order.size());
-    std::vector<int> slots;
+    // Counts and timing draw the meshes as an engine gets them; the frames
+    // compared come from the same meshes with coverage skirts
+    // (exact_coverage), where nearest filtering must match exactly.
+    std::vector<SceneMeshes> meshes(order.size()), exact(order.size());
+    std::vector<int> slots, exact_slots;
+    const ReconstructOptions exact_options = exact_coverage(options.reconstruct);
     for (std::size_t i = 0; i < order.size(); ++i) {
-        ReconstructStatus status = build_meshes(order[i], scene, analyses, options.reconstruct, &meshes[i]);
-        if (status != ReconstructStatus::ok)
-            throw Error(std::string(mode_name(order[i])) + " meshes: " + status_text(status));
-        if (i == 0) renderer.set_meshes(meshes[i]);
-        slots.push_back(i == 0 ? 0 : renderer.add_meshes(meshes[i]));
+        for (bool skirted : {false, true}) {
+            SceneMeshes& m = skirted ? exact[i] : meshes[i];
+            ReconstructStatus status = build_meshes(order[i], scene, analyses, skirted ? exact_options : options.reconstruct, &m);
+            if (status != ReconstructStatus::ok)
+                throw Error(std::string(mode_name(order[i])) + " meshes: " + status_text(status));
+            if (i == 0 && !skirted) renderer.set_meshes(m);
+            (skirted ? exact_slots : slots).push_back(i == 0 && !skirted ? 0 : renderer.add_meshes(m));
+        }
     }
 
     std::vector<ModeMeasurement> measured(order.size());
@@ -82,10 +94,12 @@ SceneMeasurement measure_scene(GlRenderer& renderer, const Scene& scene, const s
         m.counts = renderer.draw_counted();
         m.overdraw = pixels > 0 ? double(m.counts.samples_passed) / pixels : 0;
         m.cpu_overdraw = analyze_overdraw(meshes[i], options.keep_maps ? &m.map : nullptr).overdraw();
+        renderer.select_meshes(exact_slots[i]);
+        renderer.draw();
         Image frame = renderer.read_pixels();
         if (i == 0) reference = frame;
         m.diff = compare_images(reference.view(), frame.view());
-        if (m.diff.pixels_differ) m.causes = classify_differences(reference.view(), meshes[0], frame.view(), meshes[i], &scene);
+        if (m.diff.pixels_differ) m.causes = classify_differences(reference.view(), exact[0], frame.view(), exact[i], &scene);
         if (options.keep_frames) m.frame = std::move(frame);
     }
 

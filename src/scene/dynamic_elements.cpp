@@ -44,7 +44,12 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
     SceneMeshes out;
     out.viewport = static_meshes.viewport;
     out.depth_test = static_meshes.depth_test;
-    MeshBuilder builder(dynamic);
+    // Dynamic elements' maps follow the static ones, so the static draws'
+    // vertex_elements stay valid as they are.
+    out.element_maps = static_meshes.element_maps;
+    const auto first_map = std::uint32_t(out.element_maps.size());
+    append_element_maps(dynamic, out.element_maps);
+    MeshBuilder builder(dynamic, first_map);
     std::vector<std::uint32_t> all(elements.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
     // Dynamic opaque draws first: they are nearest, so they reject the most.
@@ -66,7 +71,7 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
             last = keys[e];
             first_blend = false;
         }
-        builder.add_boundary(out.draws.back(), el, shapes.boundary[e], analyses[e], depth_z(levels[e], false, denominator));
+        builder.add_boundary(out.draws.back(), e, shapes.boundary[e], analyses[e], depth_z(levels[e], false, denominator));
     }
     out.stats = static_meshes.stats;
     out.stats.elements += std::int64_t(elements.size());

@@ -15,7 +15,8 @@
 
 namespace depthcull::detail {
 
-void MeshBuilder::add_polygon(Draw& d, const Element& e, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z) {
+void MeshBuilder::add_polygon(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z) {
+    const Element& e = scene_.elements[element];
     const SceneImage& img = scene_.images[std::size_t(e.image)];
     const std::uint32_t base = std::uint32_t(d.vertex_count());
     const double iw = 1.0 / img.width, ih = 1.0 / img.height;
@@ -24,27 +25,33 @@ void MeshBuilder::add_polygon(Draw& d, const Element& e, const Polygon& p, const
         d.vertices.insert(d.vertices.end(), {float(s.x), float(s.y), z, float(v.x * iw), float(v.y * ih), e.color[0], e.color[1],
                                              e.color[2], e.color[3]});
     }
+    d.vertex_elements.resize(d.vertex_count(), first_map_ + element);
     for (std::uint32_t t : triangles) d.indices.push_back(base + t);
 }
 
-void MeshBuilder::add_boundary(Draw& d, const Element& e, Shape shape, const ImageAnalysis* a, float z) {
+void MeshBuilder::add_boundary(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z) {
     static const std::vector<std::uint32_t> quad{0, 1, 2, 0, 2, 3};
+    const Blend blend = scene_.elements[element].blend;
     if (shape == Shape::rect) {
-        add_polygon(d, e, rect_polygon(e.rect), quad, z);
+        const Polygon rect = rect_polygon(scene_.elements[element].rect);
+        add_polygon(d, element, rect, quad, z);
+        // Blend opaque rects draw the same quad in every mode: no skirt.
+        if (margin_ > 0 && blend != Blend::opaque) add_skirts(d, element, {rect}, z);
         return;
     }
     if (shape != Shape::analysis) return;
     for (const Polygon& p : a->boundary) {
         auto it = triangulated_.find(&p);
         if (it == triangulated_.end()) it = triangulated_.emplace(&p, triangulate_polygon(p)).first;
-        add_polygon(d, e, p, it->second, z);
+        add_polygon(d, element, p, it->second, z);
     }
+    if (margin_ > 0 && blend != Blend::opaque) add_skirts(d, element, a->boundary, z);
 }
 
-void MeshBuilder::add_opaque(Draw& d, const Element& e, Shape shape, const ImageAnalysis* a, float z) {
+void MeshBuilder::add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z) {
     static const std::vector<std::uint32_t> quad{0, 1, 2, 0, 2, 3};
     if (shape == Shape::rect) {
-        add_polygon(d, e, rect_polygon(e.rect), quad, z);
+        add_polygon(d, element, rect_polygon(scene_.elements[element].rect), quad, z);
         return;
     }
     if (shape != Shape::analysis) return;
@@ -55,7 +62,7 @@ void MeshBuilder::add_opaque(Draw& d, const Element& e, Shape shape, const Image
         fan.clear();
         for (std::uint32_t k = 1; k + 1 < p.size(); ++k)
             if (orient(p[0], p[k], p[k + 1]) != 0) fan.insert(fan.end(), {0, k, k + 1});
-        add_polygon(d, e, p, fan, z);
+        add_polygon(d, element, p, fan, z);
     }
 }
 
@@ -102,9 +109,14 @@ void append_opaque_draws(const Scene& scene, const std::vector<std::uint32_t>& e
             d.blend = el.blend;
             draws.push_back(std::move(d));
         }
-        builder.add_opaque(draws.back(), el, shapes.opaque[e], e < analyses.size() ? analyses[e] : nullptr,
+        builder.add_opaque(draws.back(), e, shapes.opaque[e], e < analyses.size() ? analyses[e] : nullptr,
                            depth_z(levels[e], true, denominator));
     }
+}
+
+void append_element_maps(const Scene& scene, std::vector<TexelMap>& maps) {
+    maps.reserve(maps.size() + scene.elements.size());
+    for (const Element& e : scene.elements) maps.push_back(texel_map(e));
 }
 
 void finish_stats(SceneMeshes& out) {
@@ -133,7 +145,7 @@ void append_blend_draws(const Scene& scene, const std::vector<std::uint32_t>& or
             last = keys[e];
         }
         float z = levels ? depth_z((*levels)[e], false, denominator) : 0.0f;
-        builder.add_boundary(draws.back(), el, boundary[e], e < analyses.size() ? analyses[e] : nullptr, z);
+        builder.add_boundary(draws.back(), e, boundary[e], e < analyses.size() ? analyses[e] : nullptr, z);
     }
 }
 
@@ -183,11 +195,12 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = options.opaque_polygons;
-    MeshBuilder builder(scene);
+    MeshBuilder builder(scene, 0, options.coverage_margin);
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);
     append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
     append_blend_draws(scene, order, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
+    append_element_maps(scene, result.element_maps);
 
     result.stats.elements = std::int64_t(n);
     result.stats.depth_levels = depth_levels;
@@ -224,8 +237,9 @@ ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions&
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = false;
-    MeshBuilder builder(scene);
+    MeshBuilder builder(scene, 0, options.coverage_margin);
     append_blend_draws(scene, order, nullptr, rects, none, keys, 0, builder, result.draws);
+    append_element_maps(scene, result.element_maps);
     result.stats.elements = std::int64_t(n);
     result.stats.graph_edges = std::int64_t(graph.edge_count());
     finish_stats(result);

@@ -61,16 +61,24 @@ namespace depthcull::detail {
 // Appends elements' polygons to draws (paper 2.3.3 AddPolygon), caching
 // the triangulation of each analysis polygon: elements sharing an image
 // rect share the texel-space triangulation, and an affine transform keeps
-// it valid.
+// it valid. `element` indexes scene.elements; its vertices name element
+// map first_map + element (Draw::vertex_elements).
 class MeshBuilder {
 public:
-    explicit MeshBuilder(const Scene& scene) : scene_(scene) {}
-    void add_boundary(Draw& d, const Element& e, Shape shape, const ImageAnalysis* a, float z);
-    void add_opaque(Draw& d, const Element& e, Shape shape, const ImageAnalysis* a, float z);
+    explicit MeshBuilder(const Scene& scene, std::uint32_t first_map = 0, double coverage_margin = 0)
+        : scene_(scene), first_map_(first_map), margin_(coverage_margin) {}
+    void add_boundary(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
+    void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
+
+    // ReconstructOptions::coverage_margin: a skirt around `polygons` (of
+    // `element`, texel space) when the margin is positive.
+    void add_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z);
 
 private:
-    void add_polygon(Draw& d, const Element& e, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z);
+    void add_polygon(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z);
     const Scene& scene_;
+    std::uint32_t first_map_;
+    double margin_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };
 
@@ -83,5 +91,8 @@ void append_opaque_draws(const Scene& scene, const std::vector<std::uint32_t>& e
                          std::vector<Draw>& draws);
 
 void finish_stats(SceneMeshes& out);
+
+// texel_map of every element of `scene`, appended to `maps` in order.
+void append_element_maps(const Scene& scene, std::vector<TexelMap>& maps);
 
 } // namespace depthcull::detail

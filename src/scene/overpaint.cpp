@@ -1,10 +1,14 @@
 // The unoptimized method the paper measures against (Table 2,
 // "Unoptimized"): every element's whole rect, one draw each, back to front.
-#include "depthcull/scene.h"
+// With a coverage margin (for frame comparisons, see scene.h) each rect but
+// a Blend::opaque one gets the same skirt a reconstructed element's
+// polygons get, so GL's vertex snapping decides no pixel in either.
+#include "scene/internal.h"
 
 namespace depthcull {
 
-SceneMeshes overpaint_meshes(const Scene& scene) {
+SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin) {
+    detail::MeshBuilder skirts(scene, 0, coverage_margin);
     SceneMeshes out;
     out.viewport = scene.viewport;
     out.depth_test = false;
@@ -23,11 +27,14 @@ SceneMeshes overpaint_meshes(const Scene& scene) {
                                float((e.rect.y + c.y) / img.height), e.color[0], e.color[1], e.color[2], e.color[3]});
         }
         d.indices = {0, 1, 2, 0, 2, 3};
+        d.vertex_elements.assign(4, std::uint32_t(out.draws.size()));
+        if (coverage_margin > 0 && e.blend != Blend::opaque)
+            skirts.add_skirts(d, std::uint32_t(out.draws.size()), {detail::rect_polygon(e.rect)}, 0.0f);
         out.draws.push_back(std::move(d));
     }
+    detail::append_element_maps(scene, out.element_maps);
     out.stats.elements = std::int64_t(scene.elements.size());
-    out.stats.draw_calls = std::int64_t(out.draws.size());
-    out.stats.triangles = 2 * out.stats.draw_calls;
+    detail::finish_stats(out);
     out.stats.depth_levels = 0;
     return out;
 }

@@ -45,6 +45,31 @@ bool inside_rect(const std::vector<Polygon>& polygons, const Rect& r) {
     return true;
 }
 
+bool is_integer(double v) { return std::floor(v) == v; }
+
+// True when the element's rect lands on whole screen pixels along the
+// axes (flips and quarter turns allowed): then no pixel centre lies on the
+// rect's edge, so every pixel the rect covers samples a texel inside it.
+bool pixel_aligned(const Scene& scene, const Element& e) {
+    const auto& m = e.transform;
+    bool axis_aligned = (m[1] == 0 && m[2] == 0) || (m[0] == 0 && m[3] == 0);
+    if (!axis_aligned || !is_integer(scene.viewport.x) || !is_integer(scene.viewport.y)) return false;
+    for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
+        Vec2 p = apply(m, c);
+        if (!is_integer(p.x) || !is_integer(p.y)) return false;
+    }
+    return true;
+}
+
+// A wholly opaque rect (every texel alpha 255: tiles, backgrounds) whose
+// element is pixel-aligned can be its own opaque polygon. The analysis
+// keeps opaque polygons half a texel inside the rect, because it cannot
+// know how the rect will be placed; here we do know, and the rect drawn
+// with blending off writes exactly what overpaint's blended rect writes.
+bool whole_rect_opaque(const Scene& scene, const Element& e, const ImageAnalysis* a) {
+    return a && a->stats.opaque_texels == std::int64_t(e.rect.w) * e.rect.h && pixel_aligned(scene, e);
+}
+
 Shape boundary_shape(const Scene& scene, const Element& e, const ImageAnalysis* a) {
     if (!element_is_valid(scene, e)) return Shape::none;
     if (e.blend == Blend::opaque || e.blend == Blend::multiply) return Shape::rect;
@@ -68,7 +93,12 @@ ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAn
         if (s.boundary[i] == Shape::none) continue;
         if (opaque_pass) {
             if (e.blend == Blend::opaque) s.opaque[i] = Shape::rect;
-            else if (e.blend == Blend::alpha && e.color[3] == 1.0f && a && !a->opaque.empty()) s.opaque[i] = Shape::analysis;
+            else if (e.blend == Blend::alpha && e.color[3] == 1.0f && whole_rect_opaque(scene, e, a)) {
+                s.opaque[i] = Shape::rect;
+                s.blended[i] = 0; // the opaque rect draws all of it
+                continue;
+            } else if (e.blend == Blend::alpha && e.color[3] == 1.0f && a && !a->opaque.empty())
+                s.opaque[i] = Shape::analysis;
         }
         s.blended[i] = !(opaque_pass && e.blend == Blend::opaque);
         // Beyond the paper: when the opaque polygons cover every

@@ -50,8 +50,10 @@ inline std::array<double, 6> rotation(double degrees, double tx, double ty, doub
     return {scale * std::cos(r), scale * std::sin(r), -scale * std::sin(r), scale * std::cos(r), tx, ty};
 }
 
-// A quad over texel rect `r` of element `e` (whose rect starts at e.rect).
-inline void add_quad(Draw& d, const Scene& scene, const Element& e, Rect r, float z) {
+// A quad over texel rect `r` of element `element` (whose rect starts at
+// its e.rect), sampling through element map `element`.
+inline void add_quad(Draw& d, const Scene& scene, std::size_t element, Rect r, float z) {
+    const Element& e = scene.elements[element];
     const SceneImage& img = scene.images[std::size_t(e.image)];
     const std::uint32_t base = std::uint32_t(d.vertex_count());
     const Vec2 corners[4] = {{double(r.x), double(r.y)},
@@ -64,6 +66,15 @@ inline void add_quad(Draw& d, const Scene& scene, const Element& e, Rect r, floa
                                              e.color[0], e.color[1], e.color[2], e.color[3]});
     }
     for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) d.indices.push_back(base + i);
+    d.vertex_elements.resize(d.vertex_count(), std::uint32_t(element));
+}
+
+// Meshes as read from a file: no element maps, so renderers fall back to
+// per-triangle texel maps.
+inline SceneMeshes without_element_maps(SceneMeshes m) {
+    m.element_maps.clear();
+    for (Draw& d : m.draws) d.vertex_elements.clear();
+    return m;
 }
 
 // Element i gets depth (2i+1)/(2n+2) for its rect and (2i+2)/(2n+2) for its
@@ -83,7 +94,7 @@ inline SceneMeshes hand_optimized(const RenderScene& rs) {
         d.image = e.image;
         d.pass = Pass::opaque;
         d.blend = e.blend;
-        add_quad(d, s, e, {e.rect.x + o.x, e.rect.y + o.y, o.w, o.h}, depth(2 * i + 2));
+        add_quad(d, s, i, {e.rect.x + o.x, e.rect.y + o.y, o.w, o.h}, depth(2 * i + 2));
         out.draws.push_back(std::move(d));
     }
     for (std::size_t i = 0; i < n; ++i) {
@@ -92,9 +103,10 @@ inline SceneMeshes hand_optimized(const RenderScene& rs) {
         d.image = e.image;
         d.pass = Pass::blend;
         d.blend = e.blend;
-        add_quad(d, s, e, e.rect, depth(2 * i + 1));
+        add_quad(d, s, i, e.rect, depth(2 * i + 1));
         out.draws.push_back(std::move(d));
     }
+    for (const Element& e : s.elements) out.element_maps.push_back(texel_map(e));
     return out;
 }
 

@@ -5,6 +5,7 @@
 // arbitrary angles and scales.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
 
 #include "depthcull/render.h"
@@ -97,19 +98,36 @@ void check(unsigned seed, Filter filter) {
     auto m = render::measure_scene(*r, rs.scene, rs.views(), per_element, options);
     for (const auto& mode : m.modes) {
         SCOPED_TRACE(render::mode_name(mode.mode));
-        EXPECT_EQ(mode.causes.elsewhere, 0) << mode.diff.pixels_differ << " pixels differ, largest channel difference "
-                                            << mode.diff.max_channel_diff;
-        // Rounding at triangle and texel edges: rare by nature (about 1 in
-        // 10000 pixels here); more means geometry that hugs pixel centres.
-        EXPECT_LE(mode.causes.near_edges, 8);
-        ::testing::Test::RecordProperty(std::string("near_edges_") + render::mode_name(mode.mode) + "_" + std::to_string(seed),
-                                        int(mode.causes.near_edges));
+        if (filter == Filter::nearest) {
+            // Every element samples through its one texel map in every mode,
+            // so nothing, not even a pixel centre on a texel edge, may differ.
+            EXPECT_EQ(mode.diff.pixels_differ, 0) << mode.causes.near_edges << " near triangle or texel edges, "
+                                                  << mode.causes.elsewhere << " elsewhere, largest channel difference "
+                                                  << mode.diff.max_channel_diff;
+        } else {
+            EXPECT_EQ(mode.causes.elsewhere, 0) << mode.diff.pixels_differ << " pixels differ, largest channel difference "
+                                                << mode.diff.max_channel_diff;
+            // Bilinear filtering at polygon edges: rare by nature (about 1 in
+            // 10000 pixels here); more means geometry that hugs pixel centres.
+            EXPECT_LE(mode.causes.near_edges, 8);
+            ::testing::Test::RecordProperty(std::string("near_edges_") + render::mode_name(mode.mode) + "_" + std::to_string(seed),
+                                            int(mode.causes.near_edges));
+        }
         EXPECT_LE(m.ideal_overdraw, mode.overdraw);
     }
 }
 
+// DEPTHCULL_EQUIVALENCE_SEEDS=N checks N scenes instead of the default
+// (a longer local hunt for rare differences; CI keeps the default).
+unsigned seed_count(unsigned fallback) {
+    const char* text = std::getenv("DEPTHCULL_EQUIVALENCE_SEEDS");
+    const long n = text ? std::strtol(text, nullptr, 10) : 0;
+    return n > 0 ? unsigned(n) : fallback;
+}
+
 TEST(Equivalence, RandomScenesNearest) {
-    for (unsigned seed = 1; seed <= 12; ++seed) check(seed, Filter::nearest);
+    const unsigned count = seed_count(12);
+    for (unsigned seed = 1; seed <= count; ++seed) check(seed, Filter::nearest);
 }
 
 TEST(Equivalence, RandomScenesLinear) {

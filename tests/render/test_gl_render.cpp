@@ -46,6 +46,20 @@ TEST(GlRender, OptimizedEqualsOverpaintPixelForPixel) {
     EXPECT_EQ(blank, 0);
 }
 
+// Meshes read from a file carry no element maps; the renderer then solves
+// each triangle's map from its vertices. On this scene (no vertex far from
+// the origin) that still draws exactly like overpaint.
+TEST(GlRender, MeshesWithoutElementMapsDrawLikeOverpaint) {
+    REQUIRE_GL(r);
+    auto rs = test::mixed_scene();
+    r->set_images(rs.views(), Filter::nearest);
+    Image over = draw(*r, overpaint_meshes(rs.scene));
+    Image bare_over = draw(*r, test::without_element_maps(overpaint_meshes(rs.scene)));
+    Image bare_opt = draw(*r, test::without_element_maps(test::hand_optimized(rs)));
+    EXPECT_EQ(render::compare_images(over.view(), bare_over.view()).pixels_differ, 0);
+    EXPECT_EQ(render::compare_images(over.view(), bare_opt.view()).pixels_differ, 0);
+}
+
 TEST(GlRender, LinearFilteringDifferenceIsReported) {
     REQUIRE_GL(r);
     auto rs = test::mixed_scene();

@@ -54,7 +54,11 @@ TEST(RenderCli, ComparesWithOverpaintAndWritesPictures) {
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(fs::exists(dir / "frame.png"));
     EXPECT_TRUE(fs::exists(dir / "heat.png"));
-    EXPECT_NE(r.output.find("0 elsewhere"), std::string::npos) << r.output;
+    // Nearest filtering: not one pixel may differ (any difference exits 1).
+    EXPECT_NE(r.output.find("equals the overpaint frame pixel for pixel"), std::string::npos) << r.output;
+    r = run_cli("render \"" + scene + "\" --no-cache --mode meshes --compare");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("equals the overpaint frame pixel for pixel"), std::string::npos) << r.output;
 
     r = run_cli("render \"" + scene + "\" --no-cache");
     EXPECT_NE(r.status, 0);

@@ -210,5 +210,71 @@ TEST(LookUnchanged, DynamicElementsDrawOnTop) {
     }
 }
 
+// Every vertex names the element map it samples through, and that map
+// takes the vertex's screen position to its u, v: ids stay right however
+// elements merge into draws, in every kind of output, skirts included.
+void expect_consistent_maps(const SceneMeshes& m, const std::vector<Image>& images, const char* what) {
+    for (const Draw& d : m.draws) {
+        ASSERT_EQ(d.vertex_elements.size(), d.vertex_count()) << what;
+        const Image& img = images[std::size_t(d.image)];
+        for (std::size_t i = 0; i < d.vertex_count(); ++i) {
+            const std::uint32_t id = d.vertex_elements[i];
+            ASSERT_LT(id, m.element_maps.size()) << what;
+            const TexelMap& t = m.element_maps[id];
+            const float* v = &d.vertices[i * kVertexFloats];
+            EXPECT_NEAR(t.u0 + t.ux * v[0] + t.uy * v[1], double(v[3]) * img.width, 1e-3) << what << ", vertex " << i;
+            EXPECT_NEAR(t.v0 + t.vx * v[0] + t.vy * v[1], double(v[4]) * img.height, 1e-3) << what << ", vertex " << i;
+        }
+        for (std::size_t t = 0; t + 3 <= d.indices.size(); t += 3) {
+            EXPECT_EQ(d.vertex_elements[d.indices[t]], d.vertex_elements[d.indices[t + 1]]) << what;
+            EXPECT_EQ(d.vertex_elements[d.indices[t]], d.vertex_elements[d.indices[t + 2]]) << what;
+        }
+    }
+}
+
+TEST(LookUnchanged, EveryVertexNamesItsElementMap) {
+    for (std::uint64_t seed = 200; seed < 210; ++seed) {
+        RandomScene r = random_scene(seed, 30);
+        ASSERT_EQ(overpaint_meshes(r.scene).element_maps.size(), r.scene.elements.size());
+        expect_consistent_maps(overpaint_meshes(r.scene), r.images, "overpaint");
+        expect_consistent_maps(overpaint_meshes(r.scene, 1.0 / 64), r.images, "overpaint with skirts");
+        for (double margin : {0.0, 1.0 / 64}) {
+            ReconstructOptions o;
+            o.coverage_margin = margin;
+            SceneMeshes m;
+            ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m), ReconstructStatus::ok);
+            EXPECT_EQ(m.element_maps.size(), r.scene.elements.size());
+            expect_consistent_maps(m, r.images, "reconstruct_scene");
+            ASSERT_EQ(rectangle_meshes(r.scene, o, &m), ReconstructStatus::ok);
+            expect_consistent_maps(m, r.images, "rectangle_meshes");
+        }
+        // Dynamic elements' maps follow the static ones.
+        RandomScene stat = r;
+        stat.scene.elements.resize(22);
+        stat.element_analysis.resize(22);
+        std::vector<Element> moving(r.scene.elements.begin() + 22, r.scene.elements.end());
+        std::vector<const ImageAnalysis*> moving_analysis(r.element_analysis.begin() + 22, r.element_analysis.end());
+        ReconstructOptions o;
+        o.reserved_dynamic_levels = 8;
+        SceneMeshes base, frame;
+        ASSERT_EQ(reconstruct_scene(stat.scene, stat.element_analysis, o, &base), ReconstructStatus::ok);
+        ASSERT_EQ(add_dynamic_elements(base, stat.scene, moving, moving_analysis, &frame), ReconstructStatus::ok);
+        ASSERT_EQ(frame.element_maps.size(), r.scene.elements.size());
+        expect_consistent_maps(frame, r.images, "dynamic");
+    }
+}
+
+// Without a margin the output is what it always was: no skirt triangles.
+TEST(LookUnchanged, NoCoverageMarginNoSkirt) {
+    RandomScene r = random_scene(7, 20);
+    SceneMeshes plain, grown;
+    ReconstructOptions o;
+    ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &plain), ReconstructStatus::ok);
+    o.coverage_margin = 1.0 / 64;
+    ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &grown), ReconstructStatus::ok);
+    EXPECT_GT(grown.stats.triangles, plain.stats.triangles);
+    EXPECT_EQ(overpaint_meshes(r.scene).stats.triangles, 2 * std::int64_t(r.scene.elements.size()));
+}
+
 } // namespace
 } // namespace depthcull::test
