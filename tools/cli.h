@@ -38,9 +38,5 @@ void add_analysis_options(CLI::App& command, AnalyzeOptions& options);
 // and scenes alike); sets options.has_viewport.
 void add_viewport_option(CLI::App& command, io::LoadOptions& options);
 
-// Runs fn(i) for i in [0, n) on `threads` threads (0: hardware threads);
-// results must be stored by index so output order never depends on timing.
-// The first exception thrown is rethrown after all workers stop.
-void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn);
 
 } // namespace depthcull::cli

@@ -171,7 +171,7 @@ void run_analyze(const AnalyzeArgs& args) {
     auto start = std::chrono::steady_clock::now();
     std::vector<Input> inputs = expand_inputs(args.inputs);
     std::vector<Result> results(inputs.size());
-    parallel_for(inputs.size(), args.threads, [&](std::size_t i) { results[i] = analyze_input(inputs[i], args); });
+    io::parallel_for(inputs.size(), args.threads, [&](std::size_t i) { results[i] = analyze_input(inputs[i], args); });
     double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     if (args.check) {

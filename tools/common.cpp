@@ -1,9 +1,5 @@
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
-#include <exception>
-#include <mutex>
-#include <thread>
 
 #include "cli.h"
 #include "depthcull/io.h"
@@ -59,37 +55,5 @@ void add_viewport_option(CLI::App& cmd, io::LoadOptions& options) {
         ->type_name("X,Y,W,H");
 }
 
-void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    threads = unsigned(std::min<std::size_t>(threads, n));
-    if (threads <= 1) {
-        for (std::size_t i = 0; i < n; ++i) fn(i);
-        return;
-    }
-    std::atomic<std::size_t> next{0};
-    std::atomic<bool> failed{false};
-    std::exception_ptr error;
-    std::size_t error_index = n;
-    std::mutex mutex;
-    auto worker = [&] {
-        for (std::size_t i; !failed && (i = next++) < n;) {
-            try {
-                fn(i);
-            } catch (...) {
-                // Report the error of the lowest index, as a serial run would.
-                std::lock_guard lock(mutex);
-                if (i < error_index) {
-                    error_index = i;
-                    error = std::current_exception();
-                }
-                failed = true;
-            }
-        }
-    };
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
-}
 
 } // namespace depthcull::cli

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -96,6 +97,11 @@ struct AtlasPolygonStats {
     double polygon_area = 0; // summed boundary polygon areas
 };
 std::string atlas_with_polygons(const std::string& path, const AnalyzeOptions& options, AtlasPolygonStats* stats = nullptr);
+
+// Runs fn(i) for i in [0, n) on `threads` threads (0: all cores). Callers
+// store results by index, so output never depends on the thread count;
+// the error of the lowest failing index is rethrown, as a serial run would.
+void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn);
 
 // ---- The pipeline shared by optimize, render and bench
 

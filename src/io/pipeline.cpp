@@ -17,9 +17,7 @@
 
 namespace depthcull::io {
 
-namespace {
-
-void run_parallel(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
+void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     threads = unsigned(std::min<std::size_t>(threads, n));
     if (threads <= 1) {
@@ -53,8 +51,6 @@ void run_parallel(std::size_t n, unsigned threads, const std::function<void(std:
     if (error) std::rethrow_exception(error);
 }
 
-} // namespace
-
 PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     PreparedScene out;
@@ -77,7 +73,7 @@ PreparedScene prepare_scene(const std::string& path, const PrepareOptions& optio
         if (fresh) to_decode.push_back(i);
     }
     out.images.resize(scene.images.size());
-    run_parallel(to_decode.size(), options.threads, [&](std::size_t k) {
+    parallel_for(to_decode.size(), options.threads, [&](std::size_t k) {
         std::size_t i = to_decode[k];
         const SceneImage& img = scene.images[i];
         out.images[i] = load_png(img.path);
@@ -102,7 +98,7 @@ PreparedScene prepare_scene(const std::string& path, const PrepareOptions& optio
     }
     out.analyses.resize(work.size());
     std::vector<std::uint8_t> hit(work.size(), 0);
-    run_parallel(work.size(), options.threads, [&](std::size_t k) {
+    parallel_for(work.size(), options.threads, [&](std::size_t k) {
         ImageView view = out.images[work[k].first].view();
         const Rect rect = work[k].second;
         if (!options.cache_dir.empty()) {

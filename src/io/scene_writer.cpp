@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
+#include "io/mesh_common.h"
 
 namespace fs = std::filesystem;
 
@@ -35,16 +36,6 @@ Json number(float v) {
     double d = 0;
     std::from_chars(text, end, d);
     return number(d);
-}
-
-const char* blend_name(Blend b) {
-    switch (b) {
-    case Blend::alpha: return "alpha";
-    case Blend::add: return "add";
-    case Blend::multiply: return "multiply";
-    case Blend::opaque: return "opaque";
-    }
-    return "alpha";
 }
 
 std::string portable_path(const std::string& image_path, const fs::path& base_dir) {
