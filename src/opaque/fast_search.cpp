@@ -14,6 +14,14 @@
 // - a value or bound from an earlier step is reused while no polygon placed
 //   since touched the quad's box, and a realization inside a valid one is
 //   never evaluated (it cannot cover more);
+// - after each step, the quads the new polygon touched get an O(1) box bound
+//   and the heap is rebuilt once, instead of one pop and sift per quad; the
+//   band bound uses a reciprocal instead of divisions, and a quad's exact
+//   coverage is computed only after its whole integer quad's (one O(rows)
+//   count) could still win;
+// - the per-step masks and prefix sums are updated where the new polygon
+//   lies instead of rebuilt, and the largest-rectangle sweep is skipped
+//   while the previous largest rectangle is untouched;
 // - a work budget (kFastOpaqueWorkBudget) bounds the worst case.
 // Covers more because: realizations keep an edge on its grid line where the
 // texels beyond it are opaque (the paper always pushes in by half a texel,
@@ -22,6 +30,7 @@
 // paper's own sequence is replayed (same quads, same choices) and the better
 // of the two sequences is returned.
 #include <algorithm>
+#include <cmath>
 
 #include "opaque/opaque_internal.h"
 
@@ -34,6 +43,13 @@ class BoxSums {
 public:
     explicit BoxSums(const Mask& m) : w_(m.width), h_(m.height), s_(std::size_t(w_ + 1) * (h_ + 1), 0) {
         for (int y = 0; y < h_; ++y)
+            for (int x = 0; x < w_; ++x)
+                at(x + 1, y + 1) = at(x, y + 1) + at(x + 1, y) - at(x, y) + (m.bits[std::size_t(y) * w_ + x] != 0);
+    }
+    // Recomputes the sums after `m` changed only in rows >= y0 (every sum
+    // below that row depends on it).
+    void refresh_from(const Mask& m, int y0) {
+        for (int y = std::max(y0, 0); y < h_; ++y)
             for (int x = 0; x < w_; ++x)
                 at(x + 1, y + 1) = at(x, y + 1) + at(x + 1, y) - at(x, y) + (m.bits[std::size_t(y) * w_ + x] != 0);
     }
@@ -96,6 +112,16 @@ public:
         if (!v_.empty()) sift_down(0, last);
     }
     void replace_top(Key k) { sift_down(0, k); } // any key: the top has no parent
+    // Replaces every key k by f(k), dropping those mapped to 0, and restores
+    // the heap in O(n): cheaper than popping each changed key in turn.
+    template <class F>
+    void rebuild(F f) {
+        std::size_t n = 0;
+        for (Key k : v_)
+            if (Key nk = f(k); nk != 0) v_[n++] = nk;
+        v_.resize(n);
+        for (std::size_t i = (v_.size() + 2) / 4; i-- > 0;) sift_down(i, v_[i]);
+    }
 
 private:
     void sift_down(std::size_t i, Key k) {
@@ -121,7 +147,7 @@ private:
 // checked and found valid. One record, so a pop touches one cache line.
 struct QuadState {
     std::int32_t bound; // < 2^31: areas of images with sides <= 16384
-    std::int32_t fresh, banded;
+    std::int32_t fresh, banded, boxed;
     std::uint8_t choice, checked, valid, refined; // paper: valid is unknown 0, no 1, yes 2
 };
 
@@ -244,9 +270,52 @@ private:
         else heap.replace_top(make_key(b, i));
     }
 
+    // At the start of a step, after a large polygon: every quad whose box it
+    // touched gets the uncovered texels of its box as a bound (O(1)), and the
+    // heap is rebuilt once, instead of popping and re-pushing those quads one
+    // by one (they are most of the heap on solid shapes).
+    void rebound_all(KeyHeap& heap, std::vector<QuadState>& state, const BoxSums& in_box, const TexelBox& last,
+                     int step, i64 least) {
+        // A small polygon touches few quads, which the lazy loop handles
+        // for less than a pass over the whole heap (in random quad order).
+        const i64 area = i64(last.x1 - last.x0) * (last.y1 - last.y0);
+        if (8 * area < i64(grid_.width) * grid_.height) return;
+        heap.rebuild([&](Key k) -> Key {
+            const int i = key_index(k);
+            const TexelBox b = quads_[i].box();
+            if (!last.meets(b)) return k;
+            QuadState& st = state[i];
+            st.boxed = step;
+            const i64 bound = std::min<i64>(st.bound, in_box.box(b.x0, b.y0, b.x1, b.y1));
+            st.bound = std::int32_t(bound);
+            return bound < least ? 0 : make_key(bound, i);
+        });
+        counters_.work += i64(state.size());
+    }
+
+    // Sets mask bits inside `box` (clamped to the grid) to value(index) and
+    // updates the count of set bits and both prefix sums to match: a step
+    // changes the mask only where its polygon lies.
+    template <class F>
+    void update_in(TexelBox box, Mask& mask, i64& set, RowSums& rows, BoxSums& boxes, F value) const {
+        const int w = grid_.width;
+        box.x0 = std::clamp(box.x0, 0, w), box.x1 = std::clamp(box.x1, 0, w);
+        box.y0 = std::clamp(box.y0, 0, grid_.height), box.y1 = std::clamp(box.y1, 0, grid_.height);
+        if (box.x1 <= box.x0 || box.y1 <= box.y0) return;
+        for (int y = box.y0; y < box.y1; ++y)
+            for (int x = box.x0; x < box.x1; ++x) {
+                const std::size_t k = std::size_t(y) * w + std::size_t(x);
+                const std::uint8_t v = value(k) ? 1 : 0;
+                set += i64(v) - i64(mask.bits[k] != 0);
+                mask.bits[k] = v;
+            }
+        rows.refresh_rows(mask, box.y0, box.y1);
+        boxes.refresh_from(mask, box.y0);
+    }
+
     // The per-quad states, shared by both sequences (one allocation).
     std::vector<QuadState>& reset_states() {
-        states_.assign(quads_.size(), QuadState{0, -1, 0, 0, 0, 0, 0});
+        states_.assign(quads_.size(), QuadState{0, -1, 0, 0, 0, 0, 0, 0});
         return states_;
     }
 
@@ -279,17 +348,23 @@ private:
     // millions of quads too.
     static constexpr i64 kPopWork = 32;
     static i64 band_bound(const StoredQuad& s, const BoxSums& counted) {
-        const int y0 = s.y0, dy = s.y1 - s.y0, bands = std::min(kBands, dy);
-        // The sides at the band ends, each computed once and in 32 bits (the
-        // numerators stay below 2^30): divisions are most of this bound's
-        // cost, and it runs once per quad and step.
-        auto floor32 = [](int n, int d) { return n >= 0 ? n / d : -((-n + d - 1) / d); };
+        static_assert(kBands == 8, "band ends are y0 + dy k / 8 by a shift");
+        const int y0 = s.y0, dy = s.y1 - s.y0;
+        // The sides at the band ends, through a reciprocal instead of a
+        // division each: divisions were most of this bound's cost, and it
+        // runs once per quad and step. The numerators stay below 2^30, so
+        // n * (1 / dy) is within a few ulps of n / dy: it can only land on
+        // the wrong side of an integer when n / dy is that integer, and then
+        // the floor / ceiling below moves the side outward by one, which
+        // keeps the bound a bound.
+        const double inv = 1.0 / dy;
         int ys[kBands + 1], lefts[kBands + 1], rights[kBands + 1];
+        const int bands = std::min(kBands, dy);
         for (int k = 0; k <= bands; ++k) {
-            const int y = y0 + dy * k / bands;
+            const int y = y0 + (dy >= kBands ? (dy * k) >> 3 : k);
             ys[k] = y;
-            lefts[k] = floor32(s.x0 * dy + (s.x3 - s.x0) * (y - y0), dy);
-            rights[k] = -floor32(-(s.x1 * dy + (s.x2 - s.x1) * (y - y0)), dy);
+            lefts[k] = int(std::floor(double(s.x0 * dy + (s.x3 - s.x0) * (y - y0)) * inv));
+            rights[k] = int(std::ceil(double(s.x1 * dy + (s.x2 - s.x1) * (y - y0)) * inv));
         }
         i64 n = 0;
         for (int k = 0; k < bands; ++k)
@@ -339,18 +414,22 @@ private:
         heap.assign(std::move(keys));
         counters_.work += i64(n);
         std::vector<TexelBox> placed; // where each step's polygon covered texels
+        // What a new polygon can gain (uncovered_safe()), with its counts,
+        // updated where each step's polygon lies instead of rebuilt.
+        Mask uncovered = uncovered_safe();
+        i64 uncovered_left = std::count(uncovered.bits.begin(), uncovered.bits.end(), 1);
+        uncovered_ = RowSums(uncovered);
+        BoxSums in_box(uncovered);
         for (int step = 0; int(seq.polygons.size()) < options.max_polygons &&
                            double(seq.covered) / double(safe_texels) < options.min_coverage;
              ++step) {
-            Mask uncovered = uncovered_safe();
             // Nothing left that could reach min_area: done, without proving it
             // quad by quad.
-            if (std::count(uncovered.bits.begin(), uncovered.bits.end(), 1) < least) break;
-            uncovered_ = RowSums(uncovered);
-            BoxSums in_box(uncovered);
+            if (uncovered_left < least) break;
             Best best;
             best.coverage = least - 1;
-            search_rectangle(best);
+            if (step > 0) rebound_all(heap, state, in_box, placed.back(), step, least);
+            search_rectangle(best, placed);
             while (!heap.empty() && key_bound(heap.top()) > best.coverage && !over_budget()) {
                 const int i = key_index(heap.top());
                 QuadState& st = state[i];
@@ -368,6 +447,17 @@ private:
                     set_top_bound(heap, st, i, b, least);
                     return heap.empty() || key_index(heap.top()) != i;
                 };
+                if (step > 0 && st.boxed != step) {
+                    const bool same = st.boxed > 0 && untouched_since(st.boxed, quads_[i], placed);
+                    st.boxed = step;
+                    const TexelBox b = quads_[i].box();
+                    if (!same && lowered(in_box.box(b.x0, b.y0, b.x1, b.y1))) continue;
+                }
+                if (step > 0 && st.banded != step) {
+                    const bool same = st.banded > 0 && untouched_since(st.banded, quads_[i], placed);
+                    st.banded = step;
+                    if (!same && lowered(band_bound(quads_[i], in_box))) continue;
+                }
                 if (!st.refined) { // the realizations that can be valid, O(1) each
                     st.refined = 1;
                     i64 b = 0;
@@ -386,12 +476,9 @@ private:
                     }
                     if (lowered(b)) continue;
                 }
-                if (step > 0 && st.banded != step) {
-                    const bool same = st.banded > 0 && untouched_since(st.banded, quads_[i], placed);
-                    st.banded = step;
-                    if (!same && lowered(band_bound(quads_[i], in_box))) continue;
-                }
                 if (st.bound <= best.coverage) break; // on top: nothing else can win either
+                if (step > 0 && lowered(trapezoid_coverage(whole(q), uncovered_, counters_.work))) continue;
+                if (st.bound <= best.coverage) break;
                 i64 value = 0;
                 for (int r = 0; r < kRealizations; ++r) {
                     // Realization 0 is the integer quad cut to its top and
@@ -421,6 +508,8 @@ private:
             HalfPolygon p = best.quad.polygon();
             placed.push_back(texel_box(best.quad));
             mark_covered(p);
+            update_in(placed.back(), uncovered, uncovered_left, uncovered_, in_box,
+                      [&](std::size_t k) { return interior_.bits[k] && !covered_.bits[k]; });
             seq.covered += best.coverage;
             seq.polygons.push_back(std::move(p));
             if (over_budget()) break;
@@ -484,7 +573,18 @@ private:
     // The largest rectangle of uncovered texels whose 4-neighbours are safe:
     // its integer edges then run only along safe texels, so every texel in it
     // counts as covered. Largest rectangle in a histogram, row by row, O(w*h).
-    void search_rectangle(Best& best) {
+    void search_rectangle(Best& best, const std::vector<TexelBox>& placed) {
+        // Uncovered texels only go away, so the largest rectangle of the
+        // previous step is still a largest one if the polygon placed since
+        // did not touch it: the O(w*h) sweep is skipped then.
+        if (placed.empty() || rect_area_ == 0 || placed.back().meets(rect_)) find_largest_rectangle();
+        if (rect_area_ <= best.coverage) return;
+        offer({2 * i64(rect_.y0), 2 * i64(rect_.y1), 2 * i64(rect_.x0), 2 * i64(rect_.x1), 2 * i64(rect_.x0),
+               2 * i64(rect_.x1)},
+              best);
+    }
+
+    void find_largest_rectangle() {
         const int w = grid_.width, h = grid_.height;
         std::vector<int> height(std::size_t(w), 0), stack;
         i64 best_area = 0;
@@ -511,8 +611,8 @@ private:
             }
         }
         counters_.work += i64(w) * h;
-        if (best_area <= best.coverage) return;
-        offer({2 * i64(by0), 2 * i64(by1), 2 * i64(bx0), 2 * i64(bx1), 2 * i64(bx0), 2 * i64(bx1)}, best);
+        rect_ = {bx0, by0, bx1, by1};
+        rect_area_ = best_area;
     }
 
     // ---- The paper's sequence (paper_quad_search.cpp), the same choices,
@@ -524,6 +624,7 @@ private:
 
     Sequence paper_sequence(const OpaqueOptions& options) {
         Sequence seq;
+        if (quads_.empty()) return seq; // it has nothing to choose from
         const int w = grid_.width;
         std::vector<std::int8_t> map(grid_.safe_mask.bits.begin(), grid_.safe_mask.bits.end());
         const i64 opaque = std::count(map.begin(), map.end(), 1);
@@ -531,7 +632,12 @@ private:
         i64 paper_covered = 0;
         covered_ = grid_.safe_mask;
         std::fill(covered_.bits.begin(), covered_.bits.end(), 0);
+        // The texels the paper's map still counts (map > 0), with their
+        // counts, updated where each step's quad lies instead of rebuilt.
         Mask positive = grid_.safe_mask;
+        i64 positive_left = opaque;
+        RowSums counts(positive);
+        BoxSums in_box(positive);
         const std::size_t n = quads_.size();
         const i64 least = std::max(1, options.min_area); // a smaller count is never accepted
         std::vector<QuadState>& state = reset_states(); // valid: unknown (0), no (1), yes (2)
@@ -547,10 +653,8 @@ private:
         for (int step = 0; int(seq.polygons.size()) < options.max_polygons &&
                            double(paper_covered) / double(opaque) < options.min_coverage;
              ++step) {
-            for (std::size_t i = 0; i < map.size(); ++i) positive.bits[i] = map[i] > 0;
-            if (std::count(positive.bits.begin(), positive.bits.end(), 1) < least) break; // no count can reach it
-            RowSums counts(positive);
-            BoxSums in_box(positive);
+            if (positive_left < least) break; // no count can reach it
+            if (step > 0) rebound_all(heap, state, in_box, placed.back(), step, least);
             int winner = -1;
             while (!heap.empty() && !over_budget()) {
                 const int i = key_index(heap.top());
@@ -595,6 +699,8 @@ private:
                     if (m != 0) m = -1;
                 }
             }
+            update_in(placed.back(), positive, positive_left, counts, in_box,
+                      [&](std::size_t k) { return map[k] > 0; });
             HalfPolygon poly = paper_pushed(best).polygon();
             seq.covered += mark_covered(poly);
             seq.polygons.push_back(std::move(poly));
@@ -633,6 +739,8 @@ private:
     std::vector<QuadState> states_;
     std::vector<int> seen_stamp_;
     std::vector<std::vector<std::pair<int, int>>> seen_;
+    TexelBox rect_{0, 0, 0, 0}; // the largest rectangle of the last sweep
+    i64 rect_area_ = 0;
     Mask covered_, interior_;
     RowSums uncovered_;
     int min_area_;

@@ -88,6 +88,17 @@ public:
     }
     int width() const { return width_; }
     int height() const { return height_; }
+    // Recounts rows [y0, y1) of a grid built with count_set == true after
+    // `mask` changed only there: a greedy step changes a few rows, and
+    // rebuilding every row each step was a large share of small images'
+    // cost.
+    void refresh_rows(const Mask& mask, int y0, int y1) {
+        for (int y = y0; y < y1; ++y) {
+            std::int32_t* row = &sums_[std::size_t(y) * (width_ + 1)];
+            const std::uint8_t* bits = &mask.bits[std::size_t(y) * width_];
+            for (int x = 0; x < width_; ++x) row[x + 1] = row[x] + (bits[x] != 0 ? 1 : 0);
+        }
+    }
 
 private:
     i64 span_clipped(int y, int x0, int x1, i64 outside) const;
