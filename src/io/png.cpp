@@ -2,11 +2,40 @@
 // colour type (grey, palette + tRNS, 16-bit, RGB, RGBA) to RGBA8 for us.
 #include <png.h>
 
+#include <cerrno>
 #include <cstring>
+#include <fstream>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 
 namespace depthcull::io {
+
+namespace {
+
+// Empty when a w x h image is within our limits, else why not.
+std::string size_problem(std::uint32_t w, std::uint32_t h) {
+    if (w == 0 || h == 0 || w > std::uint32_t(kMaxImageSide) || h > std::uint32_t(kMaxImageSide) ||
+        std::int64_t(w) * h > kMaxImageTexels)
+        return "image size " + std::to_string(w) + "x" + std::to_string(h) + " is outside the supported 1.." +
+               std::to_string(kMaxImageSide) + " per side";
+    return {};
+}
+
+} // namespace
+
+void png_size(const std::string& path, int* width, int* height) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error("cannot open image " + path + " (" + std::strerror(errno) + ")");
+    unsigned char b[24];
+    if (!in.read(reinterpret_cast<char*>(b), sizeof b) || std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0 || std::memcmp(b + 12, "IHDR", 4) != 0)
+        throw Error(path + " is not a PNG image");
+    auto be32 = [&](int o) { return (std::uint32_t(b[o]) << 24) | (std::uint32_t(b[o + 1]) << 16) | (std::uint32_t(b[o + 2]) << 8) | b[o + 3]; };
+    const std::uint32_t w = be32(16), h = be32(20);
+    if (std::string problem = size_problem(w, h); !problem.empty()) throw Error(path + ": " + problem);
+    *width = int(w);
+    *height = int(h);
+}
 
 Image decode_png(const void* data, std::size_t size, const std::string& name) {
     png_image png;
@@ -14,12 +43,9 @@ Image decode_png(const void* data, std::size_t size, const std::string& name) {
     png.version = PNG_IMAGE_VERSION;
     if (!png_image_begin_read_from_memory(&png, data, size))
         throw Error(name + ": not a readable PNG (" + png.message + ")");
-    if (png.width == 0 || png.height == 0 || png.width > unsigned(kMaxImageSide) || png.height > unsigned(kMaxImageSide) ||
-        std::int64_t(png.width) * png.height > kMaxImageTexels) {
-        std::string size_text = std::to_string(png.width) + "x" + std::to_string(png.height);
+    if (std::string problem = size_problem(png.width, png.height); !problem.empty()) {
         png_image_free(&png);
-        throw Error(name + ": image size " + size_text + " is outside the supported 1.." + std::to_string(kMaxImageSide) +
-                    " per side");
+        throw Error(name + ": " + problem);
     }
     png.format = PNG_FORMAT_RGBA;
     Image image;

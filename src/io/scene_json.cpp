@@ -37,23 +37,6 @@ std::string resolve(const fs::path& base_dir, const std::string& p) {
     return (base_dir / path).lexically_normal().string();
 }
 
-// Width and height from the PNG signature and IHDR chunk, without decoding.
-void png_size(const Context& ctx, const std::string& path, int* w, int* h) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) ctx.fail("cannot open image " + path + " (" + std::strerror(errno) + ")");
-    unsigned char b[24];
-    if (!in.read(reinterpret_cast<char*>(b), sizeof b) || std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0 || std::memcmp(b + 12, "IHDR", 4) != 0)
-        ctx.fail(path + " is not a PNG image");
-    auto be32 = [&](int o) { return (std::uint32_t(b[o]) << 24) | (std::uint32_t(b[o + 1]) << 16) | (std::uint32_t(b[o + 2]) << 8) | b[o + 3]; };
-    std::uint32_t pw = be32(16), ph = be32(20);
-    if (pw == 0 || ph == 0 || pw > std::uint32_t(kMaxImageSide) || ph > std::uint32_t(kMaxImageSide) ||
-        std::int64_t(pw) * ph > kMaxImageTexels)
-        ctx.fail(path + ": image size " + std::to_string(pw) + "x" + std::to_string(ph) + " is outside the supported 1.." +
-                 std::to_string(kMaxImageSide) + " per side");
-    *w = int(pw);
-    *h = int(ph);
-}
-
 double number(const Context& ctx, const json& v, const char* what) {
     if (!v.is_number()) ctx.fail(std::string(what) + " must be a number");
     double d = v.get<double>();
@@ -219,7 +202,11 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
         } else {
             img.path = resolve(base, string_field(c, v, "path"));
         }
-        png_size(c, img.path, &img.width, &img.height);
+        try {
+            png_size(img.path, &img.width, &img.height);
+        } catch (const Error& e) {
+            c.fail(e.what());
+        }
         scene.images.push_back(std::move(img));
     }
     scene.elements.reserve(elements.size());

@@ -16,6 +16,7 @@
 #include <pugixml.hpp>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 
 namespace depthcull::io::tiled {
 
@@ -108,8 +109,6 @@ struct TileRef {
 };
 TileRef find_tile(const std::vector<Tileset>& tilesets, std::uint32_t gid, const std::string& where);
 
-// PNG width/height from the IHDR chunk, without decoding the image.
-void png_size(const std::string& path, int* width, int* height);
 
 // ---- tiled_layers.cpp
 

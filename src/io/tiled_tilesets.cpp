@@ -183,24 +183,6 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
 
 } // namespace
 
-void png_size(const std::string& path, int* width, int* height) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open image");
-    unsigned char h[24];
-    in.read(reinterpret_cast<char*>(h), sizeof h);
-    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    if (in.gcount() != 24 || !std::equal(signature, signature + 8, h) || std::string_view(reinterpret_cast<char*>(h + 12), 4) != "IHDR")
-        throw Error(path + ": not a PNG file");
-    auto be32 = [](const unsigned char* p) { return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3]; };
-    std::uint32_t w = be32(h + 16), hh = be32(h + 20);
-    if (w == 0 || hh == 0 || w > std::uint32_t(kMaxImageSide) || hh > std::uint32_t(kMaxImageSide) ||
-        std::int64_t(w) * hh > kMaxImageTexels)
-        throw Error(path + ": image size " + std::to_string(w) + "x" + std::to_string(hh) + " is outside the supported 1.." +
-                    std::to_string(kMaxImageSide) + " per side");
-    *width = int(w);
-    *height = int(hh);
-}
-
 int ImageTable::add(const std::string& base_dir, const std::string& source, const std::string& trans, const std::string& where) {
     if (source.empty()) throw Error(where + ": image has no source");
     fs::path resolved = resolve_image(base_dir, source);
