@@ -33,6 +33,8 @@ void write_output(const std::string& path, const std::string& text);
 // --filter, --opaque, --max-opaque, --min-coverage, --min-opaque-area,
 // --no-split.
 void add_analysis_options(CLI::App& command, AnalyzeOptions& options);
+// Only the boundary-polygon ones: --max-vertices, --filter, --no-split.
+void add_boundary_options(CLI::App& command, BoundaryOptions& options);
 
 // --viewport x,y,w,h: the camera rectangle in world units (for Tiled maps
 // and scenes alike); sets options.has_viewport.

@@ -32,13 +32,7 @@ void add_atlas_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("atlas", "Add boundary polygons to a TexturePacker JSON atlas (vertices, verticesUV, triangles)");
     cmd->add_option("atlas", args->input, "TexturePacker JSON (hash or array form)")->required();
     cmd->add_option("-o,--output", args->output, "Atlas JSON to write (default: stdout)");
-    cmd->add_option("--max-vertices", args->analyze.boundary.max_vertices, "Most vertices per polygon (paper: MAX_BOUNDARY_VERTICES)")
-        ->check(CLI::Range(kMinBoundaryVertices, 1000))
-        ->capture_default_str();
-    cmd->add_option("--filter", args->analyze.boundary.filter, "Texture filtering the polygons must be correct for")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, Filter>{{"nearest", Filter::nearest}, {"linear", Filter::linear}}))
-        ->default_str("nearest");
-    cmd->add_flag("!--no-split", args->analyze.boundary.split_parts, "One polygon per frame, even for disjoint parts");
+    add_boundary_options(*cmd, args->analyze.boundary);
     cmd->callback([args] { run_atlas(*args); });
 }
 

@@ -15,14 +15,18 @@ void write_output(const std::string& path, const std::string& text) {
     io::write_file_atomic(path, text);
 }
 
-void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
-    cmd.add_option("--max-vertices", o.boundary.max_vertices, "Most vertices per boundary polygon (paper: MAX_BOUNDARY_VERTICES)")
+void add_boundary_options(CLI::App& cmd, BoundaryOptions& o) {
+    cmd.add_option("--max-vertices", o.max_vertices, "Most vertices per boundary polygon (paper: MAX_BOUNDARY_VERTICES)")
         ->check(CLI::Range(kMinBoundaryVertices, 1000))
         ->capture_default_str();
-    cmd.add_option("--filter", o.boundary.filter, "Texture filtering the polygons must be correct for")
+    cmd.add_option("--filter", o.filter, "Texture filtering the polygons must be correct for")
         ->transform(CLI::CheckedTransformer(std::map<std::string, Filter>{{"nearest", Filter::nearest}, {"linear", Filter::linear}}))
         ->default_str("nearest");
-    cmd.add_flag("!--no-split", o.boundary.split_parts, "One boundary polygon per image, even for disjoint parts");
+    cmd.add_flag("!--no-split", o.split_parts, "One boundary polygon per image, even for disjoint parts");
+}
+
+void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
+    add_boundary_options(cmd, o.boundary);
     cmd.add_option("--opaque", o.opaque.method, "Opaque polygon algorithm: fast (default) or paper (paper 2.2, the reference)")
         ->transform(CLI::CheckedTransformer(std::map<std::string, OpaqueMethod>{{"fast", OpaqueMethod::fast}, {"paper", OpaqueMethod::paper}}))
         ->default_str("fast");
