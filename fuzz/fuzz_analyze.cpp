@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     depthcull::AnalyzeOptions options;
     options.boundary.max_vertices = 3 + data[0] % 14;
     options.boundary.filter = (data[0] & 0x80) ? depthcull::Filter::linear : depthcull::Filter::nearest;
-    options.opaque.method = (data[0] & 0x40) ? depthcull::OpaqueMethod::paper : depthcull::OpaqueMethod::fast;
+    options.opaque.method = (data[0] & 0x40) ? depthcull::OpaqueMethod::paper : (data[0] & 0x80) ? depthcull::OpaqueMethod::grow : depthcull::OpaqueMethod::fast;
     depthcull::Image image;
     try {
         image = depthcull::io::decode_png(data + 1, size - 1, "fuzz.png");

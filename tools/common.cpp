@@ -27,8 +27,10 @@ void add_boundary_options(CLI::App& cmd, BoundaryOptions& o) {
 
 void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
     add_boundary_options(cmd, o.boundary);
-    cmd.add_option("--opaque", o.opaque.method, "Opaque polygon algorithm: fast (default) or paper (paper 2.2, the reference)")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, OpaqueMethod>{{"fast", OpaqueMethod::fast}, {"paper", OpaqueMethod::paper}}))
+    cmd.add_option("--opaque", o.opaque.method, "Opaque polygon algorithm: fast (default: grown convex polygons, never below the paper), grow (the growth alone, "
+                   "fastest) or paper (paper 2.2, the reference)")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, OpaqueMethod>{
+            {"fast", OpaqueMethod::fast}, {"grow", OpaqueMethod::grow}, {"paper", OpaqueMethod::paper}}))
         ->default_str("fast");
     cmd.add_option("--max-opaque", o.opaque.max_polygons, "Most opaque polygons per image (paper: MAX_OPAQUE_POLYGONS; 0 disables)")
         ->check(CLI::Range(0, 64))

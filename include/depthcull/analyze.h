@@ -26,7 +26,7 @@ inline constexpr int kMinBoundaryVertices = 4;
 // Bumped whenever a change to the analysis (src/boundary, src/opaque) can
 // change its output, so the on-disk cache never serves results of an older
 // algorithm. tests/cli/test_analysis_version.cpp fails until it is bumped.
-inline constexpr int kAnalysisVersion = 1;
+inline constexpr int kAnalysisVersion = 2;
 
 // Paper 2.1. MAX_BOUNDARY_VERTICES = 10.
 struct BoundaryOptions {
@@ -37,7 +37,8 @@ struct BoundaryOptions {
 
 enum class OpaqueMethod {
     paper, // paper 2.2, the reference implementation
-    fast,  // ours, the default; see src/opaque/
+    fast,  // ours, the default: grown convex polygons, guarded by the paper's own sequence (never covers less)
+    grow,  // the growth alone: fastest, most coverage on average, without the guard; see docs/opaque.md
 };
 
 // Paper 2.2. MAX_OPAQUE_POLYGONS = 4, MIN_OPAQUE_COVERAGE = 0.75,
@@ -90,8 +91,12 @@ struct ImageAnalysis {
 // at most options.max_vertices vertices.
 std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, const BoundaryOptions& options);
 
+// Most vertices of an opaque polygon (the paper's are quads; ours grow up
+// to this many, 6 triangles).
+inline constexpr int kMaxOpaqueVertices = 8;
+
 // Paper 2.2: opaque polygons of `rect` in `image`. Guarantee: convex,
-// clockwise, and no polygon overlaps with positive area or touches with an
+// clockwise, at most kMaxOpaqueVertices vertices, and no polygon overlaps with positive area or touches with an
 // edge any non-opaque texel square (kept half a texel away with
 // Filter::linear).
 std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options);

@@ -1,9 +1,10 @@
-// The fast opaque-polygon search (OpaqueMethod::fast, the default): paper
-// 2.2's greedy loop over the paper's own candidate family, evaluated exactly
-// and cheaply, plus candidates the paper cannot produce. docs/opaque.md has
-// the design and the figures.
+// The fast opaque-polygon search (OpaqueMethod::fast, the default): the
+// polygons grown by grow_search.cpp, guarded by a cheap replay of the
+// paper's own greedy sequence; the one covering more texels wins, so the
+// result never covers less than the paper's. docs/opaque.md has the design
+// and the figures.
 //
-// Faster than paper_quad_search.cpp because:
+// The replay computes exactly what paper_quad_search.cpp chooses, faster:
 // - the quads are enumerated once, not once per polygon, visiting each
 //   (top, left, right, current) state once where the paper re-walks every
 //   path of the segment graph (its exponential part);
@@ -11,24 +12,14 @@
 // - lazy greedy, best first: one heap of upper bounds (exact floor sums,
 //   then band counts from 2D prefix sums) for all steps, so only quads that
 //   could still win are counted;
-// - a value or bound from an earlier step is reused while no polygon placed
-//   since touched the quad's box, and a realization inside a valid one is
-//   never evaluated (it cannot cover more);
-// - after each step, the quads the new polygon touched get an O(1) box bound
-//   and the heap is rebuilt once, instead of one pop and sift per quad; the
-//   band bound uses a reciprocal instead of divisions, and a quad's exact
-//   coverage is computed only after its whole integer quad's (one O(rows)
-//   count) could still win;
-// - the per-step masks and prefix sums are updated where the new polygon
-//   lies instead of rebuilt, and the largest-rectangle sweep is skipped
-//   while the previous largest rectangle is untouched;
+// - a value or bound from an earlier step is reused while no quad chosen
+//   since touched the quad's box;
+// - after a large quad, the quads it touched get an O(1) box bound and the
+//   heap is rebuilt once, instead of one pop and sift per quad; the band
+//   bound uses a reciprocal instead of divisions;
+// - the per-step masks and prefix sums are updated where the new quad lies
+//   instead of rebuilt;
 // - a work budget (kFastOpaqueWorkBudget) bounds the worst case.
-// Covers more because: realizations keep an edge on its grid line where the
-// texels beyond it are opaque (the paper always pushes in by half a texel,
-// losing the edge rows), and the largest rectangle of texels with opaque
-// neighbours competes too. Never covers less than the paper because the
-// paper's own sequence is replayed (same quads, same choices) and the better
-// of the two sequences is returned.
 #include <algorithm>
 #include <cmath>
 
@@ -151,20 +142,6 @@ struct QuadState {
     std::uint8_t choice, checked, valid, refined; // paper: valid is unknown 0, no 1, yes 2
 };
 
-struct Best {
-    i64 coverage = 0;
-    Trapezoid quad;
-    bool found = false;
-
-    void offer(const Trapezoid& t, i64 coverage_of_t) {
-        if (coverage_of_t > coverage) {
-            coverage = coverage_of_t;
-            quad = t;
-            found = true;
-        }
-    }
-};
-
 struct Sequence {
     std::vector<HalfPolygon> polygons;
     i64 covered = 0; // exact: texel squares inside the polygons
@@ -174,33 +151,19 @@ struct Sequence {
 // budget of analyze.h). 12 bytes each.
 constexpr std::size_t kMaxStoredQuads = std::size_t(1) << 22;
 
-class FastSearch {
+// The paper's own greedy sequence (paper_quad_search.cpp: the same quads,
+// the same choices and stopping rules), computed cheaply: the guard that
+// keeps the fast method from ever covering less than the paper.
+class PaperReplay {
 public:
-    FastSearch(const Mask& safe, int min_area, SearchCounters& counters)
-        : grid_(safe), counters_(counters), segments_(find_opaque_segments(safe, 3)), min_area_(min_area) {
-        // Texels that can sit on a polygon's integer edge: safe with safe
-        // 4-neighbours (see the rectangle candidates).
-        interior_ = safe;
-        for (int y = 0; y < safe.height; ++y)
-            for (int x = 0; x < safe.width; ++x)
-                interior_.bits[std::size_t(y) * safe.width + x] =
-                    grid_.safe(x, y) && grid_.safe(x - 1, y) && grid_.safe(x + 1, y) && grid_.safe(x, y - 1) &&
-                    grid_.safe(x, y + 1);
-        enumerate();
-    }
+    PaperReplay(const SafeGrid& grid, int min_area, SearchCounters& counters)
+        : grid_(grid), counters_(counters), segments_(find_opaque_segments(grid.safe_mask, 3)), min_area_(min_area) {}
 
-    // Our greedy sequence, and the paper's own sequence replayed cheaply; the
-    // one that covers more wins (ties go to ours). Replaying the paper is what
-    // makes "never below the paper" hold for the whole sequence and not just
-    // its first step: the paper's heuristic count and its stopping rule can
-    // accept a quad that covers fewer exact texels than min_area, where ours
-    // stops.
-    std::vector<HalfPolygon> run(const OpaqueOptions& options) {
+    Sequence run(const OpaqueOptions& options) {
         budget_base_ = counters_.work;
-        Sequence ours = own_sequence(options);
+        enumerate();
         budget_base_ = counters_.work;
-        Sequence paper = paper_sequence(options);
-        return paper.covered > ours.covered ? paper.polygons : ours.polygons;
+        return paper_sequence(options);
     }
 
 private:
@@ -330,11 +293,6 @@ private:
     }
 
 
-    // The integer quad itself, which contains every realization we use.
-    static Trapezoid whole(const PaperQuad& q) {
-        return {2 * i64(q.y0), 2 * i64(q.y1), 2 * i64(q.x0), 2 * i64(q.x1), 2 * i64(q.x3), 2 * i64(q.x2)};
-    }
-
     // Counted texels in up to kBands horizontal bands of the integer quad,
     // each band as wide as the quad gets within it (its sides at the band's
     // ends, rounded outward): much tighter than the quad's box for sloped
@@ -372,161 +330,6 @@ private:
         return n;
     }
 
-    // True when the realization lies inside the paper's integer quad, which
-    // band_bound assumes (pushing a horizontal edge in without its vertices
-    // can move a steep side outward).
-    static bool inside_quad(const Trapezoid& t, const PaperQuad& q) {
-        const HalfPoint v[4] = {{2 * i64(q.x0), 2 * i64(q.y0)}, {2 * i64(q.x1), 2 * i64(q.y0)},
-                                {2 * i64(q.x2), 2 * i64(q.y1)}, {2 * i64(q.x3), 2 * i64(q.y1)}};
-        const HalfPoint corners[4] = {{t.xlt, t.yt}, {t.xrt, t.yt}, {t.xrb, t.yb}, {t.xlb, t.yb}};
-        for (const HalfPoint& p : corners)
-            for (int k = 0; k < 4; ++k) {
-                const HalfPoint a = v[k], b = v[(k + 1) % 4];
-                if ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x) < 0) return false;
-            }
-        return true;
-    }
-
-    // ---- Ours: exact coverage, more realizations, rectangles.
-    //
-    // Lazy greedy: what a quad covers only shrinks as polygons are added, so
-    // a value computed at an earlier step bounds it at every later one. The
-    // first bound is the exact number of texel squares inside (a sum of
-    // floors, O(log)), which is exact at the first step for a valid quad.
-    // Best first, a quad is re-evaluated only while its bound could win.
-
-    Sequence own_sequence(const OpaqueOptions& options) {
-        Sequence seq;
-        const i64 safe_texels = std::count(grid_.safe_mask.bits.begin(), grid_.safe_mask.bits.end(), 1);
-        if (safe_texels == 0) return seq;
-        covered_ = grid_.safe_mask;
-        std::fill(covered_.bits.begin(), covered_.bits.end(), 0);
-        const std::size_t n = quads_.size();
-        const i64 least = std::max(1, options.min_area); // a smaller gain is never accepted
-        // One heap for all steps (bounds only fall).
-        std::vector<QuadState>& state = reset_states();
-        std::vector<Key> keys;
-        for (std::size_t i = 0; i < n; ++i) {
-            state[i].bound = std::int32_t(quads_[i].twice_area() / 2);
-            if (state[i].bound >= least) keys.push_back(make_key(state[i].bound, int(i)));
-        }
-        KeyHeap heap;
-        heap.assign(std::move(keys));
-        counters_.work += i64(n);
-        std::vector<TexelBox> placed; // where each step's polygon covered texels
-        // What a new polygon can gain (uncovered_safe()), with its counts,
-        // updated where each step's polygon lies instead of rebuilt.
-        Mask uncovered = uncovered_safe();
-        i64 uncovered_left = std::count(uncovered.bits.begin(), uncovered.bits.end(), 1);
-        uncovered_ = RowSums(uncovered);
-        BoxSums in_box(uncovered);
-        for (int step = 0; int(seq.polygons.size()) < options.max_polygons &&
-                           double(seq.covered) / double(safe_texels) < options.min_coverage;
-             ++step) {
-            // Nothing left that could reach min_area: done, without proving it
-            // quad by quad.
-            if (uncovered_left < least) break;
-            Best best;
-            best.coverage = least - 1;
-            if (step > 0) rebound_all(heap, state, in_box, placed.back(), step, least);
-            search_rectangle(best, placed);
-            while (!heap.empty() && key_bound(heap.top()) > best.coverage && !over_budget()) {
-                const int i = key_index(heap.top());
-                QuadState& st = state[i];
-                counters_.work += kPopWork;
-                PaperQuad q = quads_[i].quad();
-                if (st.fresh != step && untouched_since(st.fresh, quads_[i], placed)) st.fresh = step;
-                if (st.fresh == step) { // exact now, and no other can beat it
-                    best.offer(realization(q, st.choice), st.bound);
-                    break;
-                }
-                // Lowers the top's bound; true when it is no longer on top
-                // (or dropped: below `least` it can never be accepted).
-                auto lowered = [&](i64 b) {
-                    if (b >= st.bound) return false;
-                    set_top_bound(heap, st, i, b, least);
-                    return heap.empty() || key_index(heap.top()) != i;
-                };
-                if (step > 0 && st.boxed != step) {
-                    const bool same = st.boxed > 0 && untouched_since(st.boxed, quads_[i], placed);
-                    st.boxed = step;
-                    const TexelBox b = quads_[i].box();
-                    if (!same && lowered(in_box.box(b.x0, b.y0, b.x1, b.y1))) continue;
-                }
-                if (step > 0 && st.banded != step) {
-                    const bool same = st.banded > 0 && untouched_since(st.banded, quads_[i], placed);
-                    st.banded = step;
-                    if (!same && lowered(band_bound(quads_[i], in_box))) continue;
-                }
-                if (!st.refined) { // the realizations that can be valid, O(1) each
-                    st.refined = 1;
-                    i64 b = 0;
-                    std::uint8_t may = 0; // realizations that can be valid
-                    for (int r = 0; r < kRealizations; ++r) {
-                        Trapezoid t = realization(q, r);
-                        if (inside_quad(t, q) && trapezoid_edges_valid(t, grid_)) {
-                            may |= std::uint8_t(1 << r);
-                            // Inside another candidate (see below): its squares
-                            // are among that one's, which the bound covers.
-                            if ((r != 0 && (may & 1)) || (r == 3 && (may & 7))) continue;
-                            b = std::max(b, trapezoid_squares_bound(t));
-                        } else {
-                            st.checked |= std::uint8_t(1 << r); // never valid for us
-                        }
-                    }
-                    if (lowered(b)) continue;
-                }
-                if (st.bound <= best.coverage) break; // on top: nothing else can win either
-                if (step > 0 && lowered(trapezoid_coverage(whole(q), uncovered_, counters_.work))) continue;
-                if (st.bound <= best.coverage) break;
-                i64 value = 0;
-                for (int r = 0; r < kRealizations; ++r) {
-                    // Realization 0 is the integer quad cut to its top and
-                    // bottom rows; 1-3 move its sides in, and 4, kept only
-                    // when inside the integer quad, lies between those rows
-                    // too: all lie inside 0, and 3 inside 1 and 2. Inside a
-                    // valid one they are valid and cover no more, so the
-                    // first maximum is never theirs.
-                    if (r != 0 && (st.valid & 1)) break;
-                    if (r == 3 && (st.valid & 7)) continue;
-                    Trapezoid t = realization(q, r);
-                    if ((st.checked >> r & 1) && !(st.valid >> r & 1)) continue;
-                    if (value > 0 && trapezoid_squares_bound(t) <= value) continue;
-                    if (!(st.checked >> r & 1)) {
-                        st.checked |= std::uint8_t(1 << r);
-                        if (trapezoid_valid(t, grid_, counters_.work)) st.valid |= std::uint8_t(1 << r);
-                    }
-                    if (!(st.valid >> r & 1)) continue;
-                    i64 c = trapezoid_coverage(t, uncovered_, counters_.work);
-                    if (c > value) value = c, st.choice = std::uint8_t(r);
-                }
-                st.fresh = step;
-                set_top_bound(heap, st, i, value, least);
-            }
-            // Out of budget, the best found so far still counts; then stop.
-            if (!best.found || best.coverage < options.min_area) break;
-            HalfPolygon p = best.quad.polygon();
-            placed.push_back(texel_box(best.quad));
-            mark_covered(p);
-            update_in(placed.back(), uncovered, uncovered_left, uncovered_, in_box,
-                      [&](std::size_t k) { return interior_.bits[k] && !covered_.bits[k]; });
-            seq.covered += best.coverage;
-            seq.polygons.push_back(std::move(p));
-            if (over_budget()) break;
-        }
-        return seq;
-    }
-
-    // What a new polygon can gain: texels not yet covered whose four
-    // neighbours are safe. Only those can be covered at all (a covered
-    // texel's side shared with an unsafe texel would be a polygon edge along
-    // that texel), and leaving the others out keeps the bounds tight.
-    Mask uncovered_safe() const {
-        Mask m = interior_;
-        for (std::size_t i = 0; i < m.bits.size(); ++i) m.bits[i] = m.bits[i] && !covered_.bits[i];
-        return m;
-    }
-
     i64 mark_covered(const HalfPolygon& p) {
         i64 newly = 0;
         for (int y = 0; y < grid_.height; ++y) {
@@ -539,80 +342,6 @@ private:
             }
         }
         return newly;
-    }
-
-    // The texels whose squares may lie inside the trapezoid.
-    static TexelBox texel_box(const Trapezoid& t) {
-        return {int(floor_div(std::min(t.xlt, t.xlb), 2)), int(floor_div(t.yt, 2)),
-                int(ceil_div(std::max(t.xrt, t.xrb), 2)), int(ceil_div(t.yb, 2))};
-    }
-
-    // Offers a polygon if it could beat the best and is valid.
-    void offer(const Trapezoid& t, Best& best) {
-        if (trapezoid_squares_bound(t) <= best.coverage) return;
-        if (!trapezoid_valid(t, grid_, counters_.work)) return;
-        best.offer(t, trapezoid_coverage(t, uncovered_, counters_.work));
-    }
-
-    bool row_safe(int y, int x0, int x1) const { return grid_.unsafe.span(y, x0, x1, 1) == 0; }
-
-    // The realizations of one of the paper's integer quads. 0..3: horizontal
-    // edges stay on the grid line when the row beyond is safe, else move in
-    // half a texel; the sides as they are or half a texel in. 4: the paper's
-    // own quad, every vertex pushed in by half a texel.
-    static constexpr int kRealizations = 5;
-    Trapezoid realization(const PaperQuad& q, int r) const {
-        if (r == 4) return paper_pushed(q);
-        const i64 pt = row_safe(q.y0 - 1, q.x0, q.x1) ? 0 : 1;
-        const i64 pb = row_safe(q.y1, q.x3, q.x2) ? 0 : 1;
-        const i64 pl = r & 1, pr = r >> 1;
-        return {2 * i64(q.y0) + pt, 2 * i64(q.y1) - pb, 2 * i64(q.x0) + pl, 2 * i64(q.x1) - pr,
-                2 * i64(q.x3) + pl, 2 * i64(q.x2) - pr};
-    }
-
-    // The largest rectangle of uncovered texels whose 4-neighbours are safe:
-    // its integer edges then run only along safe texels, so every texel in it
-    // counts as covered. Largest rectangle in a histogram, row by row, O(w*h).
-    void search_rectangle(Best& best, const std::vector<TexelBox>& placed) {
-        // Uncovered texels only go away, so the largest rectangle of the
-        // previous step is still a largest one if the polygon placed since
-        // did not touch it: the O(w*h) sweep is skipped then.
-        if (placed.empty() || rect_area_ == 0 || placed.back().meets(rect_)) find_largest_rectangle();
-        if (rect_area_ <= best.coverage) return;
-        offer({2 * i64(rect_.y0), 2 * i64(rect_.y1), 2 * i64(rect_.x0), 2 * i64(rect_.x1), 2 * i64(rect_.x0),
-               2 * i64(rect_.x1)},
-              best);
-    }
-
-    void find_largest_rectangle() {
-        const int w = grid_.width, h = grid_.height;
-        std::vector<int> height(std::size_t(w), 0), stack;
-        i64 best_area = 0;
-        int bx0 = 0, bx1 = 0, by0 = 0, by1 = 0;
-        for (int y = 0; y < h; ++y) {
-            for (int x = 0; x < w; ++x) {
-                std::size_t i = std::size_t(y) * w + x;
-                height[x] = interior_.bits[i] && !covered_.bits[i] ? height[x] + 1 : 0;
-            }
-            stack.clear();
-            for (int x = 0; x <= w; ++x) {
-                int hx = x < w ? height[x] : 0;
-                while (!stack.empty() && height[stack.back()] >= hx) {
-                    int hh = height[stack.back()];
-                    stack.pop_back();
-                    int left = stack.empty() ? 0 : stack.back() + 1;
-                    i64 a = i64(hh) * (x - left);
-                    if (a > best_area) {
-                        best_area = a;
-                        bx0 = left, bx1 = x, by0 = y + 1 - hh, by1 = y + 1;
-                    }
-                }
-                stack.push_back(x);
-            }
-        }
-        counters_.work += i64(w) * h;
-        rect_ = {bx0, by0, bx1, by1};
-        rect_area_ = best_area;
     }
 
     // ---- The paper's sequence (paper_quad_search.cpp), the same choices,
@@ -732,17 +461,14 @@ private:
         return floor_div(2 * dy * wt + (wb - wt) * (dy - 1), 2) + dy;
     }
 
-    SafeGrid grid_;
+    const SafeGrid& grid_;
     SearchCounters& counters_;
     std::vector<Segment> segments_;
     std::vector<StoredQuad> quads_; // the paper's candidates, in its order
     std::vector<QuadState> states_;
     std::vector<int> seen_stamp_;
     std::vector<std::vector<std::pair<int, int>>> seen_;
-    TexelBox rect_{0, 0, 0, 0}; // the largest rectangle of the last sweep
-    i64 rect_area_ = 0;
-    Mask covered_, interior_;
-    RowSums uncovered_;
+    Mask covered_;
     int min_area_;
     i64 budget_base_ = 0;
 };
@@ -750,7 +476,12 @@ private:
 } // namespace
 
 std::vector<HalfPolygon> fast_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters) {
-    return FastSearch(safe, options.min_area, counters).run(options);
+    const SafeGrid grid(safe);
+    GrownPolygons grown = grow_opaque_polygons(grid, options, counters);
+    // Ties go to the grown polygons: fewer vertices are not the point, but
+    // the replay is only a guard.
+    Sequence paper = PaperReplay(grid, options.min_area, counters).run(options);
+    return paper.covered > grown.covered ? std::move(paper.polygons) : std::move(grown.polygons);
 }
 
 } // namespace depthcull::opaque_detail

@@ -16,9 +16,12 @@ std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const 
     if (rect.empty() || !image.contains(rect) || options.max_polygons <= 0) return result;
     Mask safe = safe_mask(image, rect, options.filter);
     SearchCounters counters;
-    std::vector<HalfPolygon> polygons = options.method == OpaqueMethod::paper
-                                            ? paper_opaque_polygons(safe, options, counters)
-                                            : fast_opaque_polygons(safe, options, counters);
+    std::vector<HalfPolygon> polygons;
+    switch (options.method) {
+    case OpaqueMethod::paper: polygons = paper_opaque_polygons(safe, options, counters); break;
+    case OpaqueMethod::grow: polygons = grow_opaque_polygons(SafeGrid(safe), options, counters).polygons; break;
+    case OpaqueMethod::fast: polygons = fast_opaque_polygons(safe, options, counters); break;
+    }
     for (const auto& p : polygons) result.push_back(to_polygon(p, rect));
     if (stats) *stats = {counters.candidates, counters.work, counters.budget_exhausted};
     return result;

@@ -189,5 +189,16 @@ struct SearchCounters {
 
 std::vector<HalfPolygon> paper_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
 std::vector<HalfPolygon> fast_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
+// Seeded growth (grow_search.cpp): polygons and the texels they cover.
+struct GrownPolygons {
+    std::vector<HalfPolygon> polygons;
+    i64 covered = 0; // texel squares inside the polygons
+};
+GrownPolygons grow_opaque_polygons(const SafeGrid& grid, const OpaqueOptions& options, SearchCounters& counters);
+
+// Exact: true when the convex clockwise polygon's interior meets no unsafe
+// texel's open square and none of its edges runs along an unsafe texel's
+// side. O(rows * vertices).
+bool convex_valid(const HalfPolygon& p, const SafeGrid& grid, i64& work);
 
 } // namespace depthcull::opaque_detail

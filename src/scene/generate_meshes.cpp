@@ -55,7 +55,8 @@ void MeshBuilder::add_opaque(Draw& d, std::uint32_t element, Shape shape, const 
         return;
     }
     if (shape != Shape::analysis) return;
-    // Opaque polygons are convex (paper 2.2: quadrilaterals), so a fan;
+    // Opaque polygons are convex (paper 2.2: quadrilaterals; ours up to
+    // kMaxOpaqueVertices), so a fan;
     // zero-area fan triangles (collinear vertices) are skipped, exactly.
     std::vector<std::uint32_t> fan;
     for (const Polygon& p : a->opaque) {

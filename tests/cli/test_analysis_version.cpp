@@ -15,8 +15,8 @@ using namespace depthcull;
 
 namespace {
 
-constexpr int kGoldenVersion = 1;
-constexpr std::uint64_t kGoldenDigest = 4088679445748431938ull;
+constexpr int kGoldenVersion = 2;
+constexpr std::uint64_t kGoldenDigest = 8180496550273489293ull;
 
 std::uint64_t fnv(std::uint64_t h, const void* p, std::size_t n) {
     for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<const unsigned char*>(p)[i]) * 0x100000001b3ull;
@@ -42,7 +42,7 @@ TEST(AnalysisVersion, GoldenDigestOfTheExampleArt) {
     for (const auto& f : files) {
         Image img = io::load_png(f);
         for (Filter filter : {Filter::nearest, Filter::linear})
-            for (OpaqueMethod method : {OpaqueMethod::fast, OpaqueMethod::paper}) {
+            for (OpaqueMethod method : {OpaqueMethod::fast, OpaqueMethod::paper, OpaqueMethod::grow}) {
                 AnalyzeOptions o;
                 o.boundary.filter = filter;
                 o.opaque.method = method;

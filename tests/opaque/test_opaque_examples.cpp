@@ -94,10 +94,12 @@ TEST(OpaqueExamples, ConvexBlob) {
     EXPECT_EQ(paper.polygons, "{3.5,2.5 8.5,2.5 8.5,6.5 3.5,6.5}{4.5,1.5 7.5,1.5 7.5,7.5 4.5,7.5}");
     EXPECT_EQ(paper.covered, 16);
     EXPECT_EQ(paper.violations, 0);
-    // Fast: edges may lie on grid lines where the texels beyond are opaque.
+    // Fast: the largest rectangle of texels with opaque neighbours (columns
+    // 4..7, rows 2..6: edges on grid lines may run along opaque texels),
+    // grown by a vertex on each side out to the blob's corners.
     Result fast = run(kBlob, OpaqueMethod::fast, 4);
-    EXPECT_EQ(fast.polygons, "{4,2 8,2 8,7 4,7}");
-    EXPECT_EQ(fast.covered, 20);
+    EXPECT_EQ(fast.polygons, "{4,2 8,2 10,4.5 8,7 4,7 2,4.5}");
+    EXPECT_EQ(fast.covered, 22);
     EXPECT_EQ(fast.violations, 0);
 }
 
@@ -131,9 +133,11 @@ TEST(OpaqueExamples, SlopedSidesFigure3) {
     EXPECT_EQ(paper.polygons, "{2.5,3.5 12.5,3.5 9.5,7.5 6.5,7.5}{4.5,1.5 8.5,1.5 12.5,6.5 4.5,6.5}");
     EXPECT_EQ(paper.covered, 23);
     EXPECT_EQ(paper.violations, 0);
+    // Fast: one octagon grown from the 5x5 rectangle covers more than the
+    // paper's two quads (and than three rectangles, 35).
     Result fast = run(kSloped, OpaqueMethod::fast, 4);
-    EXPECT_EQ(fast.polygons, "{5,2 10,2 10,7 5,7}{10,3 12,3 12,6 10,6}{3,3 5,3 5,5 3,5}");
-    EXPECT_EQ(fast.covered, 35);
+    EXPECT_EQ(fast.polygons, "{7,0.5 12,3 13.5,4.5 13,6 11,7 5,7 2,4 5.5,0.5}");
+    EXPECT_EQ(fast.covered, 43);
     EXPECT_EQ(fast.violations, 0);
 }
 
@@ -142,7 +146,7 @@ TEST(OpaqueExamples, StoppingRules) {
     EXPECT_EQ(run(kSloped, OpaqueMethod::fast, 64).polygons, "");
     EXPECT_EQ(run(kSloped, OpaqueMethod::paper, 64).polygons, "");
     Image image = test::ascii_image(kSloped);
-    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast}) {
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast, OpaqueMethod::grow}) {
         OpaqueOptions o;
         o.method = method;
         o.min_area = 4;
@@ -162,7 +166,7 @@ TEST(OpaqueExamples, LinearFilterKeepsAway) {
     std::vector<std::string> art(10, "############");
     art.insert(art.begin(), "............");
     art.push_back("............");
-    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast}) {
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast, OpaqueMethod::grow}) {
         Result nearest = run(art, method, 4, Filter::nearest);
         Result linear = run(art, method, 4, Filter::linear);
         EXPECT_EQ(nearest.violations, 0);

@@ -1,9 +1,10 @@
-// Property tests: the guarantee of analyze.h for both methods and both
+// Property tests: the guarantee of analyze.h for every method and both
 // filters over random shapes, the shape of the output (convex, clockwise,
 // half grid, inside the rect, count), and the exact arithmetic underneath.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -41,11 +42,11 @@ OpaqueOptions options(OpaqueMethod method, Filter filter, int min_area, int max_
     return o;
 }
 
-RC_GTEST_PROP(OpaqueProperties, GuaranteeHoldsForBothMethodsAndFilters, ()) {
+RC_GTEST_PROP(OpaqueProperties, GuaranteeHoldsForEveryMethodAndFilter, ()) {
     Image image = *test::gen_shape(40);
     const int min_area = *rc::gen::inRange(1, 40);
     const int max_polygons = *rc::gen::inRange(1, 7);
-    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast})
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast, OpaqueMethod::grow})
         for (auto filter : {Filter::nearest, Filter::linear})
             check_guarantee(image, image.view().bounds(), options(method, filter, min_area, max_polygons));
 }
@@ -64,7 +65,7 @@ rc::Gen<Image> gen_solid_shape() {
 RC_GTEST_PROP(OpaqueProperties, GuaranteeHoldsOnSolidShapes, ()) {
     Image image = *gen_solid_shape();
     const int min_area = *rc::gen::inRange(1, 40);
-    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast})
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast, OpaqueMethod::grow})
         for (auto filter : {Filter::nearest, Filter::linear})
             check_guarantee(image, image.view().bounds(), options(method, filter, min_area, 6));
 }
@@ -73,7 +74,7 @@ RC_GTEST_PROP(OpaqueProperties, GuaranteeHoldsInSubRects, ()) {
     Image image = *test::gen_shape(40);
     const int x = *rc::gen::inRange(0, image.width), y = *rc::gen::inRange(0, image.height);
     const int w = *rc::gen::inRange(0, image.width - x + 1), h = *rc::gen::inRange(0, image.height - y + 1);
-    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast})
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast, OpaqueMethod::grow})
         check_guarantee(image, {x, y, w, h}, options(method, Filter::nearest, 1, 4));
 }
 
@@ -92,7 +93,7 @@ TEST(OpaqueProperties, Deterministic) {
     params.width = params.height = 64;
     params.holes = 3;
     Image image = test::random_shape(7, params);
-    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast}) {
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast, OpaqueMethod::grow}) {
         OpaqueOptions o = options(method, Filter::nearest, 8, 4);
         EXPECT_EQ(generate_opaque_polygons(image.view(), image.view().bounds(), o),
                   generate_opaque_polygons(image.view(), image.view().bounds(), o));
@@ -105,7 +106,7 @@ TEST(OpaqueProperties, EmptyAndTransparentInputs) {
     test::ShapeParams params;
     params.blobs = 0;
     Image clear = test::random_shape(1, params);
-    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast}) {
+    for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast, OpaqueMethod::grow}) {
         OpaqueOptions o = options(method, Filter::nearest, 1, 4);
         EXPECT_TRUE(generate_opaque_polygons(clear.view(), clear.view().bounds(), o).empty());
         // A rect outside the image is rejected, not read.
@@ -170,6 +171,49 @@ TEST(OpaqueArithmetic, CoveredColumnsMatchTheChecker) {
         if (signed_area(p) <= 0) continue;
         ASSERT_EQ(count_covered_opaque_texels(image.view(), image.view().bounds(), {p}), n);
     }
+}
+
+TEST(OpaqueArithmetic, ConvexValidMatchesTheChecker) {
+    // The growth search accepts a polygon only through convex_valid; it must
+    // agree with the analyzer on random convex polygons (hulls of random
+    // half-grid points, edges on grid lines included) over random masks.
+    std::mt19937 rng(11);
+    int valid = 0;
+    for (int k = 0; k < 4000; ++k) {
+        const int w = 4 + int(rng() % 9), h = 4 + int(rng() % 9);
+        Image image;
+        image.width = w, image.height = h;
+        image.rgba.assign(std::size_t(w) * h * 4, 255);
+        for (int i = 0, holes = int(rng() % 4); i < holes; ++i)
+            image.rgba[(std::size_t(rng() % h) * w + rng() % w) * 4 + 3] = std::uint8_t(rng() % 2 ? 0 : 200);
+        // A hull of 3..6 points (Andrew's monotone chain), clockwise with y down.
+        std::vector<opaque_detail::HalfPoint> pts;
+        for (int i = 0, n = 3 + int(rng() % 4); i < n; ++i)
+            pts.push_back({std::int64_t(rng() % (2 * w + 3)) - 1, std::int64_t(rng() % (2 * h + 3)) - 1});
+        std::sort(pts.begin(), pts.end(), [](auto a, auto b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
+        auto cross = [](auto o, auto a, auto b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
+        opaque_detail::HalfPolygon hull;
+        for (int pass = 0; pass < 2; ++pass) {
+            const std::size_t start = hull.size();
+            for (const auto& p : pts) {
+                while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), p) <= 0) hull.pop_back();
+                hull.push_back(p);
+            }
+            hull.pop_back();
+            std::reverse(pts.begin(), pts.end());
+        }
+        if (hull.size() < 3) continue;
+        std::reverse(hull.begin(), hull.end()); // counter-clockwise in y-up terms is clockwise on screen
+        Polygon p = opaque_detail::to_polygon(hull, {0, 0, w, h});
+        if (signed_area(p) <= 0) std::reverse(hull.begin(), hull.end()), p = opaque_detail::to_polygon(hull, {0, 0, w, h});
+        ASSERT_GT(signed_area(p), 0);
+        const opaque_detail::SafeGrid grid(opaque_mask(image.view(), image.view().bounds()));
+        std::int64_t work = 0;
+        const bool ok = opaque_detail::convex_valid(hull, grid, work);
+        ASSERT_EQ(ok, count_opaque_violations(image.view(), image.view().bounds(), {p}, Filter::nearest) == 0) << k;
+        valid += ok;
+    }
+    EXPECT_GT(valid, 200);
 }
 
 } // namespace
