@@ -133,13 +133,14 @@ private:
     std::vector<Key> v_;
 };
 
-// Per-quad state of one greedy sequence: its cached bound, the step it was
-// last exact at / band-bounded at, and (ours) which realizations were
-// checked and found valid. One record, so a pop touches one cache line.
+// Per-quad state of the replayed sequence: its cached bound, the step it was
+// last exact at / band-bounded / box-bounded at, whether its pushed quad is
+// valid, and whether its floor-sum bound was taken. One record, so a pop
+// touches one cache line.
 struct QuadState {
     std::int32_t bound; // < 2^31: areas of images with sides <= 16384
     std::int32_t fresh, banded, boxed;
-    std::uint8_t choice, checked, valid, refined; // paper: valid is unknown 0, no 1, yes 2
+    std::uint8_t valid, refined; // valid: unknown 0, no 1, yes 2
 };
 
 struct Sequence {
@@ -278,7 +279,7 @@ private:
 
     // The per-quad states, shared by both sequences (one allocation).
     std::vector<QuadState>& reset_states() {
-        states_.assign(quads_.size(), QuadState{0, -1, 0, 0, 0, 0, 0, 0});
+        states_.assign(quads_.size(), QuadState{0, -1, 0, 0, 0, 0});
         return states_;
     }
 
