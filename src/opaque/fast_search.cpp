@@ -73,8 +73,6 @@ struct StoredQuad {
     // lie inside the integer quad, and the paper's row spans and the band
     // boxes lie between its sides.
     TexelBox box() const { return {std::min(x0, x3), y0, std::max(x1, x2), y1}; }
-    // Twice the area: every realization has edges no wider and no taller.
-    i64 twice_area() const { return i64(x1 - x0 + x2 - x3) * (y1 - y0); }
 };
 
 // Best-first order: larger bound first, then earlier quad, packed into one
@@ -134,12 +132,12 @@ private:
 };
 
 // Per-quad state of the replayed sequence: its cached bound, the step it was
-// last exact at / band-bounded / box-bounded at, whether its pushed quad is
-// valid, and whether its floor-sum bound was taken. One record, so a pop
-// touches one cache line.
+// last exact at / band-bounded at, whether its pushed quad is valid, and
+// whether its floor-sum bound was taken. One record, so a pop touches one
+// cache line.
 struct QuadState {
     std::int32_t bound; // < 2^31: areas of images with sides <= 16384
-    std::int32_t fresh, banded, boxed;
+    std::int32_t fresh, banded;
     std::uint8_t valid, refined; // valid: unknown 0, no 1, yes 2
 };
 
@@ -203,11 +201,11 @@ private:
             if (!first_visit(top_i, new_left, new_right, next_i)) continue;
             ++counters_.candidates;
             ++counters_.work;
-            // A quad that cannot cover min_area texels in either sequence can
-            // never be chosen; its branch may still hold larger ones.
+            // A quad whose count cannot reach min_area can never be chosen;
+            // its branch may still hold larger ones.
             StoredQuad stored{std::int16_t(q.x0), std::int16_t(q.x1), std::int16_t(q.x2), std::int16_t(q.x3),
                               std::int16_t(q.y0), std::int16_t(q.y1)};
-            if (std::max(paper_cheap_bound(stored), stored.twice_area() / 2) >= min_area_) quads_.push_back(stored);
+            if (paper_cheap_bound(stored) >= min_area_) quads_.push_back(stored);
             recurse(top_i, new_left, new_right, next_i);
         }
     }
@@ -239,7 +237,7 @@ private:
     // heap is rebuilt once, instead of popping and re-pushing those quads one
     // by one (they are most of the heap on solid shapes).
     void rebound_all(KeyHeap& heap, std::vector<QuadState>& state, const BoxSums& in_box, const TexelBox& last,
-                     int step, i64 least) {
+                     i64 least) {
         // A small polygon touches few quads, which the lazy loop handles
         // for less than a pass over the whole heap (in random quad order).
         const i64 area = i64(last.x1 - last.x0) * (last.y1 - last.y0);
@@ -249,7 +247,6 @@ private:
             const TexelBox b = quads_[i].box();
             if (!last.meets(b)) return k;
             QuadState& st = state[i];
-            st.boxed = step;
             const i64 bound = std::min<i64>(st.bound, in_box.box(b.x0, b.y0, b.x1, b.y1));
             st.bound = std::int32_t(bound);
             return bound < least ? 0 : make_key(bound, i);
@@ -279,7 +276,7 @@ private:
 
     // The per-quad states, shared by both sequences (one allocation).
     std::vector<QuadState>& reset_states() {
-        states_.assign(quads_.size(), QuadState{0, -1, 0, 0, 0, 0});
+        states_.assign(quads_.size(), QuadState{0, -1, 0, 0, 0});
         return states_;
     }
 
@@ -384,7 +381,7 @@ private:
                            double(paper_covered) / double(opaque) < options.min_coverage;
              ++step) {
             if (positive_left < least) break; // no count can reach it
-            if (step > 0) rebound_all(heap, state, in_box, placed.back(), step, least);
+            if (step > 0) rebound_all(heap, state, in_box, placed.back(), least);
             int winner = -1;
             while (!heap.empty() && !over_budget()) {
                 const int i = key_index(heap.top());

@@ -118,7 +118,6 @@ void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale 
 struct Trapezoid {
     i64 yt = 0, yb = 0, xlt = 0, xrt = 0, xlb = 0, xrb = 0;
     HalfPolygon polygon() const; // clockwise, duplicate vertices dropped
-    i64 twice_area_half_units() const { return (xrt - xlt + xrb - xlb) * (yb - yt); }
 };
 
 // The grid a search runs against: which texels are safe to touch.
@@ -139,10 +138,6 @@ bool trapezoid_valid(const Trapezoid& t, const SafeGrid& grid, i64& work);
 // The O(1) part of trapezoid_valid: inside the grid, and no horizontal or
 // vertical edge along an unsafe texel. False means trapezoid_valid is false.
 bool trapezoid_edges_valid(const Trapezoid& t, const SafeGrid& grid);
-
-// Texels whose closed squares lie inside the trapezoid, counted by `counted`
-// (row sums of the texels still to cover). O(rows).
-i64 trapezoid_coverage(const Trapezoid& t, const RowSums& counted, i64& work);
 
 // One quad of the paper's FindOpaqueQuadRecursive, before the 0.5 push of
 // GenerateOpaquePolygons: integer vertices (x0, y0) (x1, y0) (x2, y1)
@@ -169,12 +164,6 @@ void paper_row_span(const PaperQuad& q, int y, int width, int& x0, int& x1);
 
 // sum_{i=0}^{n-1} floor((a i + b) / m) for n >= 0, m > 0, in O(log m).
 i64 floor_sum(i64 n, i64 m, i64 a, i64 b);
-
-// Upper bound on the texel squares inside the trapezoid, whatever the mask:
-// exact (a sum of floors of linear functions, in O(log)) when every row's
-// span is at least two texels wide, else its area. Equal to
-// trapezoid_coverage on an all-counted grid in the exact case.
-i64 trapezoid_squares_bound(const Trapezoid& t);
 
 // The paper's CountCoveredPixels span lengths summed over the quad's rows,
 // exact in O(log): an upper bound on its count whatever the map.

@@ -110,24 +110,6 @@ bool trapezoid_valid(const Trapezoid& t, const SafeGrid& grid, i64& work) {
     return true;
 }
 
-i64 trapezoid_coverage(const Trapezoid& t, const RowSums& counted, i64& work) {
-    if (t.yb <= t.yt) return 0;
-    const i64 den2 = 2 * (t.yb - t.yt);
-    const i64 row0 = ceil_div(t.yt, 2), row1 = floor_div(t.yb, 2);
-    work += std::max<i64>(0, row1 - row0);
-    i64 n = 0;
-    if (row0 >= row1) return 0;
-    // Corners (2i, y) and (2i + 2, y) for y at both ends of the row: the
-    // binding end of each side is fixed by its lean, so step it row by row.
-    const i64 dl = t.xlb - t.xlt, dr = t.xrb - t.xrt;
-    const i64 l_end = dl >= 0 ? 2 : 0, r_end = dr >= 0 ? 0 : 2;
-    FloorStepper lo(2 * dl, side_numerator(t.xlt, t.xlb, t, 2 * row0 + l_end) + den2 - 1, den2); // ceil
-    FloorStepper hi(2 * dr, side_numerator(t.xrt, t.xrb, t, 2 * row0 + r_end), den2);
-    for (i64 j = row0; j < row1; ++j, lo.next(), hi.next())
-        if (lo.value() < hi.value()) n += counted.span(int(j), int(lo.value()), int(hi.value()), 0);
-    return n;
-}
-
 i64 floor_sum(i64 n, i64 m, i64 a, i64 b) {
     i64 ans = 0;
     // Move a and b into [0, m), then the Euclid-like reduction.
@@ -157,31 +139,6 @@ i64 floor_sum(i64 n, i64 m, i64 a, i64 b) {
         std::swap(m, a);
     }
     return ans;
-}
-
-i64 trapezoid_squares_bound(const Trapezoid& t) {
-    const i64 area_bound = t.twice_area_half_units() / 8;
-    if (t.yb <= t.yt) return 0;
-    const i64 den = t.yb - t.yt, den2 = 2 * den;
-    const i64 row0 = ceil_div(t.yt, 2), row1 = floor_div(t.yb, 2);
-    if (row1 <= row0) return 0;
-    // Row j's squares run from lo_j = ceil(xL / 2) to hi_j = floor(xR / 2),
-    // xL taken at the row end where the left side is further right, xR where
-    // the right side is further left; in half units over den:
-    // x(Y) = (x_top den + (x_bottom - x_top)(Y - yt)) / den, Y = 2j + {0, 2}.
-    const i64 dl = t.xlb - t.xlt, dr = t.xrb - t.xrt;
-    const i64 l_end = dl >= 0 ? 2 : 0, r_end = dr <= 0 ? 2 : 0;
-    // Numerators as a j + b with Y = 2j + end.
-    const i64 la = 2 * dl, lb = t.xlt * den + dl * (l_end - t.yt);
-    const i64 ra = 2 * dr, rb = t.xrt * den + dr * (r_end - t.yt);
-    // Every span at least two texels (4 half units) wide, unrounded, at the
-    // first and last rows (it is linear in j), keeps each rounded span >= 0.
-    auto wide = [&](i64 j) { return (ra * j + rb) - (la * j + lb) >= 4 * den; };
-    if (!wide(row0) || !wide(row1 - 1)) return area_bound;
-    const i64 n = row1 - row0;
-    i64 hi = floor_sum(n, den2, ra, ra * row0 + rb);
-    i64 lo = -floor_sum(n, den2, -la, -(la * row0 + lb)); // sum of ceilings
-    return std::min(hi - lo, area_bound);
 }
 
 i64 paper_span_total(const PaperQuad& q) {

@@ -126,32 +126,6 @@ TEST(OpaqueArithmetic, FloorSumMatchesTheLoop) {
     }
 }
 
-TEST(OpaqueArithmetic, SquaresBoundIsExactOrAbove) {
-    // On an all-counted grid the bound equals the counted coverage whenever
-    // every row is wide, and never falls below it.
-    Mask all;
-    all.width = all.height = 120;
-    all.bits.assign(std::size_t(120) * 120, 1);
-    opaque_detail::RowSums sums(all);
-    std::mt19937 rng(5);
-    int exact = 0;
-    for (int k = 0; k < 5000; ++k) {
-        opaque_detail::Trapezoid t;
-        t.yt = rng() % 80;
-        t.yb = t.yt + 1 + rng() % 80;
-        t.xlt = 60 + rng() % 60;
-        t.xrt = t.xlt + rng() % 50;
-        t.xlb = 60 + rng() % 60;
-        t.xrb = t.xlb + rng() % 50;
-        std::int64_t work = 0;
-        std::int64_t covered = opaque_detail::trapezoid_coverage(t, sums, work);
-        std::int64_t bound = opaque_detail::trapezoid_squares_bound(t);
-        ASSERT_GE(bound, covered);
-        exact += bound == covered;
-    }
-    EXPECT_GT(exact, 2500);
-}
-
 TEST(OpaqueArithmetic, CoveredColumnsMatchTheChecker) {
     // covered_columns at scale 2 and count_covered_opaque_texels agree.
     std::vector<std::string> rows(12, std::string(12, '#'));
