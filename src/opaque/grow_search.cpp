@@ -146,17 +146,25 @@ private:
         int x0, y0, x1, y1;
     };
 
-    // Uncovered interior texels whose closed squares lie inside p, rows [r0, r1).
-    i64 count_inside(const HalfPolygon& p, i64 r0, i64 r1) const {
-        i64 n = 0;
+    // Calls f(y, lo, hi) for rows [r0, r1) with the polygon's columns in
+    // row y (covered_columns or center_columns), clamped to the grid.
+    template <class Columns, class F>
+    void for_rows(const HalfPolygon& p, i64 r0, i64 r1, Columns columns, F f) const {
         r0 = std::max<i64>(r0, 0), r1 = std::min<i64>(r1, grid_.height);
         for (i64 y = r0; y < r1; ++y) {
             i64 lo, hi;
-            covered_columns(p, int(y), lo, hi);
+            columns(p, int(y), lo, hi);
             lo = std::max<i64>(lo, 0), hi = std::min<i64>(hi, grid_.width);
-            if (hi > lo) n += uncovered_.span(int(y), int(lo), int(hi));
+            if (hi > lo) f(int(y), int(lo), int(hi));
         }
-        counters_.work += r1 - r0;
+    }
+    static void squares(const HalfPolygon& p, int y, i64& lo, i64& hi) { covered_columns(p, y, lo, hi); }
+
+    // Uncovered interior texels whose closed squares lie inside p, rows [r0, r1).
+    i64 count_inside(const HalfPolygon& p, i64 r0, i64 r1) const {
+        i64 n = 0;
+        for_rows(p, r0, r1, squares, [&](int y, int lo, int hi) { n += uncovered_.span(y, lo, hi); });
+        counters_.work += std::max<i64>(0, std::min<i64>(r1, grid_.height) - std::max<i64>(r0, 0));
         return n;
     }
 
@@ -164,50 +172,20 @@ private:
     // polygon draws at 1:1.
     i64 count_centers(const HalfPolygon& p) const {
         i64 n = 0;
-        for (int y = 0; y < grid_.height; ++y) {
-            i64 lo, hi;
-            center_columns(p, y, lo, hi);
-            lo = std::max<i64>(lo, 0), hi = std::min<i64>(hi, grid_.width);
-            if (hi > lo) n += undrawn_sums_.span(y, int(lo), int(hi));
-        }
+        for_rows(p, 0, grid_.height, center_columns, [&](int y, int lo, int hi) { n += undrawn_sums_.span(y, lo, hi); });
         return n;
     }
 
-    static void center_columns(const HalfPolygon& p, int row, i64& lo, i64& hi) {
-        lo = std::numeric_limits<i64>::min() / 4;
-        hi = std::numeric_limits<i64>::max() / 4;
-        const i64 y = 2 * i64(row) + 1;
-        for (std::size_t k = 0, n = p.size(); k < n; ++k) {
-            const HalfPoint a = p[k], b = p[(k + 1) % n];
-            const i64 dx = b.x - a.x, dy = b.y - a.y;
-            if (dy == 0) {
-                if (dx * (y - a.y) < 0) { hi = lo; return; }
-            } else if (dy > 0) {
-                hi = std::min(hi, floor_div(a.x * dy + dx * (y - a.y) - dy, 2 * dy) + 1);
-            } else {
-                const i64 e = -dy;
-                lo = std::max(lo, ceil_div(a.x * e - dx * (y - a.y) - e, 2 * e));
-            }
-        }
-    }
-
+    // Takes p's texels out of what later polygons can gain.
     void mark(const HalfPolygon& p) {
-        for (int y = 0; y < grid_.height; ++y) {
-            i64 lo, hi;
-            center_columns(p, y, lo, hi);
-            lo = std::max<i64>(lo, 0), hi = std::min<i64>(hi, grid_.width);
-            if (hi <= lo) continue;
-            for (i64 x = lo; x < hi; ++x) undrawn_.bits[std::size_t(y) * grid_.width + std::size_t(x)] = 0;
-            undrawn_sums_.refresh_rows(undrawn_, y, y + 1);
-        }
-        for (int y = 0; y < grid_.height; ++y) {
-            i64 lo, hi;
-            covered_columns(p, y, lo, hi);
-            lo = std::max<i64>(lo, 0), hi = std::min<i64>(hi, grid_.width);
-            if (hi <= lo) continue;
-            for (i64 x = lo; x < hi; ++x) interior_.bits[std::size_t(y) * grid_.width + std::size_t(x)] = 0;
-            uncovered_.refresh_rows(interior_, y, y + 1);
-        }
+        auto clear = [&](Mask& mask, RowSums& sums) {
+            return [&](int y, int lo, int hi) {
+                std::fill_n(mask.bits.begin() + std::ptrdiff_t(std::size_t(y) * grid_.width + lo), hi - lo, 0);
+                sums.refresh_rows(mask, y, y + 1);
+            };
+        };
+        for_rows(p, 0, grid_.height, center_columns, clear(undrawn_, undrawn_sums_));
+        for_rows(p, 0, grid_.height, squares, clear(interior_, uncovered_));
     }
 
     // One way to push the polygon outward: the triangle it adds, as a

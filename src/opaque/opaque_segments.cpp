@@ -83,28 +83,49 @@ i64 RowSums::span_clipped(int y, int x0, int x1, i64 outside) const {
     return n;
 }
 
-void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale) {
-    // A closed texel square is inside a convex polygon iff its four corners
-    // are. Each clockwise edge a->b keeps the points with
-    // cross(b - a, q - a) >= 0; for a fixed corner row that bounds x from one
-    // side, so intersect the bounds of all edges at both corner rows.
-    lo = std::numeric_limits<i64>::min() / 4;
-    hi = std::numeric_limits<i64>::max() / 4;
-    const i64 ys[2] = {scale * i64(row), scale * (i64(row) + 1)};
+namespace {
+
+// Narrows [lo, hi) to the columns i whose sample points at height y (units
+// of 1/scale texel) lie inside the convex clockwise polygon p: the point
+// x = scale i + at_left must not be left of any left boundary edge, and
+// x = scale i + at_right not right of any right boundary edge. Each
+// clockwise edge a->b keeps the points with cross(b - a, q - a) >= 0; for a
+// fixed y that bounds x from one side. False when the row is empty.
+bool narrow_columns(const HalfPolygon& p, i64 y, i64 at_left, i64 at_right, i64 scale, i64& lo, i64& hi) {
     for (std::size_t k = 0, n = p.size(); k < n; ++k) {
-        HalfPoint a = p[k], b = p[(k + 1) % n];
-        i64 dx = b.x - a.x, dy = b.y - a.y;
-        for (i64 y : ys) {
-            if (dy == 0) {
-                if (dx * (y - a.y) < 0) { hi = lo; return; }
-            } else if (dy > 0) { // right boundary: corner x = scale (i + 1) <= a.x + dx (y - a.y) / dy
-                hi = std::min(hi, floor_div(a.x * dy + dx * (y - a.y), scale * dy));
-            } else { // left boundary: corner x = scale i >= a.x - dx (y - a.y) / e
-                i64 e = -dy;
-                lo = std::max(lo, ceil_div(a.x * e - dx * (y - a.y), scale * e));
-            }
+        const HalfPoint a = p[k], b = p[(k + 1) % n];
+        const i64 dx = b.x - a.x, dy = b.y - a.y;
+        if (dy == 0) {
+            if (dx * (y - a.y) < 0) return false;
+        } else if (dy > 0) { // right boundary: scale i + at_right <= a.x + dx (y - a.y) / dy
+            hi = std::min(hi, floor_div(a.x * dy + dx * (y - a.y) - at_right * dy, scale * dy) + 1);
+        } else { // left boundary: scale i + at_left >= a.x - dx (y - a.y) / e
+            const i64 e = -dy;
+            lo = std::max(lo, ceil_div(a.x * e - dx * (y - a.y) - at_left * e, scale * e));
         }
     }
+    return true;
+}
+
+} // namespace
+
+void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale) {
+    // A closed texel square is inside a convex polygon iff its four corners
+    // are: its left corners x = scale i and right corners x = scale (i + 1),
+    // at both corner rows.
+    lo = std::numeric_limits<i64>::min() / 4;
+    hi = std::numeric_limits<i64>::max() / 4;
+    for (i64 y : {scale * i64(row), scale * (i64(row) + 1)})
+        if (!narrow_columns(p, y, 0, scale, scale, lo, hi)) {
+            hi = lo;
+            return;
+        }
+}
+
+void center_columns(const HalfPolygon& p, int row, i64& lo, i64& hi) {
+    lo = std::numeric_limits<i64>::min() / 4;
+    hi = std::numeric_limits<i64>::max() / 4;
+    if (!narrow_columns(p, 2 * i64(row) + 1, 1, 1, 2, lo, hi)) hi = lo;
 }
 
 } // namespace depthcull::opaque_detail
