@@ -178,14 +178,15 @@ private:
 
     // Takes p's texels out of what later polygons can gain.
     void mark(const HalfPolygon& p) {
-        auto clear = [&](Mask& mask, RowSums& sums) {
-            return [&](int y, int lo, int hi) {
-                std::fill_n(mask.bits.begin() + std::ptrdiff_t(std::size_t(y) * grid_.width + lo), hi - lo, 0);
-                sums.refresh_rows(mask, y, y + 1);
-            };
-        };
-        for_rows(p, 0, grid_.height, center_columns, clear(undrawn_, undrawn_sums_));
-        for_rows(p, 0, grid_.height, squares, clear(interior_, uncovered_));
+        clear_rows(p, center_columns, undrawn_, undrawn_sums_);
+        clear_rows(p, squares, interior_, uncovered_);
+    }
+    template <class Columns>
+    void clear_rows(const HalfPolygon& p, Columns columns, Mask& mask, RowSums& sums) {
+        for_rows(p, 0, grid_.height, columns, [&](int y, int lo, int hi) {
+            std::fill_n(mask.bits.begin() + std::ptrdiff_t(std::size_t(y) * grid_.width + std::size_t(lo)), hi - lo, 0);
+            sums.refresh_rows(mask, y, y + 1);
+        });
     }
 
     // One way to push the polygon outward: the triangle it adds, as a
