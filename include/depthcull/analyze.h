@@ -26,7 +26,7 @@ inline constexpr int kMinBoundaryVertices = 4;
 // Bumped whenever a change to the analysis (src/boundary, src/opaque) can
 // change its output, so the on-disk cache never serves results of an older
 // algorithm. tests/cli/test_analysis_version.cpp fails until it is bumped.
-inline constexpr int kAnalysisVersion = 2;
+inline constexpr int kAnalysisVersion = 3;
 
 // Paper 2.1. MAX_BOUNDARY_VERTICES = 10.
 struct BoundaryOptions {

@@ -389,6 +389,16 @@ private:
                 counters_.work += kPopWork;
                 if (st.fresh != step && untouched_since(st.fresh, quads_[i], placed)) st.fresh = step;
                 if (st.fresh == step) {
+                    // Its count is exact and nothing above it can beat it:
+                    // only now is its pushed quad checked, once, since most
+                    // counted quads fall behind another and never need it.
+                    if (st.valid == 0) {
+                        st.valid = trapezoid_valid(paper_pushed(quads_[i].quad()), grid_, counters_.work) ? 2 : 1;
+                        if (st.valid == 1) {
+                            heap.pop();
+                            continue;
+                        }
+                    }
                     winner = i;
                     break;
                 }
@@ -409,10 +419,8 @@ private:
                 }
                 const i64 count = paper_count(q, counts);
                 counters_.work += q.y1 - q.y0;
-                if (count >= least && st.valid == 0)
-                    st.valid = trapezoid_valid(paper_pushed(q), grid_, counters_.work) ? 2 : 1;
                 st.fresh = step;
-                set_top_bound(heap, st, i, st.valid == 2 ? count : 0, least);
+                set_top_bound(heap, st, i, st.valid == 1 ? 0 : count, least);
             }
             if (winner < 0) break;
             PaperQuad best = quads_[winner].quad();

@@ -111,9 +111,10 @@ private:
 // 1/`scale` texel (empty when hi <= lo).
 void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale = 2);
 
-// Texel columns [lo, hi) of row `row` whose centres lie in the closed convex
-// clockwise polygon `p` (half texels): the pixels it draws at 1:1.
-void center_columns(const HalfPolygon& p, int row, i64& lo, i64& hi);
+// Texel columns [lo, hi) of row `row` whose open squares meet the open
+// interior of the convex clockwise polygon `p` (half texels): the texels it
+// touches (empty when hi <= lo).
+void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi);
 
 // A quad with horizontal top and bottom edges, in half texels: top edge
 // y = yt from xlt to xrt, bottom edge y = yb from xlb to xrb. Both searches

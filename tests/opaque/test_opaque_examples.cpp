@@ -108,8 +108,11 @@ TEST(OpaqueExamples, LShape) {
     EXPECT_EQ(paper.polygons, "{0.5,0.5 9.5,0.5 9.5,1.5 0.5,1.5}{0.5,2.5 2.5,2.5 2.5,6.5 0.5,6.5}");
     EXPECT_EQ(paper.covered, 3);
     EXPECT_EQ(paper.violations, 0);
+    // Fast: the arm's column of texels with opaque neighbours, its edges
+    // then pushed out to half a texel from the transparent ones (the paper's
+    // push), which covers no more squares but the texels it touches.
     Result fast = run(kL, OpaqueMethod::fast, 4);
-    EXPECT_EQ(fast.polygons, "{1,1 2,1 2,6 1,6}");
+    EXPECT_EQ(fast.polygons, "{0.5,0.5 2.5,0.5 2.5,6.5 0.5,6.5}");
     EXPECT_EQ(fast.covered, 5);
     EXPECT_EQ(fast.violations, 0);
 }
@@ -122,7 +125,7 @@ TEST(OpaqueExamples, Hole) {
     EXPECT_EQ(paper.covered, 1);
     EXPECT_EQ(paper.violations, 0);
     Result fast = run(kHole, OpaqueMethod::fast, 4);
-    EXPECT_EQ(fast.polygons, "{2,2 3,2 3,7 2,7}{11,2 12,2 12,7 11,7}");
+    EXPECT_EQ(fast.polygons, "{1.5,1.5 3.5,1.5 3.5,7.5 1.5,7.5}{10.5,1.5 12.5,1.5 12.5,7.5 10.5,7.5}");
     EXPECT_EQ(fast.covered, 10);
     EXPECT_EQ(fast.violations, 0);
 }
@@ -133,18 +136,19 @@ TEST(OpaqueExamples, SlopedSidesFigure3) {
     EXPECT_EQ(paper.polygons, "{2.5,3.5 12.5,3.5 9.5,7.5 6.5,7.5}{4.5,1.5 8.5,1.5 12.5,6.5 4.5,6.5}");
     EXPECT_EQ(paper.covered, 23);
     EXPECT_EQ(paper.violations, 0);
-    // Fast: one octagon grown from the 5x5 rectangle covers more than the
+    // Fast: one heptagon grown from the 5x5 rectangle covers more than the
     // paper's two quads (and than three rectangles, 35).
     Result fast = run(kSloped, OpaqueMethod::fast, 4);
-    EXPECT_EQ(fast.polygons, "{7,0.5 12,3 13.5,4.5 13,6 11,7 5,7 2,4 5.5,0.5}");
+    EXPECT_EQ(fast.polygons, "{6,0 12,3 13.5,4.5 13,6 10,7.5 5.5,7.5 2,4}");
     EXPECT_EQ(fast.covered, 43);
     EXPECT_EQ(fast.violations, 0);
 }
 
 TEST(OpaqueExamples, StoppingRules) {
-    // min_area above anything coverable: no polygons. max_polygons 1: one.
-    EXPECT_EQ(run(kSloped, OpaqueMethod::fast, 64).polygons, "");
-    EXPECT_EQ(run(kSloped, OpaqueMethod::paper, 64).polygons, "");
+    // min_area above the 67 opaque texels, so above anything a polygon can
+    // touch: no polygons. max_polygons 1: one.
+    EXPECT_EQ(run(kSloped, OpaqueMethod::fast, 68).polygons, "");
+    EXPECT_EQ(run(kSloped, OpaqueMethod::paper, 68).polygons, "");
     Image image = test::ascii_image(kSloped);
     for (auto method : {OpaqueMethod::paper, OpaqueMethod::fast, OpaqueMethod::grow}) {
         OpaqueOptions o;
@@ -190,7 +194,7 @@ TEST(OpaqueExamples, RectOffset) {
     OpaqueOptions o;
     o.min_area = 1;
     auto polygons = generate_opaque_polygons(image.view(), rect, o);
-    EXPECT_EQ(str(polygons), "{3,2 6,2 6,5 3,5}");
+    EXPECT_EQ(str(polygons), "{2.5,1.5 6.5,1.5 6.5,5.5 2.5,5.5}");
     EXPECT_EQ(count_opaque_violations(image.view(), rect, polygons, Filter::nearest), 0);
     EXPECT_EQ(count_covered_opaque_texels(image.view(), rect, polygons), 9);
 }
