@@ -481,6 +481,11 @@ private:
 
 } // namespace
 
+std::vector<HalfPolygon> replay_paper_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters) {
+    const SafeGrid grid(safe);
+    return PaperReplay(grid, options.min_area, counters).run(options).polygons;
+}
+
 std::vector<HalfPolygon> fast_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters) {
     const SafeGrid grid(safe);
     GrownPolygons grown = grow_opaque_polygons(grid, options, counters);

@@ -183,6 +183,9 @@ struct SearchCounters {
 
 std::vector<HalfPolygon> paper_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
 std::vector<HalfPolygon> fast_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
+// The paper's sequence as fast_opaque_polygons replays it: the same polygons
+// as paper_opaque_polygons when neither runs out of its budget.
+std::vector<HalfPolygon> replay_paper_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
 // Seeded growth (grow_search.cpp): polygons and the texels they cover.
 struct GrownPolygons {
     std::vector<HalfPolygon> polygons;

@@ -88,6 +88,22 @@ RC_GTEST_PROP(OpaqueProperties, FastCoversAtLeastThePaper, ()) {
               count_covered_opaque_texels(image.view(), all, paper));
 }
 
+// The guard of `fast` is only as good as its replay: it must choose exactly
+// the paper's polygons, in order.
+RC_GTEST_PROP(OpaqueProperties, ReplayIsThePapersSequence, ()) {
+    Image image = *gen_solid_shape();
+    const int min_area = *rc::gen::inRange(1, 64);
+    const int max_polygons = *rc::gen::inRange(1, 7);
+    const OpaqueOptions o = options(OpaqueMethod::paper, Filter::nearest, min_area, max_polygons);
+    const Mask safe = opaque_mask(image.view(), image.view().bounds());
+    opaque_detail::SearchCounters paper_counters, replay_counters;
+    auto paper = opaque_detail::paper_opaque_polygons(safe, o, paper_counters);
+    auto replay = opaque_detail::replay_paper_polygons(safe, o, replay_counters);
+    RC_PRE(!paper_counters.budget_exhausted && !replay_counters.budget_exhausted);
+    RC_TAG(paper.empty() ? "no polygon" : "polygons");
+    RC_ASSERT(replay == paper);
+}
+
 TEST(OpaqueProperties, Deterministic) {
     test::ShapeParams params;
     params.width = params.height = 64;
