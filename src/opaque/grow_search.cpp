@@ -18,10 +18,11 @@
 //   edges are pushed outward, parallel, while they stay valid: out to about
 //   half a texel from the unsafe texels, like the paper's push (the same
 //   squares, more pixels when magnified, no extra vertex); the step
-//   stops the loop when its polygon touches fewer than min_area safe texels
-//   no earlier polygon touched: the paper's count, the texels of its quad
-//   before the half-texel push, which are the texels the pushed quad
-//   touches. The same limit then means the same thing for both searches.
+//   stops the loop when its polygon reaches fewer than min_area safe texels
+//   no earlier polygon reached, where a polygon reaches the texels it
+//   touches once grown by half a texel in x and y. For the paper's pushed
+//   quads those are exactly the texels it counts (its quad before the
+//   push), so the same limit means the same thing for both searches.
 //
 // Why it is fast: no candidate family of O(N h) quads. A step is O(w h) for
 // the seeds plus O(moves * log(range) * rows) for the growth. Why it covers
@@ -100,8 +101,8 @@ public:
                     grid_.safe(x, y) && grid_.safe(x - 1, y) && grid_.safe(x + 1, y) && grid_.safe(x, y - 1) &&
                     grid_.safe(x, y + 1);
         uncovered_ = RowSums(interior_);
-        untouched_ = safe;
-        untouched_sums_ = RowSums(untouched_);
+        unreached_ = safe;
+        unreached_sums_ = RowSums(unreached_);
     }
 
     GrownPolygons run(const OpaqueOptions& options) {
@@ -130,7 +131,7 @@ public:
             for (auto& [cq, q] : grown) {
                 if (cq < 1) break;
                 grow(q, true);
-                if (count_touched(q) >= options.min_area) {
+                if (count_reached(q) >= options.min_area) {
                     c = cq, p = std::move(q);
                     break;
                 }
@@ -149,7 +150,7 @@ private:
     };
 
     // Calls f(y, lo, hi) for rows [r0, r1) with the polygon's columns in
-    // row y (covered_columns or touched_columns), clamped to the grid.
+    // row y (covered_columns or reached), clamped to the grid.
     template <class Columns, class F>
     void for_rows(const HalfPolygon& p, i64 r0, i64 r1, Columns columns, F f) const {
         r0 = std::max<i64>(r0, 0), r1 = std::min<i64>(r1, grid_.height);
@@ -170,17 +171,22 @@ private:
         return n;
     }
 
-    // Safe texels no polygon touched yet that p touches: what the paper
-    // counts for its quad before the half-texel push (the stop rule).
-    i64 count_touched(const HalfPolygon& p) const {
+    // The texels p reaches: those it touches once grown by half a texel in
+    // x and y. That is the paper's count for its quads (their texels before
+    // the half-texel push, i.e. the pushed quad grown back) and about the
+    // same for ours, so one stop rule means the same for both searches.
+    static void reached(const HalfPolygon& p, int y, i64& lo, i64& hi) { touched_columns(p, y, lo, hi, 1); }
+
+    // Safe texels p reaches that no earlier polygon reached (the stop rule).
+    i64 count_reached(const HalfPolygon& p) const {
         i64 n = 0;
-        for_rows(p, 0, grid_.height, touched_columns, [&](int y, int lo, int hi) { n += untouched_sums_.span(y, lo, hi); });
+        for_rows(p, 0, grid_.height, reached, [&](int y, int lo, int hi) { n += unreached_sums_.span(y, lo, hi); });
         return n;
     }
 
     // Takes p's texels out of what later polygons can gain.
     void mark(const HalfPolygon& p) {
-        clear_rows(p, touched_columns, untouched_, untouched_sums_);
+        clear_rows(p, reached, unreached_, unreached_sums_);
         clear_rows(p, squares, interior_, uncovered_);
     }
     template <class Columns>
@@ -329,10 +335,9 @@ private:
     // Applies the best move until none is left: by new texel squares (then
     // area), or with by_area, once no move gains a square, only edge pushes
     // by area. That second phase keeps the shape and the vertex count (a
-    // vertex costs a triangle) and takes the polygon out to about half a texel from the
-    // unsafe texels, as the paper's push does: the same squares, but more of
-    // the sprite's pixels when it is drawn magnified, and the texels it
-    // touches are the paper's count.
+    // vertex costs a triangle) and takes the polygon out to about half a
+    // texel from the unsafe texels, as the paper's push does: the same
+    // squares at 1:1, more of the sprite's pixels when it is drawn magnified.
     void grow(HalfPolygon& p, bool by_area) {
         for (int iteration = 0; iteration < 8 * kMaxOpaqueVertices; ++iteration) {
             Move best;
@@ -421,8 +426,8 @@ private:
     SearchCounters& counters_;
     Mask interior_; // interior texels not yet covered
     RowSums uncovered_;
-    Mask untouched_; // safe texels no polygon touches yet
-    RowSums untouched_sums_;
+    Mask unreached_; // safe texels no polygon reaches yet
+    RowSums unreached_sums_;
 };
 
 } // namespace

@@ -113,8 +113,9 @@ void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale 
 
 // Texel columns [lo, hi) of row `row` whose open squares meet the open
 // interior of the convex clockwise polygon `p` (half texels): the texels it
-// touches (empty when hi <= lo).
-void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi);
+// touches (empty when hi <= lo). With `margin` > 0: that polygon grown by a
+// square of half-side `margin` half texels (its Minkowski sum).
+void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 margin = 0);
 
 // A quad with horizontal top and bottom edges, in half texels: top edge
 // y = yt from xlt to xrt, bottom edge y = yb from xlb to xrb. Both searches

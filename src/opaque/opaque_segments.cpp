@@ -122,27 +122,31 @@ void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale)
         }
 }
 
-void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi) {
+void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 margin) {
     // Within the row's band the polygon's open interior spans the open x
     // range between the extremes of the polygon cut to the band (convex);
-    // a texel's open square meets it iff their x ranges overlap.
+    // a texel's open square meets it iff their x ranges overlap. The
+    // polygon grown by a square of half-side `margin` reaches the row's band
+    // where the polygon reaches the band widened by `margin`, `margin`
+    // further out on each side.
     lo = std::numeric_limits<i64>::max(), hi = std::numeric_limits<i64>::min();
     i64 ymin = p[0].y, ymax = p[0].y;
     for (const HalfPoint& v : p) ymin = std::min(ymin, v.y), ymax = std::max(ymax, v.y);
-    const i64 y0 = std::max(2 * i64(row), ymin), y1 = std::min(2 * i64(row) + 2, ymax);
+    const i64 y0 = std::max(2 * i64(row) - margin, ymin), y1 = std::min(2 * i64(row) + 2 + margin, ymax);
     if (y1 <= y0) {
         hi = lo;
         return;
     }
     for (std::size_t k = 0, n = p.size(); k < n; ++k) {
         const HalfPoint a = p[k], b = p[(k + 1) % n];
-        if (a.y >= y0 && a.y <= y1) lo = std::min(lo, floor_div(a.x, 2)), hi = std::max(hi, ceil_div(a.x, 2));
+        if (a.y >= y0 && a.y <= y1)
+            lo = std::min(lo, floor_div(a.x - margin, 2)), hi = std::max(hi, ceil_div(a.x + margin, 2));
         if (a.y == b.y) continue;
         for (i64 y : {y0, y1}) {
             if (y <= std::min(a.y, b.y) || y >= std::max(a.y, b.y)) continue;
             i64 num = a.x * (b.y - a.y) + (b.x - a.x) * (y - a.y), den = b.y - a.y;
             if (den < 0) num = -num, den = -den;
-            lo = std::min(lo, floor_div(num, 2 * den)), hi = std::max(hi, ceil_div(num, 2 * den));
+            lo = std::min(lo, floor_div(num - margin * den, 2 * den)), hi = std::max(hi, ceil_div(num + margin * den, 2 * den));
         }
     }
 }

@@ -164,6 +164,27 @@ TEST(OpaqueExamples, StoppingRules) {
     }
 }
 
+TEST(OpaqueExamples, ThinArmMeetsTheThresholdLikeThePaper) {
+    // A 4-texel-wide arm (a cursor's, pingus core/cursors/editor.png): only
+    // its 2 middle columns can be covered, but the default threshold of 64
+    // is measured as the paper measures it, in texels reached (for the paper
+    // its quad before the half-texel push, 4 x 17 = 68; ours reaches 2 + 4 x
+    // 16 = 66 as its top edge sits on the tip's grid line), so both methods
+    // take the arm.
+    std::vector<std::string> art = {"..##.."};
+    for (int i = 0; i < 16; ++i) art.push_back(".####.");
+    art.push_back("......");
+    Result paper = run(art, OpaqueMethod::paper, 64);
+    EXPECT_EQ(paper.polygons, "{1.5,1.5 4.5,1.5 4.5,16.5 1.5,16.5}");
+    EXPECT_EQ(paper.covered, 28);
+    Result fast = run(art, OpaqueMethod::fast, 64);
+    EXPECT_EQ(fast.polygons, "{2,1 4,1 4,16.5 2,16.5}");
+    EXPECT_EQ(fast.covered, 30);
+    EXPECT_EQ(fast.violations, 0);
+    EXPECT_EQ(run(art, OpaqueMethod::grow, 66).polygons, "{2,1 4,1 4,16.5 2,16.5}");
+    EXPECT_EQ(run(art, OpaqueMethod::grow, 67).polygons, "");
+}
+
 TEST(OpaqueExamples, LinearFilterKeepsAway) {
     // A 12x10 opaque block: with bilinear filtering only texels whose 3x3
     // neighbourhood is opaque may be touched.
