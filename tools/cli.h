@@ -36,6 +36,25 @@ void add_analysis_options(CLI::App& command, AnalyzeOptions& options);
 // Only the boundary-polygon ones: --max-vertices, --filter, --no-split.
 void add_boundary_options(CLI::App& command, BoundaryOptions& options);
 
+// An option taking one of a few names for an enum value. CLI11's
+// CheckedTransformer over an enum map lists the choices as numbers in its
+// error ("{fast->1,...}"); this one names them: "--opaque: 'bogus' is not
+// one of fast, grow, paper".
+template <class E>
+CLI::Validator choice(std::vector<std::pair<std::string, E>> names) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n.first;
+    auto check = [names, list](std::string& value) -> std::string {
+        for (const auto& [name, e] : names)
+            if (name == value) {
+                value = std::to_string(static_cast<long long>(e));
+                return {};
+            }
+        return "'" + value + "' is not one of " + list;
+    };
+    return CLI::Validator(check, "{" + list + "}");
+}
+
 // --viewport x,y,w,h: the camera rectangle in world units (for Tiled maps
 // and scenes alike); sets options.has_viewport.
 void add_viewport_option(CLI::App& command, io::LoadOptions& options);

@@ -99,11 +99,10 @@ void add_optimize_command(CLI::App& app) {
     cmd->add_option("--cache", args->cache_dir, "Analysis cache directory (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
     cmd->add_flag("--no-cache", args->no_cache, "Analyze every image, read and write no cache");
     cmd->add_option("--graph", args->reconstruct.graph, "Element overlap test: polygons (default) or boxes (the paper's simple test)")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, GraphMode>{{"polygons", GraphMode::polygons}, {"boxes", GraphMode::boxes}}))
+        ->transform(choice<GraphMode>({{"polygons", GraphMode::polygons}, {"boxes", GraphMode::boxes}}))
         ->default_str("polygons");
     cmd->add_option("--sort", args->reconstruct.sort, "Element order: batch (ours, default), paper (SortElements), none")
-        ->transform(CLI::CheckedTransformer(
-            std::map<std::string, SortMethod>{{"batch", SortMethod::batch}, {"paper", SortMethod::paper}, {"none", SortMethod::none}}))
+        ->transform(choice<SortMethod>({{"batch", SortMethod::batch}, {"paper", SortMethod::paper}, {"none", SortMethod::none}}))
         ->default_str("batch");
     cmd->add_flag("!--no-opaque", args->opaque, "No opaque pass: boundary polygons only");
     cmd->add_flag("--cull", args->reconstruct.cull_to_viewport,

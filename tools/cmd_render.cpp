@@ -122,7 +122,7 @@ void add_render_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("render", "Draw a scene headlessly (EGL, OpenGL) and compare it with overpaint");
     cmd->add_option("scene", args->scene, "Scene: .json (our format) or .tmx / .tmx.gz (Tiled)")->required();
     cmd->add_option("--mode", args->mode, "overpaint (unoptimized), meshes (meshes only) or optimized (default)")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, render::Mode>{
+        ->transform(choice<render::Mode>({
             {"overpaint", render::Mode::overpaint}, {"meshes", render::Mode::meshes}, {"optimized", render::Mode::optimized}}))
         ->default_str("optimized");
     cmd->add_option("-o,--output", args->output, "PNG of the frame (RGBA, viewport size)");

@@ -20,7 +20,7 @@ void add_boundary_options(CLI::App& cmd, BoundaryOptions& o) {
         ->check(CLI::Range(kMinBoundaryVertices, 1000))
         ->capture_default_str();
     cmd.add_option("--filter", o.filter, "Texture filtering the polygons must be correct for")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, Filter>{{"nearest", Filter::nearest}, {"linear", Filter::linear}}))
+        ->transform(choice<Filter>({{"nearest", Filter::nearest}, {"linear", Filter::linear}}))
         ->default_str("nearest");
     cmd.add_flag("!--no-split", o.split_parts, "One boundary polygon per image, even for disjoint parts");
 }
@@ -29,7 +29,7 @@ void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
     add_boundary_options(cmd, o.boundary);
     cmd.add_option("--opaque", o.opaque.method, "Opaque polygon algorithm: fast (default: grown convex polygons, never below the paper), grow (the growth alone, "
                    "fastest) or paper (paper 2.2, the reference)")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, OpaqueMethod>{
+        ->transform(choice<OpaqueMethod>({
             {"fast", OpaqueMethod::fast}, {"grow", OpaqueMethod::grow}, {"paper", OpaqueMethod::paper}}))
         ->default_str("fast");
     cmd.add_option("--max-opaque", o.opaque.max_polygons, "Most opaque polygons per image (paper: MAX_OPAQUE_POLYGONS; 0 disables)")

@@ -10,11 +10,10 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
     cmd.add_option("--cache", in.cache_dir, "Analysis cache directory (default: $XDG_CACHE_HOME/depthcull or ~/.cache/depthcull/analysis)");
     cmd.add_flag("--no-cache", in.no_cache, "Analyze every image, read and write no cache");
     cmd.add_option("--graph", in.reconstruct.graph, "Element overlap test for optimized: polygons (default) or boxes")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, GraphMode>{{"polygons", GraphMode::polygons}, {"boxes", GraphMode::boxes}}))
+        ->transform(choice<GraphMode>({{"polygons", GraphMode::polygons}, {"boxes", GraphMode::boxes}}))
         ->default_str("polygons");
     cmd.add_option("--sort", in.reconstruct.sort, "Element order: batch (ours, default), paper (SortElements), none")
-        ->transform(CLI::CheckedTransformer(
-            std::map<std::string, SortMethod>{{"batch", SortMethod::batch}, {"paper", SortMethod::paper}, {"none", SortMethod::none}}))
+        ->transform(choice<SortMethod>({{"batch", SortMethod::batch}, {"paper", SortMethod::paper}, {"none", SortMethod::none}}))
         ->default_str("batch");
     cmd.add_flag("!--no-opaque", in.opaque, "Optimized without the opaque pass: boundary polygons only");
     add_viewport_option(cmd, in.prepare.load);
@@ -23,7 +22,7 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
     cmd.add_option("-j,--threads", in.prepare.threads, "Worker threads for the analysis (0: all cores)")->capture_default_str();
     cmd.add_option("--gl", in.platform,
                    "EGL platform: auto (a GPU device if any, else Mesa surfaceless), surfaceless, device")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, render::GlPlatform>{{"auto", render::GlPlatform::automatic},
+        ->transform(choice<render::GlPlatform>({{"auto", render::GlPlatform::automatic},
                                                                                       {"surfaceless", render::GlPlatform::surfaceless},
                                                                                       {"device", render::GlPlatform::device}}))
         ->default_str("auto");

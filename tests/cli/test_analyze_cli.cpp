@@ -103,6 +103,10 @@ TEST(AnalyzeCli, BadArgumentsAreRejected) {
     EXPECT_NE(run_cli("analyze '" + test::example("art/rock.png") + ":40,0,20,20'").status, 0); // rect outside
     EXPECT_NE(run_cli("analyze --max-vertices 2 '" + test::example("art/rock.png") + "'").status, 0);
     EXPECT_NE(run_cli("analyze --filter cubic '" + test::example("art/rock.png") + "'").status, 0);
+    // A bad name for a choice is named, with the choices by name.
+    auto bad = run_cli("analyze --opaque bogus '" + test::example("art/rock.png") + "'");
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.err.find("--opaque: 'bogus' is not one of fast, grow, paper"), std::string::npos) << bad.err;
     fs::path dir = scratch("empty");
     auto r = run_cli("analyze '" + dir.string() + "'");
     EXPECT_NE(r.status, 0);
