@@ -4,9 +4,10 @@
 // 64..2048 texels. Per image: wall time (median and worst over the set) and
 // the coverage (opaque texels inside opaque polygons / opaque texels), mean
 // over the set; "budget" counts images whose search hit its work budget.
-// Times are the thread's CPU time per image (median_ms, worst_ms).
+// Times are the thread's CPU time per image (median_ms, worst_ms, and
+// total_ms over the set), the fastest of 2 to 5 runs.
 //
-//   build-opaque/bench/bench_opaque --benchmark_counters_tabular=true
+//   build-bench/bench/bench_opaque --benchmark_counters_tabular=true
 //
 // The corpus comes from scripts/fetch-corpus; without it the corpus rows
 // are skipped. DEPTHCULL_BENCH_CORPUS_MAX_TEXELS limits the corpus images
@@ -94,10 +95,23 @@ void run_set(benchmark::State& state, const std::vector<const Image*>& images, O
         coverage = 0;
         budget = 0;
         for (const Image* image : images) {
+            // The fastest of 2 runs, or up to kRuns while they take under
+            // 10 ms in all: a shared machine only ever adds time, and the
+            // first run on a large image pays the page faults of its fresh
+            // allocations (2.4x on a 2048 disk with holes), which a batch
+            // of images mostly does not. The runs give identical results.
+            constexpr int kRuns = 5;
             OpaqueSearchStats stats;
-            double start = thread_seconds();
-            auto polygons = generate_opaque_polygons(image->view(), image->view().bounds(), options, &stats);
-            seconds.push_back(thread_seconds() - start);
+            std::vector<Polygon> polygons;
+            double best = 1e30, spent = 0;
+            for (int run = 0; run < kRuns && (run < 2 || spent < 0.010); ++run) {
+                stats = {};
+                const double start = thread_seconds();
+                polygons = generate_opaque_polygons(image->view(), image->view().bounds(), options, &stats);
+                const double t = thread_seconds() - start;
+                best = std::min(best, t), spent += t;
+            }
+            seconds.push_back(best);
             benchmark::DoNotOptimize(polygons);
             Mask opaque = opaque_mask(image->view(), image->view().bounds());
             auto opaque_texels = std::count(opaque.bits.begin(), opaque.bits.end(), 1);
@@ -106,8 +120,11 @@ void run_set(benchmark::State& state, const std::vector<const Image*>& images, O
             budget += stats.budget_exhausted;
         }
     }
+    double total = 0;
+    for (double t : seconds) total += t;
     std::sort(seconds.begin(), seconds.end());
     state.counters["images"] = double(images.size());
+    state.counters["total_ms"] = total * 1e3;
     state.counters["median_ms"] = seconds[seconds.size() / 2] * 1e3;
     state.counters["worst_ms"] = seconds.back() * 1e3;
     state.counters["mean_coverage"] = coverage / double(images.size());
