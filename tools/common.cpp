@@ -39,7 +39,8 @@ void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     cmd.add_option("--min-opaque-area", o.opaque.min_area,
-                   "Skip an opaque polygon covering fewer new opaque texels than this (paper: MIN_OPAQUE_AREA)")
+                   "Skip an opaque polygon reaching fewer new opaque texels than this: those it touches grown by half "
+                   "a texel, as the paper counts its quads (paper: MIN_OPAQUE_AREA)")
         ->check(CLI::Range(1, 1 << 30))
         ->capture_default_str();
 }

@@ -45,8 +45,13 @@ enum class OpaqueMethod {
 // MIN_OPAQUE_AREA = 64.
 struct OpaqueOptions {
     OpaqueMethod method = OpaqueMethod::fast;
-    int max_polygons = 4;
-    double min_coverage = 0.75;
+    int max_polygons = 4;       // paper: MAX_OPAQUE_POLYGONS
+    double min_coverage = 0.75; // stop once this fraction of opaque texels is covered
+    // Paper: MIN_OPAQUE_AREA. A polygon must reach this many opaque texels
+    // that no earlier polygon reached, where it reaches the texels it
+    // touches once grown by half a texel (the paper's count: its quad before
+    // the half-texel push). The growth also asks min_area / 2 of each vertex
+    // it adds. docs/opaque.md relates it to the cost of a polygon.
     int min_area = 64;
     Filter filter = Filter::nearest;
 };
