@@ -82,8 +82,9 @@ bool convex_valid(const HalfPolygon& p, const SafeGrid& g, i64& work) {
     const i64 row0 = floor_div(ymin, 2), row1 = ceil_div(ymax, 2);
     work += (row1 - row0) * i64(n);
     for (i64 row = row0; row < row1; ++row) {
+        // touched_columns without finding the extent again for every row.
         i64 lo, hi;
-        touched_columns(p, int(row), lo, hi);
+        band_columns(p, std::max(2 * row, ymin), std::min(2 * row + 2, ymax), 0, lo, hi);
         if (hi > lo && g.unsafe.span(int(row), int(lo), int(hi), 1) != 0) return false;
     }
     return true;
@@ -361,19 +362,19 @@ private:
             for (int i = 0; i < n; ++i) {
                 const HalfPoint u = at(p, i - 1), v = at(p, i), w = at(p, i + 1), x = at(p, i + 2);
                 const HalfPoint e = primitive(w.x - v.x, w.y - v.y);
-                if (!by_area) {
-                    consider({0, i, v, primitive(v.x - u.x, v.y - u.y), {}});
-                    consider({1, i, v, primitive(v.x - w.x, v.y - w.y), {}});
-                }
-                if (n < kMaxOpaqueVertices && !by_area) {
-                    const i64 g = e.x != 0 ? (w.x - v.x) / e.x : (w.y - v.y) / e.y;
-                    const HalfPoint base{v.x + e.x * (g / 2), v.y + e.y * (g / 2)};
-                    consider({2, i, base, primitive(e.y, -e.x), {}});
-                }
-                // Push edge v w outward, parallel: v slides along u v, w
-                // along x w, in the ratio that keeps the direction. Both
-                // crosses are > 0 on a convex clockwise polygon.
                 const HalfPoint a = primitive(v.x - u.x, v.y - u.y), b = primitive(w.x - x.x, w.y - x.y);
+                if (!by_area) {
+                    consider({0, i, v, a, {}});
+                    consider({1, i, v, primitive(-e.x, -e.y), {}});
+                    if (n < kMaxOpaqueVertices) {
+                        const i64 g = e.x != 0 ? (w.x - v.x) / e.x : (w.y - v.y) / e.y;
+                        const HalfPoint base{v.x + e.x * (g / 2), v.y + e.y * (g / 2)};
+                        consider({2, i, base, primitive(e.y, -e.x), {}});
+                    }
+                }
+                // Push edge v w outward, parallel: v slides along u v (a), w
+                // along x w (b), in the ratio that keeps the direction. Both
+                // crosses are > 0 on a convex clockwise polygon.
                 const i64 ca = cross(a.x, a.y, e.x, e.y), cb = cross(b.x, b.y, e.x, e.y);
                 if (ca > 0 && cb > 0) {
                     const i64 g = std::gcd(ca, cb);

@@ -116,6 +116,9 @@ void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale 
 // touches (empty when hi <= lo). With `margin` > 0: that polygon grown by a
 // square of half-side `margin` half texels (its Minkowski sum).
 void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 margin = 0);
+// The core of touched_columns for a band [y0, y1] (half texels, y0 < y1)
+// within the polygon's y extent, for callers that already know the extent.
+void band_columns(const HalfPolygon& p, i64 y0, i64 y1, i64 margin, i64& lo, i64& hi);
 
 // A quad with horizontal top and bottom edges, in half texels: top edge
 // y = yt from xlt to xrt, bottom edge y = yb from xlb to xrb. Both searches

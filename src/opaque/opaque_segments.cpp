@@ -122,21 +122,12 @@ void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale)
         }
 }
 
-void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 margin) {
-    // Within the row's band the polygon's open interior spans the open x
-    // range between the extremes of the polygon cut to the band (convex);
-    // a texel's open square meets it iff their x ranges overlap. The
-    // polygon grown by a square of half-side `margin` reaches the row's band
-    // where the polygon reaches the band widened by `margin`, `margin`
-    // further out on each side.
+void band_columns(const HalfPolygon& p, i64 y0, i64 y1, i64 margin, i64& lo, i64& hi) {
+    // The polygon's open interior within the open band spans the open x
+    // range between the extremes of the polygon cut to the closed band
+    // (convex), widened by `margin`; a texel's open square meets it iff
+    // their x ranges overlap.
     lo = std::numeric_limits<i64>::max(), hi = std::numeric_limits<i64>::min();
-    i64 ymin = p[0].y, ymax = p[0].y;
-    for (const HalfPoint& v : p) ymin = std::min(ymin, v.y), ymax = std::max(ymax, v.y);
-    const i64 y0 = std::max(2 * i64(row) - margin, ymin), y1 = std::min(2 * i64(row) + 2 + margin, ymax);
-    if (y1 <= y0) {
-        hi = lo;
-        return;
-    }
     for (std::size_t k = 0, n = p.size(); k < n; ++k) {
         const HalfPoint a = p[k], b = p[(k + 1) % n];
         if (a.y >= y0 && a.y <= y1)
@@ -149,6 +140,20 @@ void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 margin
             lo = std::min(lo, floor_div(num - margin * den, 2 * den)), hi = std::max(hi, ceil_div(num + margin * den, 2 * den));
         }
     }
+}
+
+void touched_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 margin) {
+    // The polygon grown by a square of half-side `margin` reaches the row's
+    // band where the polygon reaches the band widened by `margin`, `margin`
+    // further out on each side.
+    i64 ymin = p[0].y, ymax = p[0].y;
+    for (const HalfPoint& v : p) ymin = std::min(ymin, v.y), ymax = std::max(ymax, v.y);
+    const i64 y0 = std::max(2 * i64(row) - margin, ymin), y1 = std::min(2 * i64(row) + 2 + margin, ymax);
+    if (y1 <= y0) {
+        lo = hi = 0;
+        return;
+    }
+    band_columns(p, y0, y1, margin, lo, hi);
 }
 
 } // namespace depthcull::opaque_detail
