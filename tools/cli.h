@@ -12,6 +12,7 @@
 
 #include "depthcull/analyze.h"
 #include "depthcull/io.h"
+#include "depthcull/scene.h"
 
 namespace depthcull::cli {
 
@@ -35,6 +36,10 @@ void write_output(const std::string& path, const std::string& text);
 void add_analysis_options(CLI::App& command, AnalyzeOptions& options);
 // Only the boundary-polygon ones: --max-vertices, --filter, --no-split.
 void add_boundary_options(CLI::App& command, BoundaryOptions& options);
+
+// The element order and overlap test shared by optimize, render and bench:
+// --graph, --sort.
+void add_reconstruct_options(CLI::App& command, ReconstructOptions& options);
 
 // An option taking one of a few names for an enum value. CLI11's
 // CheckedTransformer over an enum map lists the choices as numbers in its

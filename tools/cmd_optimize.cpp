@@ -98,12 +98,7 @@ void add_optimize_command(CLI::App& app) {
     cmd->add_option("--binary", args->binary, "Also (or only) write the binary meshes form here");
     cmd->add_option("--cache", args->cache_dir, "Analysis cache directory (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
     cmd->add_flag("--no-cache", args->no_cache, "Analyze every image, read and write no cache");
-    cmd->add_option("--graph", args->reconstruct.graph, "Element overlap test: polygons (default) or boxes (the paper's simple test)")
-        ->transform(choice<GraphMode>({{"polygons", GraphMode::polygons}, {"boxes", GraphMode::boxes}}))
-        ->default_str("polygons");
-    cmd->add_option("--sort", args->reconstruct.sort, "Element order: batch (ours, default), paper (SortElements), none")
-        ->transform(choice<SortMethod>({{"batch", SortMethod::batch}, {"paper", SortMethod::paper}, {"none", SortMethod::none}}))
-        ->default_str("batch");
+    add_reconstruct_options(*cmd, args->reconstruct);
     cmd->add_flag("!--no-opaque", args->opaque, "No opaque pass: boundary polygons only");
     cmd->add_flag("--cull", args->reconstruct.cull_to_viewport,
                   "Drop elements entirely outside the viewport (meshes for that one camera position)");

@@ -45,6 +45,15 @@ void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
         ->capture_default_str();
 }
 
+void add_reconstruct_options(CLI::App& cmd, ReconstructOptions& o) {
+    cmd.add_option("--graph", o.graph, "Element overlap test: polygons (default) or boxes (the paper's simple test)")
+        ->transform(choice<GraphMode>({{"polygons", GraphMode::polygons}, {"boxes", GraphMode::boxes}}))
+        ->default_str("polygons");
+    cmd.add_option("--sort", o.sort, "Element order: batch (ours, default), paper (SortElements), none")
+        ->transform(choice<SortMethod>({{"batch", SortMethod::batch}, {"paper", SortMethod::paper}, {"none", SortMethod::none}}))
+        ->default_str("batch");
+}
+
 void add_viewport_option(CLI::App& cmd, io::LoadOptions& options) {
     cmd.add_option_function<std::string>(
            "--viewport",

@@ -9,12 +9,7 @@ namespace depthcull::cli {
 void add_render_input_options(CLI::App& cmd, RenderInput& in) {
     cmd.add_option("--cache", in.cache_dir, "Analysis cache directory (default: $XDG_CACHE_HOME/depthcull or ~/.cache/depthcull/analysis)");
     cmd.add_flag("--no-cache", in.no_cache, "Analyze every image, read and write no cache");
-    cmd.add_option("--graph", in.reconstruct.graph, "Element overlap test for optimized: polygons (default) or boxes")
-        ->transform(choice<GraphMode>({{"polygons", GraphMode::polygons}, {"boxes", GraphMode::boxes}}))
-        ->default_str("polygons");
-    cmd.add_option("--sort", in.reconstruct.sort, "Element order: batch (ours, default), paper (SortElements), none")
-        ->transform(choice<SortMethod>({{"batch", SortMethod::batch}, {"paper", SortMethod::paper}, {"none", SortMethod::none}}))
-        ->default_str("batch");
+    add_reconstruct_options(cmd, in.reconstruct);
     cmd.add_flag("!--no-opaque", in.opaque, "Optimized without the opaque pass: boundary polygons only");
     add_viewport_option(cmd, in.prepare.load);
     add_analysis_options(cmd, in.prepare.analyze);
@@ -23,8 +18,8 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
     cmd.add_option("--gl", in.platform,
                    "EGL platform: auto (a GPU device if any, else Mesa surfaceless), surfaceless, device")
         ->transform(choice<render::GlPlatform>({{"auto", render::GlPlatform::automatic},
-                                                                                      {"surfaceless", render::GlPlatform::surfaceless},
-                                                                                      {"device", render::GlPlatform::device}}))
+                                                {"surfaceless", render::GlPlatform::surfaceless},
+                                                {"device", render::GlPlatform::device}}))
         ->default_str("auto");
 }
 
