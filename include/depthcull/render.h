@@ -175,6 +175,46 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// ---- Hosting a renderer the caller brings (depthcull::runtime)
+
+enum class GlApi {
+    desktop, // OpenGL core, 4.5 or 3.3
+    gles,    // OpenGL ES 3.0
+};
+
+// What an engine provides around depthcull::runtime, headless: an EGL
+// context (no surface) current on this thread and an offscreen framebuffer
+// (RGBA8 + DEPTH_COMPONENT24). For tests, `depthcull bench` and
+// calibration; examples/runtime_frame.cpp shows the same in plain EGL.
+class GlHost {
+public:
+    // nullptr and *error set ("no OpenGL context: ...") when none can be made.
+    static std::unique_ptr<GlHost> create(const GlOptions& options, GlApi api, std::string* error);
+    ~GlHost();
+    GlHost(const GlHost&) = delete;
+    GlHost& operator=(const GlHost&) = delete;
+
+    // The loader to hand depthcull::runtime::Renderer::create (eglGetProcAddress).
+    static void* get_proc_address(const char* name);
+    // "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL ES 3.2 Mesa 22.3.6, EGL surfaceless"
+    const std::string& description() const;
+    bool is_software() const;
+    // Makes the context current on this thread (create does it too).
+    void make_current();
+    // Binds a framebuffer of width x height, made or resized when needed.
+    // Throws Error past the GL's limits.
+    void bind_framebuffer(int width, int height);
+    // The bound framebuffer, RGBA8, row 0 first as glReadPixels gives it
+    // (the top of a view drawn with runtime::Camera::flip_y false).
+    Image read_pixels();
+    void finish(); // glFinish
+
+private:
+    struct Impl;
+    explicit GlHost(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
 // ---- Table 2: one scene drawn the three ways
 
 enum class Mode {

@@ -90,6 +90,7 @@ struct GlContext {
     EGLDisplay display = EGL_NO_DISPLAY;
     EGLContext context = EGL_NO_CONTEXT;
     std::string platform; // "EGL surfaceless" / "EGL device 0"
+    bool gles = false;    // input: an OpenGL ES 3.0 context instead of desktop GL core
     void destroy();
 };
 

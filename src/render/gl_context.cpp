@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <span>
 #include <vector>
 
 #include "render/gl.h"
@@ -51,26 +52,31 @@ std::string egl_error_text() {
 }
 
 // Initializes `display` and makes a desktop GL core context current on it:
-// 4.5 first (what llvmpipe gives), then 3.3, the least our shaders need.
+// 4.5 first (what llvmpipe gives), then 3.3, the least our shaders need;
+// with out->gles an OpenGL ES 3.0 context instead (to host the runtime
+// renderer on the ES target).
 std::string make_context(EGLDisplay display, const std::string& platform, GlContext* out) {
     if (display == EGL_NO_DISPLAY) return platform + ": no display";
     EGLint major = 0, minor = 0;
     if (!eglInitialize(display, &major, &minor)) return platform + ": eglInitialize failed (" + egl_error_text() + ")";
     auto fail = [&](const std::string& why) { return platform + ": " + why; };
-    if (!eglBindAPI(EGL_OPENGL_API)) return fail("no desktop OpenGL API");
+    if (!eglBindAPI(out->gles ? EGL_OPENGL_ES_API : EGL_OPENGL_API)) return fail(out->gles ? "no OpenGL ES API" : "no desktop OpenGL API");
     const char* extensions = eglQueryString(display, EGL_EXTENSIONS);
     if (!has_extension(extensions, "EGL_KHR_surfaceless_context")) return fail("no EGL_KHR_surfaceless_context");
 
     EGLConfig config = nullptr;
     if (!has_extension(extensions, "EGL_KHR_no_config_context")) {
-        const EGLint attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+        const EGLint attributes[] = {EGL_RENDERABLE_TYPE, out->gles ? EGL_OPENGL_ES3_BIT : EGL_OPENGL_BIT, EGL_NONE};
         EGLint count = 0;
         if (!eglChooseConfig(display, attributes, &config, 1, &count) || count < 1) return fail("no OpenGL config");
     }
     const EGLint versions[][2] = {{4, 5}, {3, 3}};
-    for (const auto& v : versions) {
-        const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, v[0], EGL_CONTEXT_MINOR_VERSION, v[1],
-                                     EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    const EGLint es_versions[][2] = {{3, 0}};
+    for (const auto& v : out->gles ? std::span<const EGLint[2]>(es_versions) : std::span<const EGLint[2]>(versions)) {
+        const EGLint desktop[] = {EGL_CONTEXT_MAJOR_VERSION, v[0], EGL_CONTEXT_MINOR_VERSION, v[1],
+                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        const EGLint es[] = {EGL_CONTEXT_MAJOR_VERSION, v[0], EGL_CONTEXT_MINOR_VERSION, v[1], EGL_NONE};
+        const EGLint* attributes = out->gles ? es : desktop;
         EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes);
         if (context == EGL_NO_CONTEXT) continue;
         if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
@@ -82,7 +88,7 @@ std::string make_context(EGLDisplay display, const std::string& platform, GlCont
         out->platform = platform;
         return {};
     }
-    return fail("no OpenGL 3.3+ core context (" + egl_error_text() + ")");
+    return fail(std::string(out->gles ? "no OpenGL ES 3.0 context (" : "no OpenGL 3.3+ core context (") + egl_error_text() + ")");
 }
 
 std::string try_surfaceless(const char* client_extensions, PFNEGLGETPLATFORMDISPLAYEXTPROC get_display, GlContext* out) {

@@ -163,6 +163,7 @@ struct GlRenderer::Impl {
     // EGL contexts are current per thread; several renderers on one thread
     // (tests compare platforms) each make theirs current before GL calls.
     void make_current() {
+        eglBindAPI(EGL_OPENGL_API); // a GlHost on this thread may have bound ES
         if (eglGetCurrentContext() != context.context)
             eglMakeCurrent(context.display, EGL_NO_SURFACE, EGL_NO_SURFACE, context.context);
     }

@@ -1,0 +1,110 @@
+// depthcull::runtime in a host's context: both targets draw, states and
+// blend modes match the instrumented renderer's definition, dynamic
+// elements land in front, bad input gets a status, and a frame allocates
+// nothing.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "depthcull/io.h"
+#include "../render/render_scenes.h"
+#include "testing/corpus.h"
+#include "runtime_host.h"
+
+// GCC sees our malloc-backed operator new and free-backed delete inline and
+// warns about a mismatch that is not one.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+// Counts every allocation of the program, so a test can assert that a
+// stretch of code made none.
+static std::atomic<std::int64_t> g_allocations{0};
+void* operator new(std::size_t size) {
+    ++g_allocations;
+    if (void* p = std::malloc(size ? size : 1)) return p;
+    throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace depthcull {
+namespace {
+
+using render::GlApi;
+
+class Runtime : public testing::TestWithParam<GlApi> {};
+
+TEST_P(Runtime, DrawsOverpaintOfTheMixedScene) {
+    DEPTHCULL_RUNTIME_HOST(h, GetParam());
+    test::RenderScene rs = test::mixed_scene();
+    auto views = rs.views();
+    ASSERT_EQ(h->renderer->upload_images(views, Filter::nearest), runtime::Status::ok) << h->renderer->error();
+    Image frame = h->frame(overpaint_meshes(rs.scene));
+    ASSERT_EQ(frame.width, rs.scene.viewport.width);
+    std::int64_t drawn = 0;
+    for (std::size_t i = 3; i < frame.rgba.size(); i += 4) drawn += frame.rgba[i] != 0;
+    EXPECT_GT(drawn, frame.width * frame.height / 2); // the 16x background covers most of it
+}
+
+TEST_P(Runtime, BadDrawsGetAStatusAndAMessage) {
+    DEPTHCULL_RUNTIME_HOST(h, GetParam());
+    test::RenderScene rs = test::mixed_scene();
+    auto views = rs.views();
+    ASSERT_EQ(h->renderer->upload_images(views, Filter::nearest), runtime::Status::ok);
+    SceneMeshes meshes = overpaint_meshes(rs.scene);
+    meshes.draws[1].image = 7;
+    EXPECT_EQ(h->renderer->set_meshes(meshes), runtime::Status::bad_meshes);
+    EXPECT_NE(h->renderer->error().find("image 7"), std::string::npos) << h->renderer->error();
+    meshes = overpaint_meshes(rs.scene);
+    meshes.draws[0].indices[2] = 99;
+    EXPECT_EQ(h->renderer->set_meshes(meshes), runtime::Status::bad_meshes);
+    EXPECT_NE(h->renderer->error().find("index 99"), std::string::npos) << h->renderer->error();
+    const ImageView empty{};
+    EXPECT_EQ(h->renderer->upload_images({&empty, 1}, Filter::nearest), runtime::Status::bad_image);
+}
+
+TEST_P(Runtime, AFrameWithDynamicElementsAllocatesNothing) {
+    DEPTHCULL_RUNTIME_HOST(h, GetParam());
+    io::PreparedScene p = io::prepare_scene(test::source_path("examples/meadow.json"), {});
+    std::vector<ImageView> views;
+    for (const Image& i : p.images) views.push_back(i.view());
+    ASSERT_EQ(h->renderer->upload_images(views, p.scene.filter), runtime::Status::ok);
+    ReconstructOptions options;
+    options.reserved_dynamic_levels = 16;
+    SceneMeshes static_meshes;
+    ASSERT_EQ(reconstruct_scene(p.scene, p.element_analysis, options, &static_meshes), ReconstructStatus::ok);
+    ASSERT_EQ(h->renderer->set_meshes(static_meshes), runtime::Status::ok);
+    // Only the dynamic draws: add_dynamic_elements over the static meshes
+    // without their draws.
+    SceneMeshes no_draws = static_meshes;
+    no_draws.draws.clear();
+    std::vector<Element> moving(p.scene.elements.end() - 8, p.scene.elements.end());
+    std::vector<const ImageAnalysis*> analyses(p.element_analysis.end() - 8, p.element_analysis.end());
+    SceneMeshes dynamic;
+    ASSERT_EQ(add_dynamic_elements(no_draws, p.scene, moving, analyses, &dynamic), ReconstructStatus::ok);
+    ASSERT_FALSE(dynamic.draws.empty());
+    std::size_t vertices = 0, indices = 0;
+    for (const Draw& d : dynamic.draws) vertices += d.vertex_count(), indices += d.indices.size();
+    ASSERT_EQ(h->renderer->reserve_dynamic(vertices, indices), runtime::Status::ok);
+    h->host->bind_framebuffer(p.scene.viewport.width, p.scene.viewport.height);
+    const runtime::Camera camera = runtime::camera_of(p.scene.viewport, false);
+    ASSERT_EQ(h->renderer->draw(camera, dynamic.draws), runtime::Status::ok);
+    const std::int64_t before = g_allocations.load();
+    runtime::FrameCounts counts;
+    for (int frame = 0; frame < 5; ++frame) {
+        ASSERT_EQ(h->renderer->draw(camera, dynamic.draws, {}, &counts), runtime::Status::ok);
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0);
+    EXPECT_EQ(counts.draw_calls, std::int64_t(static_meshes.draws.size() + dynamic.draws.size()));
+}
+
+INSTANTIATE_TEST_SUITE_P(Targets, Runtime, testing::Values(GlApi::desktop, GlApi::gles),
+                         [](const auto& info) { return info.param == GlApi::gles ? "es30" : "gl33"; });
+
+} // namespace
+} // namespace depthcull
