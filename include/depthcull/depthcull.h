@@ -21,6 +21,8 @@
  * - Threads: calls on different handles may run concurrently; a handle may
  *   be read (const functions) from many threads at once but not changed
  *   while read. dc_last_error is per thread.
+ * - The renderer (dc_renderer_*) makes GL calls: its calls, destroy
+ *   included, need the host's GL context current on the calling thread.
  * - Coordinates: texel space of an image has its origin at the top-left,
  *   y down; texel (i, j) covers [i, i+1] x [j, j+1]. Screen space likewise,
  *   in pixels. */
@@ -53,7 +55,10 @@ typedef enum dc_status {
                                            elements beyond the reserved levels */
     DC_ERROR_IO = 4,                    /* a file could not be read or written, or is not a valid meshes file */
     DC_ERROR_OUT_OF_MEMORY = 5,
-    DC_ERROR_INTERNAL = 6               /* a bug: please report dc_last_error() */
+    DC_ERROR_INTERNAL = 6,              /* a bug: please report dc_last_error() */
+    DC_ERROR_GL = 7,                    /* the runtime renderer: no usable GL 3.3 / ES 3.0, a shader that did
+                                           not build, or a GL error */
+    DC_ERROR_UNSUPPORTED = 8            /* this build of the library lacks the feature (the runtime renderer) */
 } dc_status;
 
 /* The message of the last failed call on this thread ("" before any). */
@@ -259,6 +264,71 @@ DC_API dc_status dc_meshes_write_file(const dc_meshes* meshes, const char* path,
 /* `*data` (release with dc_free) gets `*size` bytes; image paths as held. */
 DC_API dc_status dc_meshes_write_memory(const dc_meshes* meshes, dc_format format, unsigned flags, void** data, size_t* size);
 DC_API void dc_free(void* data);
+
+/* ---- The runtime renderer (depthcull::runtime) in the host's GL context
+ *
+ * Draws meshes the way an engine would: a plain sprite shader (texture x
+ * vertex colour), opaque pass front to back with depth writes, blend pass
+ * back to front, then each frame's dynamic draws. OpenGL 3.3 core or
+ * OpenGL ES 3.0; the host owns the context (current on the calling thread)
+ * and the framebuffer, which needs a depth buffer (24 bits for most scenes:
+ * stats.depth_bits says). No EGL, no window, no GL loader library. */
+
+/* Finds a GL entry point by name: eglGetProcAddress, SDL_GL_GetProcAddress,
+ * glfwGetProcAddress. NULL when absent. */
+typedef void* (*dc_gl_loader)(const char* name);
+
+typedef struct dc_renderer dc_renderer;
+
+/* Pixels of one image for dc_renderer_upload_images: RGBA8,
+ * non-premultiplied, rows `stride` bytes apart. */
+typedef struct dc_image_pixels {
+    const uint8_t* rgba;
+    int width, height;
+    ptrdiff_t stride;
+} dc_image_pixels;
+
+/* What part of the world a frame shows: world [x, x+width) x [y, y+height)
+ * fills the bound framebuffer's [0, width) x [0, height). flip_y: 1 for a
+ * window's default framebuffer (row 0 at the bottom), 0 for an offscreen
+ * one read back with glReadPixels (first row = the world's top row). */
+typedef struct dc_camera {
+    double x, y;
+    int width, height;
+    int flip_y;
+} dc_camera;
+
+typedef struct dc_frame_options {
+    int clear_color;   /* clear the colour buffer to transparent black first; 0 */
+    int count_samples; /* count fragments that pass the depth test (desktop GL only); 0 */
+} dc_frame_options;
+
+typedef struct dc_frame_counts {
+    int64_t draw_calls, triangles;
+    int64_t samples_passed; /* -1 unless count_samples on desktop GL */
+} dc_frame_counts;
+
+/* Builds the renderer in the current context; `loader` finds GL functions. */
+DC_API dc_status dc_renderer_create(dc_gl_loader loader, dc_renderer** out);
+/* Deletes the GL objects it made (context current); accepts NULL. */
+DC_API void dc_renderer_destroy(dc_renderer* renderer);
+/* "4.5 (Core Profile) Mesa 22.3.6"; valid while the renderer lives. */
+DC_API const char* dc_renderer_gl_version(const dc_renderer* renderer);
+/* One texture per image of the meshes (a draw's image indexes them):
+ * either uploaded from pixels (copied into GL; sampled with `filter`, the
+ * one the analysis assumed) or the host's own GL texture names (never
+ * changed or deleted by the renderer). */
+DC_API dc_status dc_renderer_upload_images(dc_renderer* renderer, const dc_image_pixels* images, size_t count, dc_filter filter);
+DC_API dc_status dc_renderer_set_textures(dc_renderer* renderer, const unsigned* gl_texture_names, size_t count);
+/* Uploads the static meshes once (after the textures); replaces any before. */
+DC_API dc_status dc_renderer_set_meshes(dc_renderer* renderer, const dc_meshes* meshes);
+/* Room for a frame's dynamic draws, so frames within it allocate nothing. */
+DC_API dc_status dc_renderer_reserve_dynamic(dc_renderer* renderer, size_t vertices, size_t indices);
+/* Draws one frame into the bound framebuffer: the static meshes and
+ * `dynamic` (a frame from dc_add_dynamic_elements, or NULL) each in its
+ * place. `options` and `counts` may be NULL. */
+DC_API dc_status dc_renderer_draw(dc_renderer* renderer, const dc_camera* camera, const dc_meshes* dynamic,
+                                  const dc_frame_options* options, dc_frame_counts* counts);
 
 #ifdef __cplusplus
 }

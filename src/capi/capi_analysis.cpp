@@ -57,6 +57,8 @@ const char* dc_status_string(dc_status status) {
     case DC_ERROR_IO: return "i/o error";
     case DC_ERROR_OUT_OF_MEMORY: return "out of memory";
     case DC_ERROR_INTERNAL: return "internal error";
+    case DC_ERROR_GL: return "OpenGL error";
+    case DC_ERROR_UNSUPPORTED: return "not in this build";
     }
     return "unknown status";
 }
