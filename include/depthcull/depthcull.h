@@ -274,9 +274,12 @@ DC_API void dc_free(void* data);
  * and the framebuffer, which needs a depth buffer (24 bits for most scenes:
  * stats.depth_bits says). No EGL, no window, no GL loader library. */
 
-/* Finds a GL entry point by name: eglGetProcAddress, SDL_GL_GetProcAddress,
- * glfwGetProcAddress. NULL when absent. */
-typedef void* (*dc_gl_loader)(const char* name);
+/* A GL function as a loader returns it (cast to its own type to call it). */
+typedef void (*dc_gl_function)(void);
+/* Finds a GL entry point by name; NULL when absent. eglGetProcAddress and
+ * glfwGetProcAddress have this type; SDL_GL_GetProcAddress (returning
+ * void*) needs a one-line wrapper. Called only during dc_renderer_create. */
+typedef dc_gl_function (*dc_gl_loader)(const char* name);
 
 typedef struct dc_renderer dc_renderer;
 

@@ -17,6 +17,11 @@ struct dc_renderer {
 
 namespace {
 
+// runtime::Renderer::create takes a plain function; the C loader reaches
+// it through this thread's slot, set only for the duration of create.
+thread_local dc_gl_loader current_loader = nullptr;
+void* call_current_loader(const char* name) { return reinterpret_cast<void*>(current_loader(name)); }
+
 dc_status runtime_status(const char* function, runtime::Status status, const runtime::Renderer& r) {
     switch (status) {
     case runtime::Status::ok: return DC_OK;
@@ -37,7 +42,9 @@ dc_status dc_renderer_create(dc_gl_loader loader, dc_renderer** out) {
     return guard("dc_renderer_create", [&] {
         if (!loader || !out) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_renderer_create: loader and out must not be NULL");
         std::string error;
-        auto r = runtime::Renderer::create(loader, &error);
+        current_loader = loader;
+        auto r = runtime::Renderer::create(&call_current_loader, &error);
+        current_loader = nullptr;
         if (!r) return fail(DC_ERROR_GL, "dc_renderer_create", error.c_str());
         *out = new dc_renderer{std::move(r)};
         return DC_OK;

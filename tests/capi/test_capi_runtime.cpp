@@ -27,6 +27,9 @@ struct Host {
     Host() { host = render::GlHost::create({}, render::GlApi::desktop, &why); }
 };
 
+// The host's loader as C sees it.
+dc_gl_function gl_function(const char* name) { return reinterpret_cast<dc_gl_function>(render::GlHost::get_proc_address(name)); }
+
 #define NEED_HOST(h)                                                                   \
     Host h;                                                                            \
     if (!h.host) {                                                                     \
@@ -66,7 +69,7 @@ TEST(CApiRuntime, DrawsWhatTheCppRuntimeDraws) {
 
     // Through C.
     dc_renderer* r = nullptr;
-    ASSERT_EQ(dc_renderer_create(&render::GlHost::get_proc_address, &r), DC_OK) << dc_last_error();
+    ASSERT_EQ(dc_renderer_create(&gl_function, &r), DC_OK) << dc_last_error();
     EXPECT_NE(std::string(dc_renderer_gl_version(r)), "");
     const dc_image_pixels pixels{image.rgba.data(), 10, 10, 40};
     ASSERT_EQ(dc_renderer_upload_images(r, &pixels, 1, DC_FILTER_NEAREST), DC_OK) << dc_last_error();
