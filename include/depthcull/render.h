@@ -276,4 +276,43 @@ struct MeasureOptions {
 SceneMeasurement measure_scene(GlRenderer& renderer, const Scene& scene, const std::vector<ImageView>& images,
                                const std::vector<const ImageAnalysis*>& analyses, const MeasureOptions& options);
 
+// ---- Frames as an engine draws them: depthcull::runtime (the plain sprite
+// shader, no per-element maps or rect tests), hosted in a GlHost. What
+// `depthcull bench` reports; GlRenderer stays for `render --compare`.
+
+// Differing pixels whose centre lies on no texel edge of an element whose
+// rect holds it: differences rounding cannot explain. A pixel centre
+// exactly on a texel edge (within kTexelEdgeTolerance, the float rounding
+// of the element's map) may show the texel on either side, depending on
+// the last bits of the interpolated u, v of the triangle that covers it;
+// anywhere else a plain renderer must draw the optimized meshes exactly
+// like overpaint (ReconstructOptions::texel_margin).
+inline constexpr double kTexelEdgeTolerance = 1.0 / 65536;
+std::int64_t count_off_texel_edges(ImageView a, ImageView b, const Scene& scene);
+
+struct RuntimeModeMeasurement {
+    Mode mode = Mode::overpaint;
+    std::int64_t draw_calls = 0;
+    std::int64_t triangles = 0;
+    std::int64_t fragments_rasterized = 0; // GL_SAMPLES_PASSED with the depth test off
+    std::int64_t fragments_shaded = 0;     // GL_SAMPLES_PASSED as drawn
+    double wall_ms = 0;                    // median per frame, glFinish each
+    double cpu_ms = 0;                     // median process CPU time per frame
+    ImageDiff diff;                        // against the runtime's overpaint frame
+    std::int64_t off_texel_edges = 0;      // of diff.pixels_differ: count_off_texel_edges
+    Image frame;                           // when MeasureOptions::keep_frames
+};
+
+struct RuntimeMeasurement {
+    int width = 0, height = 0;
+    double ideal_overdraw = 0;
+    std::vector<RuntimeModeMeasurement> modes;
+};
+
+// Draws `scene` in every mode of options.modes with depthcull::runtime
+// (nearest or linear as scene.filter says), overpaint first as the
+// reference; modes take turns frame by frame when timing. Throws Error.
+RuntimeMeasurement measure_runtime(GlHost& host, const Scene& scene, const std::vector<ImageView>& images,
+                                   const std::vector<const ImageAnalysis*>& analyses, const MeasureOptions& options);
+
 } // namespace depthcull::render

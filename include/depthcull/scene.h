@@ -170,6 +170,10 @@ enum class SortMethod {
     batch, // ours: topological order preferring the current mesh; the default
 };
 
+// 1/32 texel: 1/256 pixel at a scale of 1/8, twice llvmpipe's worst
+// vertex snapping error (ReconstructOptions::texel_margin).
+inline constexpr double kTexelMargin = 1.0 / 32;
+
 struct ReconstructOptions {
     GraphMode graph = GraphMode::polygons;
     SortMethod sort = SortMethod::batch;
@@ -196,6 +200,14 @@ struct ReconstructOptions {
     // of its element's polygons (or to itself) gets no skirt, which would
     // blend the other's texels twice.
     double coverage_margin = 0;
+    // Texels by which boundary polygons are grown (a skirt of triangles
+    // around them, clipped to the element's rect) and opaque polygons
+    // pulled in, so that a plain renderer (texture x colour, nearest
+    // filtering; depthcull::runtime, an engine's sprite shader) draws the
+    // optimized meshes pixel for pixel like overpaint despite GL's vertex
+    // snapping. See src/scene/texel_margin.cpp for why kTexelMargin; 0
+    // turns it off (the paper's meshes exactly).
+    double texel_margin = kTexelMargin;
 };
 
 enum class ReconstructStatus {

@@ -46,6 +46,7 @@ void MeshBuilder::add_boundary(Draw& d, std::uint32_t element, Shape shape, cons
         add_polygon(d, element, p, it->second, z);
     }
     if (margin_ > 0 && blend != Blend::opaque) add_skirts(d, element, a->boundary, z);
+    if (blend != Blend::opaque) add_texel_skirts(d, element, a->boundary, z);
 }
 
 void MeshBuilder::add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z) {
@@ -59,7 +60,8 @@ void MeshBuilder::add_opaque(Draw& d, std::uint32_t element, Shape shape, const 
     // kMaxOpaqueVertices), so a fan;
     // zero-area fan triangles (collinear vertices) are skipped, exactly.
     std::vector<std::uint32_t> fan;
-    for (const Polygon& p : a->opaque) {
+    for (const Polygon& original : a->opaque) {
+        const Polygon p = pull_inward(original);
         fan.clear();
         for (std::uint32_t k = 1; k + 1 < p.size(); ++k)
             if (orient(p[0], p[k], p[k + 1]) != 0) fan.insert(fan.end(), {0, k, k + 1});
@@ -196,7 +198,7 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = options.opaque_polygons;
-    MeshBuilder builder(scene, 0, options.coverage_margin);
+    MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin);
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);
     append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
@@ -238,7 +240,7 @@ ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions&
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = false;
-    MeshBuilder builder(scene, 0, options.coverage_margin);
+    MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin);
     append_blend_draws(scene, order, nullptr, rects, none, keys, 0, builder, result.draws);
     append_element_maps(scene, result.element_maps);
     result.stats.elements = std::int64_t(n);

@@ -65,8 +65,9 @@ namespace depthcull::detail {
 // map first_map + element (Draw::vertex_elements).
 class MeshBuilder {
 public:
-    explicit MeshBuilder(const Scene& scene, std::uint32_t first_map = 0, double coverage_margin = 0)
-        : scene_(scene), first_map_(first_map), margin_(coverage_margin) {}
+    explicit MeshBuilder(const Scene& scene, std::uint32_t first_map = 0, double coverage_margin = 0,
+                         double texel_margin = kTexelMargin)
+        : scene_(scene), first_map_(first_map), margin_(coverage_margin), texel_margin_(texel_margin) {}
     void add_boundary(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
 
@@ -74,11 +75,19 @@ public:
     // `element`, texel space) when the margin is positive.
     void add_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z);
 
+    // ReconstructOptions::texel_margin (texel_margin.cpp): a skirt around
+    // boundary polygons, clipped to the rect; opaque polygons pulled in.
+    void add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z);
+    Polygon pull_inward(const Polygon& p) const;
+
 private:
+    void add_convex_piece(Draw& d, std::uint32_t element, const Polygon& piece, float z);
     void add_polygon(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z);
     const Scene& scene_;
     std::uint32_t first_map_;
     double margin_;
+    double texel_margin_;
+    std::vector<std::uint32_t> fan_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };
 

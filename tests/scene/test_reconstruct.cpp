@@ -174,7 +174,9 @@ TEST(GenerateMeshes, VerticesFollowTheTransformAndRect) {
     b.scene.elements.push_back(e);
     b.analyses.push_back(an.get());
     SceneMeshes m;
-    ASSERT_EQ(reconstruct_scene(b.scene, b.analyses, {}, &m), ReconstructStatus::ok);
+    ReconstructOptions paper_meshes;
+    paper_meshes.texel_margin = 0; // the polygon's own vertices only
+    ASSERT_EQ(reconstruct_scene(b.scene, b.analyses, paper_meshes, &m), ReconstructStatus::ok);
     ASSERT_EQ(m.draws.size(), 1u);
     const std::vector<float>& v = m.draws[0].vertices;
     ASSERT_EQ(v.size(), 4u * kVertexFloats);

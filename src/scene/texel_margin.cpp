@@ -1,0 +1,186 @@
+// Beyond the paper: the texel margin (ReconstructOptions::texel_margin)
+// that lets a plain renderer (texture x colour, no per-element tests, e.g.
+// depthcull::runtime or an engine's sprite shader) draw the optimized
+// meshes exactly like overpaint.
+//
+// GL snaps vertices (llvmpipe to 1/256 pixel), so a pixel centre that close
+// to a polygon edge may fall on either side of it. Polygon edges lie on
+// texel edges, so such a centre shows a texel next to the edge: with
+// boundary polygons, possibly a non-transparent one just inside that the
+// optimized frame leaves out; with opaque polygons, possibly a non-opaque
+// one just outside that the opaque pass writes with blending off. Hence:
+// - boundary polygons get a skirt, in texel space, `margin` wide around
+//   them and clipped to the element's rect. It lies outside the polygon,
+//   where every texel is transparent (paper 2.1's guarantee), so its
+//   fragments leave the frame as it is in every blend mode, however its
+//   pieces overlap; clipped, it never samples past the rect (the next atlas
+//   frame), and the rect's own edges stay overpaint's.
+// - opaque polygons (convex) are pulled `margin` inward, so every pixel the
+//   opaque pass may cover samples a texel its polygon covered.
+// Why texel space: the margin must beat the snapping after the element's
+// scale. 1/32 texel is 1/256 pixel at a scale of 1/8, still twice
+// llvmpipe's worst snapping error (1/512 pixel per coordinate), and at
+// scale 1 it costs the opaque pass a 1/32-pixel strip per edge.
+#include <algorithm>
+#include <cmath>
+
+#include "scene/internal.h"
+
+namespace depthcull::detail {
+
+namespace {
+
+// Sutherland-Hodgman against one axis-aligned half plane: keeps points
+// with sign * (coord - bound) >= 0, coord = x (axis 0) or y (axis 1).
+Polygon clip(const Polygon& in, int axis, double bound, double sign) {
+    Polygon out;
+    const std::size_t n = in.size();
+    auto inside = [&](const Vec2& p) { return sign * ((axis == 0 ? p.x : p.y) - bound) >= 0; };
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec2& a = in[i];
+        const Vec2& b = in[(i + 1) % n];
+        const bool ia = inside(a), ib = inside(b);
+        if (ia) out.push_back(a);
+        if (ia != ib) {
+            const double ca = axis == 0 ? a.x : a.y, cb = axis == 0 ? b.x : b.y;
+            const double t = (bound - ca) / (cb - ca);
+            Vec2 p = a + t * (b - a);
+            (axis == 0 ? p.x : p.y) = bound; // exactly on the rect edge
+            out.push_back(p);
+        }
+    }
+    return out;
+}
+
+Polygon clip_to_rect(Polygon p, const Rect& r) {
+    p = clip(p, 0, r.x, 1);
+    if (!p.empty()) p = clip(p, 0, double(r.x) + r.w, -1);
+    if (!p.empty()) p = clip(p, 1, r.y, 1);
+    if (!p.empty()) p = clip(p, 1, double(r.y) + r.h, -1);
+    return p;
+}
+
+double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+    const Vec2 d = b - a;
+    const double len2 = d.x * d.x + d.y * d.y;
+    const double t = len2 > 0 ? std::clamp(((p.x - a.x) * d.x + (p.y - a.y) * d.y) / len2, 0.0, 1.0) : 0.0;
+    return std::hypot(a.x + t * d.x - p.x, a.y + t * d.y - p.y);
+}
+
+// Smallest distance from a vertex of p to an edge of q (not incident to
+// the vertex when p == q).
+double vertex_edge_distance(const Polygon& p, const Polygon& q, bool same) {
+    double best = INFINITY;
+    const std::size_t n = q.size();
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (std::size_t k = 0; k < n; ++k) {
+            if (same && (k == i || (k + 1) % n == i)) continue;
+            best = std::min(best, distance_to_segment(p[i], q[k], q[(k + 1) % n]));
+        }
+    return best;
+}
+
+// Outward unit normal of edge i of a clockwise (y down) polygon; zero for
+// a zero-length edge.
+Vec2 outward_normal(const Polygon& p, std::size_t i) {
+    const Vec2 d = p[(i + 1) % p.size()] - p[i];
+    const double len = std::hypot(d.x, d.y);
+    return len > 0 ? Vec2{d.y / len, -d.x / len} : Vec2{0, 0};
+}
+
+} // namespace
+
+void MeshBuilder::add_convex_piece(Draw& d, std::uint32_t element, const Polygon& piece, float z) {
+    const Polygon p = clip_to_rect(piece, scene_.elements[element].rect);
+    if (p.size() < 3) return;
+    fan_.clear();
+    for (std::uint32_t k = 1; k + 1 < p.size(); ++k)
+        if (orient(p[0], p[k], p[k + 1]) != 0) fan_.insert(fan_.end(), {0, k, k + 1});
+    if (!fan_.empty()) add_polygon(d, element, p, fan_, z);
+}
+
+void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z) {
+    const double m = texel_margin_;
+    if (!(m > 0) || !std::isfinite(m)) return;
+    // Polygons (or parts of one) closer than the skirt reaches would get
+    // each other's skirt over their inside texels, blending those twice:
+    // no skirt for them.
+    std::vector<std::uint8_t> grow(polygons.size(), 1);
+    for (std::size_t a = 0; a < polygons.size(); ++a) {
+        if (polygons[a].size() < 3 || !(signed_area(polygons[a]) > 0)) grow[a] = 0;
+        for (std::size_t b = a; b < polygons.size(); ++b) {
+            const bool same = a == b;
+            if (vertex_edge_distance(polygons[a], polygons[b], same) < 3 * m ||
+                (!same && vertex_edge_distance(polygons[b], polygons[a], false) < 3 * m))
+                grow[a] = grow[b] = 0;
+        }
+    }
+    for (std::size_t k = 0; k < polygons.size(); ++k) {
+        if (!grow[k]) continue;
+        const Polygon& p = polygons[k];
+        const std::size_t n = p.size();
+        std::vector<Vec2> normal(n);
+        for (std::size_t i = 0; i < n; ++i) normal[i] = outward_normal(p, i);
+        // Reflex corners: the two edges' strips end on the corner's exterior
+        // bisector (the offset lines' crossing), so neither reaches into the
+        // polygon; a corner so sharp that this runs far out: no skirt.
+        std::vector<Vec2> offset(n);
+        std::vector<std::uint8_t> reflex(n, 0);
+        bool sharp = false;
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec2 n1 = normal[(i + n - 1) % n], n2 = normal[i];
+            const double turn = cross(n1, n2), dot = n1.x * n2.x + n1.y * n2.y;
+            if (!(turn < 0)) continue; // clockwise polygon: normals turn clockwise at convex corners
+            if (dot < -0.8) sharp = true;
+            reflex[i] = 1;
+            offset[i] = (m / (1 + dot)) * (n1 + n2);
+        }
+        if (sharp) continue;
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t j = (i + 1) % n;
+            const Vec2 nm = normal[i];
+            if (nm.x == 0 && nm.y == 0) continue;
+            const Vec2 da = reflex[i] ? offset[i] : m * nm, db = reflex[j] ? offset[j] : m * nm;
+            add_convex_piece(d, element, {p[i], p[j], p[j] + db, p[i] + da}, z);
+        }
+        // Convex corners: a fan from one edge's normal to the next's, in
+        // steps of at most 45 degrees at radius margin / cos(step / 2),
+        // covers every point within the margin of the corner.
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec2 n1 = normal[(i + n - 1) % n], n2 = normal[i];
+            if ((n1.x == 0 && n1.y == 0) || (n2.x == 0 && n2.y == 0)) continue;
+            const double turn = std::atan2(cross(n1, n2), n1.x * n2.x + n1.y * n2.y);
+            if (!(turn > 0)) continue;
+            const int steps = std::max(1, int(std::ceil(turn / (3.14159265358979323846 / 4))));
+            const double step = turn / steps, radius = m / std::cos(step / 2), base = std::atan2(n1.y, n1.x);
+            Polygon fan{p[i]};
+            for (int s = 0; s <= steps; ++s)
+                fan.push_back(p[i] + radius * Vec2{std::cos(base + step * s), std::sin(base + step * s)});
+            add_convex_piece(d, element, fan, z);
+        }
+    }
+}
+
+Polygon MeshBuilder::pull_inward(const Polygon& p) const {
+    const double m = texel_margin_;
+    if (!(m > 0) || p.size() < 3) return p;
+    const std::size_t n = p.size();
+    // Each edge's line moved m inward; consecutive lines meet at the new
+    // corner. Collinear neighbours keep the moved vertex.
+    Polygon out;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec2 n1 = outward_normal(p, (i + n - 1) % n), n2 = outward_normal(p, i);
+        const double dot = n1.x * n2.x + n1.y * n2.y;
+        if ((n1.x == 0 && n1.y == 0) || (n2.x == 0 && n2.y == 0) || !(1 + dot > 1e-9)) return {};
+        out.push_back(p[i] - (m / (1 + dot)) * (n1 + n2));
+    }
+    // Too small to pull in (an edge would flip): nothing left to draw.
+    if (!is_convex(out) || !(signed_area(out) > 0)) return {};
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec2 a = p[(i + 1) % n] - p[i], b = out[(i + 1) % n] - out[i];
+        if (!(a.x * b.x + a.y * b.y > 0)) return {};
+    }
+    return out;
+}
+
+} // namespace depthcull::detail
