@@ -145,7 +145,7 @@ typedef struct dc_element {
     int blend;            /* dc_blend */
 } dc_element;
 
-/* Whole-image rect of 0 x 0 (set it), identity transform, white, alpha. */
+/* An empty rect (set it to the texels shown), identity transform, white, alpha. */
 DC_API void dc_element_default(dc_element* element);
 
 typedef struct dc_scene dc_scene;
@@ -174,6 +174,8 @@ typedef struct dc_reconstruct_options {
     int opaque_polygons;             /* 0: no opaque pass at all; 1 */
     int64_t reserved_dynamic_levels; /* depth levels kept for dc_add_dynamic_elements; 0 */
     int cull_to_viewport;            /* drop elements outside the viewport; 0 */
+    double texel_margin;             /* texels by which polygons keep clear of texel edges, so GL's vertex
+                                        snapping cannot change a pixel (0..0.25); 1/32 */
 } dc_reconstruct_options;
 
 DC_API void dc_reconstruct_options_default(dc_reconstruct_options* options);

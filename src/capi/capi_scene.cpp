@@ -67,7 +67,7 @@ void dc_reconstruct_options_default(dc_reconstruct_options* options) {
     const ReconstructOptions d;
     *options = dc_reconstruct_options{d.graph == GraphMode::boxes ? DC_GRAPH_BOXES : DC_GRAPH_POLYGONS,
                                       d.sort == SortMethod::none ? DC_SORT_NONE : d.sort == SortMethod::paper ? DC_SORT_PAPER : DC_SORT_BATCH,
-                                      d.opaque_polygons, d.reserved_dynamic_levels, d.cull_to_viewport};
+                                      d.opaque_polygons, d.reserved_dynamic_levels, d.cull_to_viewport, d.texel_margin};
 }
 
 dc_status dc_scene_create(dc_viewport viewport, dc_scene** out) {
@@ -123,12 +123,14 @@ dc_status dc_reconstruct(const dc_scene* scene, const dc_reconstruct_options* op
             return fail(DC_ERROR_INVALID_ARGUMENT, "dc_reconstruct: graph and sort must be a dc_graph_mode and a dc_sort_method");
         if (o.reserved_dynamic_levels < 0 || o.reserved_dynamic_levels > kMaxDepthLevels)
             return fail(DC_ERROR_INVALID_ARGUMENT, "dc_reconstruct: reserved_dynamic_levels must be 0.." + std::to_string(kMaxDepthLevels));
+        if (!(o.texel_margin >= 0 && o.texel_margin <= 0.25)) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_reconstruct: texel_margin must be in 0..0.25");
         ReconstructOptions r;
         r.graph = o.graph == DC_GRAPH_BOXES ? GraphMode::boxes : GraphMode::polygons;
         r.sort = o.sort == DC_SORT_NONE ? SortMethod::none : o.sort == DC_SORT_PAPER ? SortMethod::paper : SortMethod::batch;
         r.opaque_polygons = o.opaque_polygons != 0;
         r.reserved_dynamic_levels = o.reserved_dynamic_levels;
         r.cull_to_viewport = o.cull_to_viewport != 0;
+        r.texel_margin = o.texel_margin;
         auto meshes = std::make_unique<dc_meshes>();
         if (dc_status s = capi::reconstruct_status("dc_reconstruct", reconstruct_scene(scene->scene, raw(scene->analyses), r, &meshes->loaded.meshes)))
             return s;

@@ -157,6 +157,10 @@ TEST(CApi, ReconstructionAndDynamicElementsAreTheCppOnes) {
     dc_reconstruct_options_default(&options);
     options.reserved_dynamic_levels = 4;
     dc_meshes* meshes = nullptr;
+    options.texel_margin = 1;
+    EXPECT_EQ(dc_reconstruct(s.c, &options, &meshes), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_STREQ(dc_last_error(), "dc_reconstruct: texel_margin must be in 0..0.25");
+    options.texel_margin = kTexelMargin;
     ASSERT_EQ(dc_reconstruct(s.c, &options, &meshes), DC_OK) << dc_last_error();
     ReconstructOptions cpp_options;
     cpp_options.reserved_dynamic_levels = 4;
