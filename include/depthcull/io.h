@@ -143,5 +143,45 @@ void write_meshes_json(const std::string& path, const Scene& scene, const SceneM
 // The same content in the compact little-endian binary form.
 std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
 void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing = true); // atomic
+// The same writers over an image list alone (what LoadedMeshes holds):
+// Draw::image indexes `images`.
+std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
+std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
+
+// ---- Optimized meshes back in: what a game loads (docs/mesh-format.md)
+
+// Limits of the mesh readers, checked before anything is allocated for
+// them: a hostile file cannot make a reader allocate more than it holds.
+inline constexpr std::size_t kMaxMeshImages = std::size_t(1) << 16;
+inline constexpr std::size_t kMaxMeshDraws = std::size_t(1) << 24;
+inline constexpr std::size_t kMaxMeshVertices = std::size_t(1) << 25;     // all draws together (1.2 GB of vertices)
+inline constexpr std::size_t kMaxMeshIndices = std::size_t(3) << 25;      // all draws together
+inline constexpr std::size_t kMaxMeshStringBytes = std::size_t(1) << 16;  // an image id or path
+
+struct LoadedMeshes {
+    // id, path (resolved against the meshes file's directory, as
+    // load_scene resolves a scene's paths), width, height.
+    std::vector<SceneImage> images;
+    // Draw::image indexes `images`. Nothing in memory only
+    // (element_maps, vertex_elements) is filled: the formats do not carry it.
+    SceneMeshes meshes;
+};
+
+// A meshes file in either form, told apart by the binary magic "DCMESH".
+// Bad files throw io::Error naming the file and the place: a byte offset
+// (binary) or a JSON path ("draws[3].indices[7]"). Checked: the formats'
+// shapes and known enums, the limits above, every float finite, z in
+// [0, 1], indices below their draw's vertex count and a multiple of 3,
+// draws naming existing images.
+LoadedMeshes read_meshes(const std::string& path);
+LoadedMeshes read_meshes_json(const std::string& path);
+LoadedMeshes read_meshes_binary(const std::string& path);
+// From memory: `name` names the source in errors; relative image paths are
+// resolved against `base_dir` (kept as written when it is empty), so
+// meshes_to_json(meshes_from_json(text, name).images, ..., "") == text.
+LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir = "");
+LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir = "");
+// True when `bytes` starts with the binary form's magic.
+bool is_binary_meshes(std::string_view bytes);
 
 } // namespace depthcull::io

@@ -27,7 +27,7 @@ struct Out {
 
 } // namespace
 
-std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
     Out o;
     o.bytes.append("DCMESH\0\0", 8);
     o.put(std::uint32_t(1)); // format version
@@ -36,12 +36,12 @@ std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, cons
     o.put(meshes.viewport.y);
     o.put(std::int32_t(meshes.viewport.width));
     o.put(std::int32_t(meshes.viewport.height));
-    o.put(std::uint32_t(scene.images.size()));
+    o.put(std::uint32_t(images.size()));
     o.put(std::uint32_t(meshes.draws.size()));
     const SceneStats& st = meshes.stats;
     for (std::int64_t v : {st.elements, st.draw_calls, st.triangles, st.depth_levels, st.depth_bits, st.graph_edges}) o.put(v);
     o.put(timing ? st.seconds : 0.0);
-    for (const SceneImage& img : scene.images) {
+    for (const SceneImage& img : images) {
         o.str(img.id);
         o.str(output_relative_path(img.path, output_path));
         o.pad4();
@@ -59,6 +59,10 @@ std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, cons
         o.bytes.append(reinterpret_cast<const char*>(d.indices.data()), d.indices.size() * sizeof(std::uint32_t));
     }
     return std::move(o.bytes);
+}
+
+std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+    return meshes_to_binary(scene.images, meshes, output_path, timing);
 }
 
 void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {

@@ -1,6 +1,7 @@
-// Internal to src/io: helpers shared by the mesh writers.
+// Internal to src/io: helpers shared by the mesh writers and readers.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include "depthcull/scene.h"
@@ -12,5 +13,19 @@ namespace depthcull::io {
 // written; unchanged for stdout.
 std::string output_relative_path(const std::string& image_path, const std::string& output_path);
 const char* blend_name(Blend b);
+
+// The readers' inverse of output_relative_path: a path as written in a
+// meshes file, resolved against the file's directory (kept as written when
+// base_dir is empty or the path is absolute or empty).
+std::string resolve_mesh_path(const std::string& base_dir, const std::string& path);
+
+// Why float k of a draw's vertex array cannot be drawn, or nullptr: every
+// value finite, z (the third of each vertex) in [0, 1] as the depth
+// mapping writes it.
+inline const char* vertex_float_problem(std::size_t k, float v) {
+    if (!std::isfinite(v)) return "is not a finite number";
+    if (k % kVertexFloats == 2 && !(v >= 0 && v <= 1)) return "is a depth (z) outside [0, 1]";
+    return nullptr;
+}
 
 } // namespace depthcull::io

@@ -38,7 +38,7 @@ void append_string(std::string& s, const std::string& v) { s += nlohmann::json(v
 
 } // namespace
 
-std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
     std::string s;
     s += "{\"viewport\": {\"x\": ";
     append_double(s, meshes.viewport.x);
@@ -51,8 +51,8 @@ std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const 
     s += "},\n \"depth_test\": ";
     s += meshes.depth_test ? "true" : "false";
     s += ",\n \"images\": [";
-    for (std::size_t i = 0; i < scene.images.size(); ++i) {
-        const SceneImage& img = scene.images[i];
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const SceneImage& img = images[i];
         s += i ? ",\n  " : "\n  ";
         s += "{\"id\": ";
         append_string(s, img.id);
@@ -69,7 +69,7 @@ std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const 
         const Draw& draw = meshes.draws[d];
         s += d ? ",\n  " : "\n  ";
         s += "{\"image\": ";
-        append_string(s, scene.images[std::size_t(draw.image)].id);
+        append_string(s, images[std::size_t(draw.image)].id);
         s += ", \"pass\": ";
         s += draw.pass == Pass::opaque ? "\"opaque\"" : "\"blend\"";
         s += ", \"blend\": \"";
@@ -105,6 +105,10 @@ std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const 
     return s;
 }
 
+std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+    return meshes_to_json(scene.images, meshes, output_path, timing);
+}
+
 void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {
     write_file_atomic(path, meshes_to_json(scene, meshes, path, timing));
 }
@@ -119,6 +123,12 @@ std::string output_relative_path(const std::string& image_path, const std::strin
     if (ec) return image_path;
     fs::path rel = target.lexically_normal().lexically_relative(base.lexically_normal());
     return rel.empty() ? image_path : rel.generic_string();
+}
+
+std::string resolve_mesh_path(const std::string& base_dir, const std::string& path) {
+    namespace fs = std::filesystem;
+    if (base_dir.empty() || path.empty() || fs::path(path).is_absolute()) return path;
+    return (fs::path(base_dir) / path).lexically_normal().generic_string();
 }
 
 const char* blend_name(Blend b) {

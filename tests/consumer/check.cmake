@@ -7,7 +7,8 @@ foreach(step
     "${CMAKE_COMMAND};--install;${BUILD_DIR};--prefix;${prefix}"
     "${CMAKE_COMMAND};-S;${SOURCE_DIR}/tests/consumer;-B;${consumer_build};-G;Ninja;-DCMAKE_PREFIX_PATH=${prefix}"
     "${CMAKE_COMMAND};--build;${consumer_build}"
-    "${consumer_build}/consumer;${SOURCE_DIR}/examples/meadow.json")
+    "${consumer_build}/consumer;${SOURCE_DIR}/examples/meadow.json"
+    "${consumer_build}/consumer_c")
   execute_process(COMMAND ${step} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "consumer check failed at: ${step}\n${out}\n${err}")

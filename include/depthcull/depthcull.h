@@ -1,0 +1,340 @@
+/* depthcull: the C API (C99), for engines in C, C#, Rust, Zig, Odin, Go
+ * or Lua. It covers per-image analysis (paper 2.1, 2.2), scene
+ * reconstruction into meshes (paper 2.3) with dynamic elements, and the
+ * mesh files (docs/mesh-format.md).
+ *
+ * Conventions
+ * - Every function that can fail returns a dc_status; DC_OK is 0. On
+ *   failure, dc_last_error() returns a one-line message saying what went
+ *   wrong (for files: the file and the place in it). No C++ exception ever
+ *   crosses this API.
+ * - Objects are opaque handles made by a *_create / *_read / dc_analyze_image
+ *   / dc_reconstruct call and released by the matching *_destroy, which
+ *   accepts NULL. Out-parameters are written only on success.
+ * - Pointers a getter returns (polygon points, vertex and index arrays,
+ *   strings) point into the handle: valid until the handle is destroyed or
+ *   passed as the output of another call; never free them.
+ * - Memory the library hands over (dc_meshes_write_memory) is released with
+ *   dc_free.
+ * - Input arrays are copied; the caller keeps ownership and may free them
+ *   once the call returns.
+ * - Threads: calls on different handles may run concurrently; a handle may
+ *   be read (const functions) from many threads at once but not changed
+ *   while read. dc_last_error is per thread.
+ * - The renderer (dc_renderer_*) makes GL calls: its calls, destroy
+ *   included, need the host's GL context current on the calling thread.
+ * - Coordinates: texel space of an image has its origin at the top-left,
+ *   y down; texel (i, j) covers [i, i+1] x [j, j+1]. Screen space likewise,
+ *   in pixels. */
+#ifndef DEPTHCULL_H
+#define DEPTHCULL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32) && defined(DEPTHCULL_C_BUILD)
+#define DC_API __declspec(dllexport)
+#elif defined(__GNUC__)
+#define DC_API __attribute__((visibility("default")))
+#else
+#define DC_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define DC_VERSION_MAJOR 0
+#define DC_VERSION_MINOR 1
+
+typedef enum dc_status {
+    DC_OK = 0,
+    DC_ERROR_INVALID_ARGUMENT = 1,      /* a NULL handle, an out-of-range value, a rect outside its image */
+    DC_ERROR_INVALID_SCENE = 2,         /* reconstruction refused the scene (see dc_last_error) */
+    DC_ERROR_TOO_MANY_DEPTH_LEVELS = 3, /* more levels than a 24-bit depth buffer resolves, or dynamic
+                                           elements beyond the reserved levels */
+    DC_ERROR_IO = 4,                    /* a file could not be read or written, or is not a valid meshes file */
+    DC_ERROR_OUT_OF_MEMORY = 5,
+    DC_ERROR_INTERNAL = 6,              /* a bug: please report dc_last_error() */
+    DC_ERROR_GL = 7,                    /* the runtime renderer: no usable GL 3.3 / ES 3.0, a shader that did
+                                           not build, or a GL error */
+    DC_ERROR_UNSUPPORTED = 8            /* this build of the library lacks the feature (the runtime renderer) */
+} dc_status;
+
+/* The message of the last failed call on this thread ("" before any). */
+DC_API const char* dc_last_error(void);
+/* "ok", "invalid argument", ...; never NULL. */
+DC_API const char* dc_status_string(dc_status status);
+
+typedef struct dc_rect {
+    int x, y, w, h; /* [x, x+w) x [y, y+h) */
+} dc_rect;
+
+typedef struct dc_point {
+    double x, y;
+} dc_point;
+
+/* ---- Per-image analysis (paper 2.1, 2.2) */
+
+typedef enum dc_filter { DC_FILTER_NEAREST = 0, DC_FILTER_LINEAR = 1 } dc_filter;
+typedef enum dc_opaque_method { DC_OPAQUE_PAPER = 0, DC_OPAQUE_FAST = 1, DC_OPAQUE_GROW = 2 } dc_opaque_method;
+
+typedef struct dc_analyze_options {
+    int max_boundary_vertices;       /* per boundary polygon; 10 (values below 4 act as 4) */
+    int filter;                      /* dc_filter the renderer samples with; DC_FILTER_NEAREST */
+    int split_parts;                 /* 1: one polygon per disjoint part of the image; 1 */
+    int opaque_method;               /* dc_opaque_method; DC_OPAQUE_FAST */
+    int max_opaque_polygons;         /* 4; 0 finds none */
+    double min_opaque_coverage;      /* stop once this fraction of opaque texels is covered; 0.75 */
+    int min_opaque_area;             /* texels a new opaque polygon must add; 64 */
+} dc_analyze_options;
+
+/* Fills `options` with the defaults above. */
+DC_API void dc_analyze_options_default(dc_analyze_options* options);
+
+/* The analyzer's figures. Best cases: boundary_area == nontransparent_texels,
+ * opaque_coverage == 1. */
+typedef struct dc_image_stats {
+    int64_t nontransparent_texels;
+    int64_t opaque_texels;
+    double boundary_area;          /* summed area of the boundary polygons */
+    int boundary_vertices;
+    double opaque_area;            /* summed area of the opaque polygons */
+    int64_t opaque_covered_texels; /* opaque texels inside opaque polygons */
+    double opaque_coverage;        /* covered / opaque texels; 0 when none */
+} dc_image_stats;
+
+typedef struct dc_analysis dc_analysis;
+
+/* Boundary polygons (containing every non-transparent texel of `rect`) and
+ * opaque polygons (touching only opaque texels, alpha 255) of `rect` in an
+ * RGBA8 image (non-premultiplied, rows `stride` bytes apart, stride >=
+ * 4 * width). `options` NULL: the defaults. The pixels are not kept. */
+DC_API dc_status dc_analyze_image(const uint8_t* rgba, int width, int height, ptrdiff_t stride, dc_rect rect,
+                                  const dc_analyze_options* options, dc_analysis** out);
+DC_API void dc_analysis_destroy(dc_analysis* analysis);
+
+DC_API dc_rect dc_analysis_rect(const dc_analysis* analysis);
+DC_API size_t dc_analysis_boundary_count(const dc_analysis* analysis);
+DC_API size_t dc_analysis_opaque_count(const dc_analysis* analysis);
+/* Polygon i: `*count` points in texel coordinates of the whole image,
+ * clockwise with y down. NULL (and *count = 0) when i is out of range. */
+DC_API const dc_point* dc_analysis_boundary(const dc_analysis* analysis, size_t i, size_t* count);
+DC_API const dc_point* dc_analysis_opaque(const dc_analysis* analysis, size_t i, size_t* count);
+DC_API dc_status dc_analysis_stats(const dc_analysis* analysis, dc_image_stats* out);
+
+/* ---- Scenes (paper 2): images placed as elements, in painter's order */
+
+typedef struct dc_viewport {
+    double x, y;       /* world [x, x+width) x [y, y+height) is the framebuffer, y down */
+    int width, height;
+} dc_viewport;
+
+typedef enum dc_blend {
+    DC_BLEND_ALPHA = 0,    /* src*a + dst*(1-a) */
+    DC_BLEND_ADD = 1,      /* src*a + dst */
+    DC_BLEND_MULTIPLY = 2, /* src*dst, texel colour premultiplied by alpha in the shader */
+    DC_BLEND_OPAQUE = 3    /* src, texel alpha ignored */
+} dc_blend;
+
+typedef struct dc_element {
+    uint32_t image;       /* index returned by dc_scene_add_image */
+    dc_rect rect;         /* texels of the image it shows */
+    double transform[6];  /* [a b c d e f]: screen = (a*u + c*v + e, b*u + d*v + f), (u, v) texels of rect from its top-left */
+    float color[4];       /* multiplier, 0..1 */
+    int blend;            /* dc_blend */
+} dc_element;
+
+/* Whole-image rect of 0 x 0 (set it), identity transform, white, alpha. */
+DC_API void dc_element_default(dc_element* element);
+
+typedef struct dc_scene dc_scene;
+
+DC_API dc_status dc_scene_create(dc_viewport viewport, dc_scene** out);
+DC_API void dc_scene_destroy(dc_scene* scene);
+/* Registers an image by size; `path` (may be NULL) is what the mesh files
+ * name, relative paths being relative to the working directory. Images
+ * with the same path share draws. `*index` (may be NULL) gets its index. */
+DC_API dc_status dc_scene_add_image(dc_scene* scene, const char* id, const char* path, int width, int height, uint32_t* index);
+/* Appends an element in front of all earlier ones. `analysis` is the
+ * analysis of the element's image and rect (its rect must equal
+ * element->rect); the scene keeps a reference of its own, so the caller may
+ * destroy the handle right away. Many elements may share one analysis. */
+DC_API dc_status dc_scene_add_element(dc_scene* scene, const dc_element* element, const dc_analysis* analysis);
+DC_API size_t dc_scene_element_count(const dc_scene* scene);
+
+/* ---- Reconstruction (paper 2.3) into meshes */
+
+typedef enum dc_graph_mode { DC_GRAPH_POLYGONS = 0, DC_GRAPH_BOXES = 1 } dc_graph_mode;
+typedef enum dc_sort_method { DC_SORT_NONE = 0, DC_SORT_PAPER = 1, DC_SORT_BATCH = 2 } dc_sort_method;
+
+typedef struct dc_reconstruct_options {
+    int graph;                       /* dc_graph_mode; DC_GRAPH_POLYGONS */
+    int sort;                        /* dc_sort_method; DC_SORT_BATCH */
+    int opaque_polygons;             /* 0: no opaque pass at all; 1 */
+    int64_t reserved_dynamic_levels; /* depth levels kept for dc_add_dynamic_elements; 0 */
+    int cull_to_viewport;            /* drop elements outside the viewport; 0 */
+} dc_reconstruct_options;
+
+DC_API void dc_reconstruct_options_default(dc_reconstruct_options* options);
+
+/* Draw calls in drawing order, with the scene's image list (docs/mesh-format.md). */
+typedef struct dc_meshes dc_meshes;
+
+typedef enum dc_pass {
+    DC_PASS_OPAQUE = 0, /* depth test GL_GREATER, depth write on, blending off */
+    DC_PASS_BLEND = 1   /* depth test GL_GREATER (when depth_test), depth write off, blending per draw */
+} dc_pass;
+
+/* One draw: a triangle list over DC_VERTEX_FLOATS floats per vertex:
+ * x, y (screen pixels), z (0..1, larger nearer), u, v (0..1 of the whole
+ * image), r, g, b, a (colour multiplier). 36-byte stride: position at
+ * offset 0, uv at 12, colour at 20. */
+#define DC_VERTEX_FLOATS 9
+typedef struct dc_draw {
+    uint32_t image;          /* index into the meshes' images */
+    int pass;                /* dc_pass */
+    int blend;               /* dc_blend */
+    const float* vertices;   /* DC_VERTEX_FLOATS * vertex_count floats */
+    size_t vertex_count;
+    const uint32_t* indices; /* index_count indices (triangles) */
+    size_t index_count;
+} dc_draw;
+
+typedef struct dc_meshes_stats {
+    int64_t elements, draw_calls, triangles, depth_levels, graph_edges;
+    int64_t depth_bits; /* depth buffer bits the z values need (<= 16 fits a 16-bit buffer) */
+    double seconds;     /* reconstruction time */
+} dc_meshes_stats;
+
+typedef struct dc_meshes_info {
+    dc_viewport viewport;
+    int depth_test;     /* 0: draw everything with the depth test off */
+    dc_meshes_stats stats;
+} dc_meshes_info;
+
+typedef struct dc_image_info {
+    const char* id;
+    const char* path;   /* as loaded: read files resolve it against the meshes file's directory */
+    int width, height;
+} dc_image_info;
+
+/* Reconstructs the scene; `options` NULL: the defaults. */
+DC_API dc_status dc_reconstruct(const dc_scene* scene, const dc_reconstruct_options* options, dc_meshes** out);
+
+/* An empty meshes object, to reuse as dc_add_dynamic_elements' frame. */
+DC_API dc_status dc_meshes_create(dc_meshes** out);
+DC_API void dc_meshes_destroy(dc_meshes* meshes);
+
+/* Dynamic elements (beyond the paper): moving sprites drawn in front of a
+ * static scene reconstructed with reserved_dynamic_levels = R, each frame,
+ * without reconstructing it. `elements` (count <= R, painter's order) name
+ * images of `scene` and have analyses[i] for element i (NULL allowed for
+ * DC_BLEND_OPAQUE and DC_BLEND_MULTIPLY elements). `frame` (from
+ * dc_meshes_create, reused frame after frame so its buffers are) receives
+ * only the dynamic elements' draws, whose pass says where they go:
+ *   1. the static opaque draws and the frame's opaque draws (any order:
+ *      the depth test decides);
+ *   2. the static blend draws, in order;
+ *   3. the frame's blend draws, in order. */
+DC_API dc_status dc_add_dynamic_elements(const dc_meshes* static_meshes, const dc_scene* scene, const dc_element* elements,
+                                         const dc_analysis* const* analyses, size_t count, dc_meshes* frame);
+
+DC_API dc_status dc_meshes_info_get(const dc_meshes* meshes, dc_meshes_info* out);
+DC_API size_t dc_meshes_draw_count(const dc_meshes* meshes);
+DC_API dc_status dc_meshes_draw(const dc_meshes* meshes, size_t i, dc_draw* out);
+DC_API size_t dc_meshes_image_count(const dc_meshes* meshes);
+DC_API dc_status dc_meshes_image(const dc_meshes* meshes, size_t i, dc_image_info* out);
+
+/* ---- Mesh files (docs/mesh-format.md) */
+
+typedef enum dc_format { DC_FORMAT_JSON = 0, DC_FORMAT_BINARY = 1 } dc_format;
+
+/* Flags of the writers. */
+#define DC_WRITE_NO_TIMING 1u /* write stats.seconds as 0, so outputs compare byte for byte */
+
+/* Either form, told apart by the binary magic. */
+DC_API dc_status dc_meshes_read_file(const char* path, dc_meshes** out);
+/* From memory; relative image paths are resolved against `base_dir` (NULL
+ * or "": kept as written). */
+DC_API dc_status dc_meshes_read_memory(const void* data, size_t size, const char* base_dir, dc_meshes** out);
+/* Atomic (a temporary file renamed over `path`); image paths are written
+ * relative to the file's directory. */
+DC_API dc_status dc_meshes_write_file(const dc_meshes* meshes, const char* path, dc_format format, unsigned flags);
+/* `*data` (release with dc_free) gets `*size` bytes; image paths as held. */
+DC_API dc_status dc_meshes_write_memory(const dc_meshes* meshes, dc_format format, unsigned flags, void** data, size_t* size);
+DC_API void dc_free(void* data);
+
+/* ---- The runtime renderer (depthcull::runtime) in the host's GL context
+ *
+ * Draws meshes the way an engine would: a plain sprite shader (texture x
+ * vertex colour), opaque pass front to back with depth writes, blend pass
+ * back to front, then each frame's dynamic draws. OpenGL 3.3 core or
+ * OpenGL ES 3.0; the host owns the context (current on the calling thread)
+ * and the framebuffer, which needs a depth buffer (24 bits for most scenes:
+ * stats.depth_bits says). No EGL, no window, no GL loader library. */
+
+/* A GL function as a loader returns it (cast to its own type to call it). */
+typedef void (*dc_gl_function)(void);
+/* Finds a GL entry point by name; NULL when absent. eglGetProcAddress and
+ * glfwGetProcAddress have this type; SDL_GL_GetProcAddress (returning
+ * void*) needs a one-line wrapper. Called only during dc_renderer_create. */
+typedef dc_gl_function (*dc_gl_loader)(const char* name);
+
+typedef struct dc_renderer dc_renderer;
+
+/* Pixels of one image for dc_renderer_upload_images: RGBA8,
+ * non-premultiplied, rows `stride` bytes apart. */
+typedef struct dc_image_pixels {
+    const uint8_t* rgba;
+    int width, height;
+    ptrdiff_t stride;
+} dc_image_pixels;
+
+/* What part of the world a frame shows: world [x, x+width) x [y, y+height)
+ * fills the bound framebuffer's [0, width) x [0, height). flip_y: 1 for a
+ * window's default framebuffer (row 0 at the bottom), 0 for an offscreen
+ * one read back with glReadPixels (first row = the world's top row). */
+typedef struct dc_camera {
+    double x, y;
+    int width, height;
+    int flip_y;
+} dc_camera;
+
+typedef struct dc_frame_options {
+    int clear_color;   /* clear the colour buffer to transparent black first; 0 */
+    int count_samples; /* count fragments that pass the depth test (desktop GL only); 0 */
+} dc_frame_options;
+
+typedef struct dc_frame_counts {
+    int64_t draw_calls, triangles;
+    int64_t samples_passed; /* -1 unless count_samples on desktop GL */
+} dc_frame_counts;
+
+/* Builds the renderer in the current context; `loader` finds GL functions. */
+DC_API dc_status dc_renderer_create(dc_gl_loader loader, dc_renderer** out);
+/* Deletes the GL objects it made (context current); accepts NULL. */
+DC_API void dc_renderer_destroy(dc_renderer* renderer);
+/* "4.5 (Core Profile) Mesa 22.3.6"; valid while the renderer lives. */
+DC_API const char* dc_renderer_gl_version(const dc_renderer* renderer);
+/* One texture per image of the meshes (a draw's image indexes them):
+ * either uploaded from pixels (copied into GL; sampled with `filter`, the
+ * one the analysis assumed) or the host's own GL texture names (never
+ * changed or deleted by the renderer). */
+DC_API dc_status dc_renderer_upload_images(dc_renderer* renderer, const dc_image_pixels* images, size_t count, dc_filter filter);
+DC_API dc_status dc_renderer_set_textures(dc_renderer* renderer, const unsigned* gl_texture_names, size_t count);
+/* Uploads the static meshes once (after the textures); replaces any before. */
+DC_API dc_status dc_renderer_set_meshes(dc_renderer* renderer, const dc_meshes* meshes);
+/* Room for a frame's dynamic draws, so frames within it allocate nothing. */
+DC_API dc_status dc_renderer_reserve_dynamic(dc_renderer* renderer, size_t vertices, size_t indices);
+/* Draws one frame into the bound framebuffer: the static meshes and
+ * `dynamic` (a frame from dc_add_dynamic_elements, or NULL) each in its
+ * place. `options` and `counts` may be NULL. */
+DC_API dc_status dc_renderer_draw(dc_renderer* renderer, const dc_camera* camera, const dc_meshes* dynamic,
+                                  const dc_frame_options* options, dc_frame_counts* counts);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DEPTHCULL_H */

@@ -1,0 +1,186 @@
+// Reads the binary meshes form (docs/mesh-format.md) back into SceneMeshes,
+// for games that load what the asset build wrote. Every count is checked
+// against the bytes left before anything is allocated for it, so a file
+// cannot make the reader allocate more than the file itself holds.
+#include <bit>
+#include <cstring>
+#include <filesystem>
+
+#include "depthcull/io.h"
+#include "io/mesh_common.h"
+
+namespace depthcull::io {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the binary mesh reader assumes a little-endian host");
+
+constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 4 + 4 + 4 + 4 + 6 * 8 + 8;
+// The fewest bytes an image entry (two empty strings, sizes) and a draw
+// header take: what a count must leave room for.
+constexpr std::size_t kMinImageBytes = 4 + 4 + 4 + 4;
+constexpr std::size_t kDrawHeaderBytes = 4 + 1 + 1 + 2 + 4 + 4;
+
+struct Reader {
+    std::string_view bytes;
+    const std::string& name;
+    std::size_t pos = 0;
+
+    [[noreturn]] void fail(std::size_t at, const std::string& what) const {
+        throw Error(name + ": byte " + std::to_string(at) + ": " + what);
+    }
+    std::size_t left() const { return bytes.size() - pos; }
+    void need(std::size_t n, const char* what) const {
+        if (left() < n) fail(pos, std::string("the file ends inside ") + what);
+    }
+    template <class T>
+    T get(const char* what) {
+        need(sizeof(T), what);
+        T v;
+        std::memcpy(&v, bytes.data() + pos, sizeof v);
+        pos += sizeof v;
+        return v;
+    }
+    double finite_double(const char* what) {
+        const std::size_t at = pos;
+        const double v = get<double>(what);
+        if (!std::isfinite(v)) fail(at, std::string(what) + " is not a finite number");
+        return v;
+    }
+    std::int32_t size_value(const char* what, std::int32_t max) {
+        const std::size_t at = pos;
+        const auto v = get<std::int32_t>(what);
+        if (v < 0 || v > max) fail(at, std::string(what) + " " + std::to_string(v) + " is outside 0.." + std::to_string(max));
+        return v;
+    }
+    std::string str(const char* what) {
+        const std::size_t at = pos;
+        const auto n = get<std::uint32_t>(what);
+        if (n > kMaxMeshStringBytes) fail(at, std::string(what) + " is longer than " + std::to_string(kMaxMeshStringBytes) + " bytes");
+        need(n, what);
+        std::string s(bytes.substr(pos, n));
+        pos += n;
+        return s;
+    }
+    void pad4(const char* what) {
+        while (pos % 4) {
+            if (get<char>(what) != 0) fail(pos - 1, std::string(what) + " padding is not zero");
+        }
+    }
+};
+
+void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std::uint32_t* draw_count) {
+    if (in.bytes.size() < 8 || !is_binary_meshes(in.bytes)) in.fail(0, "not a depthcull binary meshes file (no \"DCMESH\" magic)");
+    in.pos = 8;
+    const auto version = in.get<std::uint32_t>("the header");
+    if (version != 1) in.fail(8, "format version " + std::to_string(version) + " is not supported (expected 1)");
+    const auto flags = in.get<std::uint32_t>("the header");
+    if (flags & ~1u) in.fail(12, "unknown flags " + std::to_string(flags) + " (only bit 0, depth_test, is defined)");
+    SceneMeshes& m = out.meshes;
+    m.depth_test = flags & 1;
+    m.viewport.x = in.finite_double("viewport x");
+    m.viewport.y = in.finite_double("viewport y");
+    m.viewport.width = in.size_value("viewport width", INT32_MAX);
+    m.viewport.height = in.size_value("viewport height", INT32_MAX);
+    const std::size_t counts_at = in.pos;
+    *image_count = in.get<std::uint32_t>("the header");
+    *draw_count = in.get<std::uint32_t>("the header");
+    if (*image_count > kMaxMeshImages) in.fail(counts_at, "more than " + std::to_string(kMaxMeshImages) + " images");
+    if (*draw_count > kMaxMeshDraws) in.fail(counts_at + 4, "more than " + std::to_string(kMaxMeshDraws) + " draws");
+    for (std::int64_t* v : {&m.stats.elements, &m.stats.draw_calls, &m.stats.triangles, &m.stats.depth_levels, &m.stats.depth_bits,
+                            &m.stats.graph_edges}) {
+        const std::size_t at = in.pos;
+        *v = in.get<std::int64_t>("the header");
+        if (*v < 0) in.fail(at, "a negative stats count");
+    }
+    const std::size_t seconds_at = in.pos;
+    m.stats.seconds = in.finite_double("stats seconds");
+    if (m.stats.seconds < 0) in.fail(seconds_at, "negative stats seconds");
+    if (in.left() / kMinImageBytes < *image_count || (in.left() - *image_count * kMinImageBytes) / kDrawHeaderBytes < *draw_count)
+        in.fail(counts_at, std::to_string(*image_count) + " images and " + std::to_string(*draw_count) + " draws do not fit in the " +
+                               std::to_string(in.left()) + " bytes left");
+}
+
+SceneImage read_image(Reader& in, const std::string& base_dir) {
+    SceneImage img;
+    img.id = in.str("an image id");
+    img.path = resolve_mesh_path(base_dir, in.str("an image path"));
+    in.pad4("an image entry");
+    img.width = in.size_value("image width", kMaxImageSide);
+    img.height = in.size_value("image height", kMaxImageSide);
+    return img;
+}
+
+Draw read_draw(Reader& in, std::size_t image_count, std::size_t* total_vertices, std::size_t* total_indices) {
+    const std::size_t at = in.pos;
+    Draw d;
+    const auto image = in.get<std::uint32_t>("a draw header");
+    if (image >= image_count) in.fail(at, "draw names image " + std::to_string(image) + " of " + std::to_string(image_count));
+    d.image = int(image);
+    const auto pass = in.get<std::uint8_t>("a draw header");
+    if (pass > 1) in.fail(at + 4, "unknown pass " + std::to_string(pass) + " (0 opaque, 1 blend)");
+    d.pass = pass == 0 ? Pass::opaque : Pass::blend;
+    const auto blend = in.get<std::uint8_t>("a draw header");
+    if (blend > 3) in.fail(at + 5, "unknown blend " + std::to_string(blend) + " (0 alpha, 1 add, 2 multiply, 3 opaque)");
+    d.blend = Blend(blend);
+    if (in.get<std::uint16_t>("a draw header") != 0) in.fail(at + 6, "reserved field is not 0");
+    const auto vertex_count = in.get<std::uint32_t>("a draw header");
+    const auto index_count = in.get<std::uint32_t>("a draw header");
+    if (vertex_count > kMaxMeshVertices - *total_vertices)
+        in.fail(at + 8, "more than " + std::to_string(kMaxMeshVertices) + " vertices in all draws");
+    if (index_count > kMaxMeshIndices - *total_indices)
+        in.fail(at + 12, "more than " + std::to_string(kMaxMeshIndices) + " indices in all draws");
+    if (index_count % 3) in.fail(at + 12, "index count " + std::to_string(index_count) + " is not a multiple of 3 (triangles)");
+    const std::uint64_t payload = std::uint64_t(vertex_count) * kVertexFloats * 4 + std::uint64_t(index_count) * 4;
+    if (payload > in.left())
+        in.fail(at + 8, std::to_string(vertex_count) + " vertices and " + std::to_string(index_count) + " indices do not fit in the " +
+                            std::to_string(in.left()) + " bytes left");
+    *total_vertices += vertex_count;
+    *total_indices += index_count;
+
+    const std::size_t vertices_at = in.pos;
+    d.vertices.resize(std::size_t(vertex_count) * kVertexFloats);
+    std::memcpy(d.vertices.data(), in.bytes.data() + in.pos, d.vertices.size() * 4);
+    in.pos += d.vertices.size() * 4;
+    for (std::size_t k = 0; k < d.vertices.size(); ++k)
+        if (const char* problem = vertex_float_problem(k, d.vertices[k]))
+            in.fail(vertices_at + 4 * k, "vertex " + std::to_string(k / kVertexFloats) + " value " + std::to_string(k % kVertexFloats) + " " + problem);
+    const std::size_t indices_at = in.pos;
+    d.indices.resize(index_count);
+    std::memcpy(d.indices.data(), in.bytes.data() + in.pos, d.indices.size() * 4);
+    in.pos += d.indices.size() * 4;
+    for (std::size_t k = 0; k < d.indices.size(); ++k)
+        if (d.indices[k] >= vertex_count)
+            in.fail(indices_at + 4 * k, "index " + std::to_string(d.indices[k]) + " is not below the draw's vertex count " + std::to_string(vertex_count));
+    return d;
+}
+
+} // namespace
+
+bool is_binary_meshes(std::string_view bytes) { return bytes.substr(0, 8) == std::string_view("DCMESH\0\0", 8); }
+
+LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
+    Reader in{bytes, name};
+    LoadedMeshes out;
+    std::uint32_t image_count = 0, draw_count = 0;
+    read_header(in, out, &image_count, &draw_count);
+    out.images.reserve(image_count);
+    for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image(in, base_dir));
+    out.meshes.draws.reserve(draw_count);
+    std::size_t total_vertices = 0, total_indices = 0;
+    for (std::uint32_t i = 0; i < draw_count; ++i) out.meshes.draws.push_back(read_draw(in, image_count, &total_vertices, &total_indices));
+    if (in.left()) in.fail(in.pos, std::to_string(in.left()) + " bytes after the last draw");
+    return out;
+}
+
+LoadedMeshes read_meshes_binary(const std::string& path) {
+    return meshes_from_binary(read_file(path), path, std::filesystem::path(path).parent_path().string());
+}
+
+LoadedMeshes read_meshes(const std::string& path) {
+    const std::string bytes = read_file(path);
+    const std::string base = std::filesystem::path(path).parent_path().string();
+    return is_binary_meshes(bytes) ? meshes_from_binary(bytes, path, base) : meshes_from_json(bytes, path, base);
+}
+
+} // namespace depthcull::io

@@ -1,0 +1,196 @@
+// Reads the meshes JSON (docs/mesh-format.md) back into SceneMeshes. Errors
+// name the JSON path of the bad value ("draws[3].indices[7]"). Floats are
+// read as doubles and rounded to float once: the writer's shortest float
+// text (at most 9 digits) reads back as the float it was written from
+// (tests/io/test_mesh_readers.cpp checks it over random bit patterns).
+#include <cfloat>
+#include <filesystem>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "depthcull/io.h"
+#include "io/mesh_common.h"
+
+namespace depthcull::io {
+
+namespace {
+
+using nlohmann::json;
+
+struct Context {
+    const std::string& name;
+    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+        throw Error(name + ": " + where + ": " + what);
+    }
+};
+
+std::string at(const std::string& where, std::size_t i) { return where + "[" + std::to_string(i) + "]"; }
+std::string at(const std::string& where, const char* key) { return where.empty() ? key : where + "." + key; }
+
+const json& field(const Context& ctx, const json& obj, const std::string& where, const char* key) {
+    auto it = obj.find(key);
+    if (it == obj.end()) ctx.fail(where.empty() ? "top level" : where, std::string("missing \"") + key + "\"");
+    return *it;
+}
+
+const json& object(const Context& ctx, const json& v, const std::string& where) {
+    if (!v.is_object()) ctx.fail(where, "must be an object");
+    return v;
+}
+
+const json& array(const Context& ctx, const json& v, const std::string& where, std::size_t max) {
+    if (!v.is_array()) ctx.fail(where, "must be an array");
+    if (v.size() > max) ctx.fail(where, "has more than " + std::to_string(max) + " entries");
+    return v;
+}
+
+double number(const Context& ctx, const json& v, const std::string& where) {
+    if (!v.is_number()) ctx.fail(where, "must be a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) ctx.fail(where, "must be finite");
+    return d;
+}
+
+std::int64_t integer(const Context& ctx, const json& v, const std::string& where, std::int64_t max) {
+    if (v.is_number_unsigned() && v.get<std::uint64_t>() <= std::uint64_t(max)) return std::int64_t(v.get<std::uint64_t>());
+    if (v.is_number_integer() && v.get<std::int64_t>() >= 0 && v.get<std::int64_t>() <= max) return v.get<std::int64_t>();
+    ctx.fail(where, "must be an integer in 0.." + std::to_string(max));
+}
+
+const std::string& string(const Context& ctx, const json& v, const std::string& where) {
+    if (!v.is_string()) ctx.fail(where, "must be a string");
+    const auto& s = v.get_ref<const std::string&>();
+    if (s.size() > kMaxMeshStringBytes) ctx.fail(where, "is longer than " + std::to_string(kMaxMeshStringBytes) + " bytes");
+    return s;
+}
+
+Viewport read_viewport(const Context& ctx, const json& v) {
+    object(ctx, v, "viewport");
+    Viewport vp;
+    vp.x = number(ctx, field(ctx, v, "viewport", "x"), "viewport.x");
+    vp.y = number(ctx, field(ctx, v, "viewport", "y"), "viewport.y");
+    vp.width = int(integer(ctx, field(ctx, v, "viewport", "width"), "viewport.width", INT32_MAX));
+    vp.height = int(integer(ctx, field(ctx, v, "viewport", "height"), "viewport.height", INT32_MAX));
+    return vp;
+}
+
+SceneImage read_image(const Context& ctx, const json& v, const std::string& where, const std::string& base_dir) {
+    object(ctx, v, where);
+    SceneImage img;
+    img.id = string(ctx, field(ctx, v, where, "id"), at(where, "id"));
+    img.path = resolve_mesh_path(base_dir, string(ctx, field(ctx, v, where, "path"), at(where, "path")));
+    img.width = int(integer(ctx, field(ctx, v, where, "width"), at(where, "width"), kMaxImageSide));
+    img.height = int(integer(ctx, field(ctx, v, where, "height"), at(where, "height"), kMaxImageSide));
+    return img;
+}
+
+Blend read_blend(const Context& ctx, const json& v, const std::string& where) {
+    const std::string& s = string(ctx, v, where);
+    for (Blend b : {Blend::alpha, Blend::add, Blend::multiply, Blend::opaque})
+        if (s == blend_name(b)) return b;
+    ctx.fail(where, "unknown blend \"" + s + "\" (expected alpha, add, multiply or opaque)");
+}
+
+struct Totals {
+    std::size_t vertices = 0, indices = 0;
+};
+
+std::vector<float> read_vertices(const Context& ctx, const json& v, const std::string& where, Totals* totals) {
+    array(ctx, v, where, kMaxMeshVertices * kVertexFloats);
+    if (v.size() % kVertexFloats) ctx.fail(where, "has " + std::to_string(v.size()) + " numbers, not 9 per vertex");
+    const std::size_t count = v.size() / kVertexFloats;
+    if (count > kMaxMeshVertices - totals->vertices) ctx.fail(where, "more than " + std::to_string(kMaxMeshVertices) + " vertices in all draws");
+    totals->vertices += count;
+    std::vector<float> out(v.size());
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        const double d = number(ctx, v[k], at(where, k));
+        if (std::fabs(d) > FLT_MAX) ctx.fail(at(where, k), "is outside the range of a float");
+        out[k] = float(d);
+        if (const char* problem = vertex_float_problem(k, out[k])) ctx.fail(at(where, k), problem);
+    }
+    return out;
+}
+
+std::vector<std::uint32_t> read_indices(const Context& ctx, const json& v, const std::string& where, std::size_t vertex_count, Totals* totals) {
+    array(ctx, v, where, kMaxMeshIndices);
+    if (v.size() % 3) ctx.fail(where, "has " + std::to_string(v.size()) + " indices, not a multiple of 3 (triangles)");
+    if (v.size() > kMaxMeshIndices - totals->indices) ctx.fail(where, "more than " + std::to_string(kMaxMeshIndices) + " indices in all draws");
+    totals->indices += v.size();
+    std::vector<std::uint32_t> out(v.size());
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        if (vertex_count == 0) ctx.fail(at(where, k), "an index into a draw without vertices");
+        out[k] = std::uint32_t(integer(ctx, v[k], at(where, k), std::int64_t(vertex_count) - 1));
+    }
+    return out;
+}
+
+Draw read_draw(const Context& ctx, const json& v, const std::string& where, const std::map<std::string, int>& ids, Totals* totals) {
+    object(ctx, v, where);
+    Draw d;
+    const std::string& id = string(ctx, field(ctx, v, where, "image"), at(where, "image"));
+    auto it = ids.find(id);
+    if (it == ids.end()) ctx.fail(at(where, "image"), "unknown image id \"" + id + "\"");
+    d.image = it->second;
+    const std::string& pass = string(ctx, field(ctx, v, where, "pass"), at(where, "pass"));
+    if (pass != "opaque" && pass != "blend") ctx.fail(at(where, "pass"), "unknown pass \"" + pass + "\" (expected opaque or blend)");
+    d.pass = pass == "opaque" ? Pass::opaque : Pass::blend;
+    d.blend = read_blend(ctx, field(ctx, v, where, "blend"), at(where, "blend"));
+    d.vertices = read_vertices(ctx, field(ctx, v, where, "vertices"), at(where, "vertices"), totals);
+    d.indices = read_indices(ctx, field(ctx, v, where, "indices"), at(where, "indices"), d.vertex_count(), totals);
+    return d;
+}
+
+SceneStats read_stats(const Context& ctx, const json& v) {
+    object(ctx, v, "stats");
+    SceneStats st;
+    const std::pair<const char*, std::int64_t*> counts[] = {{"elements", &st.elements},         {"draw_calls", &st.draw_calls},
+                                                            {"triangles", &st.triangles},       {"depth_levels", &st.depth_levels},
+                                                            {"depth_bits", &st.depth_bits},     {"graph_edges", &st.graph_edges}};
+    for (const auto& [key, value] : counts)
+        if (v.contains(key)) *value = integer(ctx, v[key], at("stats", key), INT64_MAX);
+    if (v.contains("seconds")) {
+        st.seconds = number(ctx, v["seconds"], "stats.seconds");
+        if (st.seconds < 0) ctx.fail("stats.seconds", "must not be negative");
+    }
+    return st;
+}
+
+} // namespace
+
+LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir) {
+    const Context ctx{name};
+    json doc;
+    try {
+        doc = json::parse(text);
+    } catch (const json::parse_error& e) {
+        // nlohmann counts bytes from 1; our offsets (as the binary reader's) from 0.
+        throw Error(name + ": byte " + std::to_string(e.byte ? e.byte - 1 : 0) + ": not valid JSON (" + e.what() + ")");
+    }
+    if (!doc.is_object()) ctx.fail("top level", "expected a JSON object with \"images\" and \"draws\"");
+    LoadedMeshes out;
+    out.meshes.viewport = read_viewport(ctx, field(ctx, doc, "", "viewport"));
+    const json& depth_test = field(ctx, doc, "", "depth_test");
+    if (!depth_test.is_boolean()) ctx.fail("depth_test", "must be true or false");
+    out.meshes.depth_test = depth_test.get<bool>();
+
+    const json& images = array(ctx, field(ctx, doc, "", "images"), "images", kMaxMeshImages);
+    std::map<std::string, int> ids; // a draw names the first entry with its id
+    out.images.reserve(images.size());
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        out.images.push_back(read_image(ctx, images[i], at("images", i), base_dir));
+        ids.emplace(out.images.back().id, int(i));
+    }
+    const json& draws = array(ctx, field(ctx, doc, "", "draws"), "draws", kMaxMeshDraws);
+    out.meshes.draws.reserve(draws.size());
+    Totals totals;
+    for (std::size_t i = 0; i < draws.size(); ++i) out.meshes.draws.push_back(read_draw(ctx, draws[i], at("draws", i), ids, &totals));
+    if (doc.contains("stats")) out.meshes.stats = read_stats(ctx, doc["stats"]);
+    return out;
+}
+
+LoadedMeshes read_meshes_json(const std::string& path) {
+    return meshes_from_json(read_file(path), path, std::filesystem::path(path).parent_path().string());
+}
+
+} // namespace depthcull::io

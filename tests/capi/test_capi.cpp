@@ -1,0 +1,259 @@
+// The C API (include/depthcull/depthcull.h) against the C++ API it wraps:
+// same polygons, same draws, same files; every misuse a status and a
+// message, never an exception or a crash.
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "depthcull/depthcull.h"
+#include "depthcull/io.h"
+#include "depthcull/scene.h"
+#include "testing/ascii_image.h"
+
+namespace depthcull::test {
+namespace {
+
+// A blob with a transparent rim, a soft edge and an opaque core.
+Image blob() {
+    return ascii_image({"..........", "...++++...", "..+####+..", ".+######+.", ".+######+.", ".+######+.", ".+######+.", "..+####+..",
+                        "...++++...", ".........."});
+}
+
+dc_analysis* analyze(const Image& image, dc_rect rect) {
+    dc_analysis* a = nullptr;
+    EXPECT_EQ(dc_analyze_image(image.rgba.data(), image.width, image.height, image.width * 4, rect, nullptr, &a), DC_OK) << dc_last_error();
+    return a;
+}
+
+TEST(CApi, AnalysisIsTheCppAnalysis) {
+    const Image image = blob();
+    dc_analysis* a = analyze(image, {1, 1, 8, 8});
+    ASSERT_NE(a, nullptr);
+    const ImageAnalysis expected = analyze_image(image.view(), {1, 1, 8, 8}, {});
+    ASSERT_EQ(dc_analysis_boundary_count(a), expected.boundary.size());
+    ASSERT_EQ(dc_analysis_opaque_count(a), expected.opaque.size());
+    for (std::size_t i = 0; i < expected.boundary.size(); ++i) {
+        std::size_t n = 0;
+        const dc_point* p = dc_analysis_boundary(a, i, &n);
+        ASSERT_EQ(n, expected.boundary[i].size());
+        for (std::size_t k = 0; k < n; ++k) EXPECT_EQ((Vec2{p[k].x, p[k].y}), expected.boundary[i][k]);
+    }
+    std::size_t n = 7;
+    EXPECT_EQ(dc_analysis_opaque(a, 99, &n), nullptr);
+    EXPECT_EQ(n, 0u);
+    dc_image_stats stats;
+    ASSERT_EQ(dc_analysis_stats(a, &stats), DC_OK);
+    EXPECT_EQ(stats.nontransparent_texels, expected.stats.nontransparent_texels);
+    EXPECT_EQ(stats.opaque_covered_texels, expected.stats.opaque_covered_texels);
+    EXPECT_EQ(dc_analysis_rect(a).w, 8);
+    dc_analysis_destroy(a);
+    dc_analysis_destroy(nullptr);
+}
+
+TEST(CApi, MisuseIsAStatusWithAMessage) {
+    const Image image = blob();
+    dc_analysis* a = nullptr;
+    EXPECT_EQ(dc_analyze_image(nullptr, 10, 10, 40, {0, 0, 10, 10}, nullptr, &a), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(dc_analyze_image(image.rgba.data(), 10, 10, 40, {5, 5, 10, 10}, nullptr, &a), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_STREQ(dc_last_error(), "dc_analyze_image: rect is empty or outside the 10x10 image");
+    EXPECT_EQ(dc_analyze_image(image.rgba.data(), 10, 10, 8, {0, 0, 10, 10}, nullptr, &a), DC_ERROR_INVALID_ARGUMENT);
+    dc_analyze_options o;
+    dc_analyze_options_default(&o);
+    o.min_opaque_coverage = 2;
+    EXPECT_EQ(dc_analyze_image(image.rgba.data(), 10, 10, 40, {0, 0, 10, 10}, &o, &a), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(a, nullptr); // outputs are written only on success
+
+    dc_scene* scene = nullptr;
+    EXPECT_EQ(dc_scene_create({0, 0, 0, 10}, &scene), DC_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ(dc_scene_create({0, 0, 64, 64}, &scene), DC_OK);
+    EXPECT_EQ(dc_scene_add_image(scene, "b", "b.png", 10, 10, nullptr), DC_OK);
+    EXPECT_EQ(dc_scene_add_image(scene, "b", "c.png", 10, 10, nullptr), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_STREQ(dc_last_error(), "dc_scene_add_image: duplicate image id \"b\"");
+    dc_element e;
+    dc_element_default(&e);
+    e.rect = {0, 0, 10, 10};
+    EXPECT_EQ(dc_scene_add_element(scene, &e, nullptr), DC_ERROR_INVALID_ARGUMENT); // alpha needs its analysis
+    EXPECT_STREQ(dc_last_error(), "dc_scene_add_element: element 0: an alpha or add element needs its analysis");
+    e.blend = DC_BLEND_OPAQUE;
+    EXPECT_EQ(dc_scene_add_element(scene, &e, nullptr), DC_OK);
+    dc_analysis* other = analyze(image, {1, 1, 8, 8});
+    e.blend = DC_BLEND_ALPHA;
+    EXPECT_EQ(dc_scene_add_element(scene, &e, other), DC_ERROR_INVALID_ARGUMENT); // analysis of another rect
+    e.transform[0] = std::nan("");
+    e.rect = {1, 1, 8, 8};
+    EXPECT_EQ(dc_scene_add_element(scene, &e, other), DC_ERROR_INVALID_ARGUMENT);
+    e.image = 3;
+    EXPECT_EQ(dc_scene_add_element(scene, &e, other), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(dc_scene_element_count(scene), 1u);
+    dc_analysis_destroy(other);
+    dc_scene_destroy(scene);
+
+    dc_meshes* m = nullptr;
+    EXPECT_EQ(dc_meshes_read_file("/nonexistent/m.json", &m), DC_ERROR_IO);
+    EXPECT_NE(std::string(dc_last_error()).find("/nonexistent/m.json"), std::string::npos);
+    EXPECT_EQ(dc_meshes_read_memory("DCMESH\0\0\1", 9, nullptr, &m), DC_ERROR_IO);
+    EXPECT_STREQ(dc_last_error(), "memory: byte 8: the file ends inside the header");
+    EXPECT_EQ(m, nullptr);
+    EXPECT_EQ(dc_meshes_draw_count(nullptr), 0u);
+    EXPECT_STREQ(dc_status_string(DC_ERROR_TOO_MANY_DEPTH_LEVELS), "too many depth levels");
+}
+
+// A scene of blobs and opaque tiles, built through the C API and through
+// C++ from the same values.
+struct Scenes {
+    dc_scene* c = nullptr;
+    dc_analysis* blob = nullptr;
+    Scene cpp;
+    ImageAnalysis blob_analysis;
+    std::vector<const ImageAnalysis*> analyses;
+};
+
+Scenes both_scenes(const Image& image) {
+    Scenes s;
+    EXPECT_EQ(dc_scene_create({0, 0, 64, 48}, &s.c), DC_OK);
+    EXPECT_EQ(dc_scene_add_image(s.c, "blob", "art/blob.png", 10, 10, nullptr), DC_OK);
+    s.blob = analyze(image, {0, 0, 10, 10});
+    s.blob_analysis = analyze_image(image.view(), {0, 0, 10, 10}, {});
+    s.cpp.viewport = {0, 0, 64, 48};
+    s.cpp.images = {SceneImage{"blob", "art/blob.png", 10, 10}};
+    for (int i = 0; i < 30; ++i) {
+        dc_element e;
+        dc_element_default(&e);
+        e.rect = {0, 0, 10, 10};
+        e.transform[4] = (i * 7) % 50;
+        e.transform[5] = (i * 5) % 36;
+        e.blend = i % 7 == 3 ? DC_BLEND_OPAQUE : DC_BLEND_ALPHA;
+        EXPECT_EQ(dc_scene_add_element(s.c, &e, s.blob), DC_OK) << dc_last_error();
+        Element x;
+        x.rect = {0, 0, 10, 10};
+        x.transform = {1, 0, 0, 1, e.transform[4], e.transform[5]};
+        x.blend = Blend(e.blend);
+        s.cpp.elements.push_back(x);
+        s.analyses.push_back(&s.blob_analysis);
+    }
+    return s;
+}
+
+void expect_draws_equal(const dc_meshes* c, const std::vector<Draw>& draws) {
+    ASSERT_EQ(dc_meshes_draw_count(c), draws.size());
+    for (std::size_t i = 0; i < draws.size(); ++i) {
+        dc_draw d;
+        ASSERT_EQ(dc_meshes_draw(c, i, &d), DC_OK);
+        EXPECT_EQ(d.image, std::uint32_t(draws[i].image));
+        EXPECT_EQ(d.pass, draws[i].pass == Pass::opaque ? DC_PASS_OPAQUE : DC_PASS_BLEND);
+        EXPECT_EQ(d.blend, int(draws[i].blend));
+        EXPECT_EQ(std::vector<float>(d.vertices, d.vertices + d.vertex_count * DC_VERTEX_FLOATS), draws[i].vertices);
+        EXPECT_EQ(std::vector<std::uint32_t>(d.indices, d.indices + d.index_count), draws[i].indices);
+    }
+}
+
+TEST(CApi, ReconstructionAndDynamicElementsAreTheCppOnes) {
+    const Image image = blob();
+    Scenes s = both_scenes(image);
+    dc_reconstruct_options options;
+    dc_reconstruct_options_default(&options);
+    options.reserved_dynamic_levels = 4;
+    dc_meshes* meshes = nullptr;
+    ASSERT_EQ(dc_reconstruct(s.c, &options, &meshes), DC_OK) << dc_last_error();
+    ReconstructOptions cpp_options;
+    cpp_options.reserved_dynamic_levels = 4;
+    SceneMeshes expected;
+    ASSERT_EQ(reconstruct_scene(s.cpp, s.analyses, cpp_options, &expected), ReconstructStatus::ok);
+    expect_draws_equal(meshes, expected.draws);
+    dc_meshes_info info;
+    ASSERT_EQ(dc_meshes_info_get(meshes, &info), DC_OK);
+    EXPECT_EQ(info.stats.elements, 30);
+    EXPECT_EQ(info.stats.depth_levels, expected.stats.depth_levels);
+    EXPECT_EQ(info.depth_test, 1);
+    dc_image_info img;
+    ASSERT_EQ(dc_meshes_image(meshes, 0, &img), DC_OK);
+    EXPECT_STREQ(img.path, "art/blob.png");
+
+    // Dynamic elements: the frame holds only their draws, the C++ frame's
+    // first (opaque) and last (blend) draws around the static ones.
+    dc_meshes* frame = nullptr;
+    ASSERT_EQ(dc_meshes_create(&frame), DC_OK);
+    dc_element moving[3];
+    const dc_analysis* analyses[3] = {s.blob, s.blob, s.blob};
+    std::vector<Element> cpp_moving;
+    for (int i = 0; i < 3; ++i) {
+        dc_element_default(&moving[i]);
+        moving[i].rect = {0, 0, 10, 10};
+        moving[i].transform[4] = 10 + 9 * i;
+        moving[i].transform[5] = 12;
+        Element x;
+        x.rect = {0, 0, 10, 10};
+        x.transform = {1, 0, 0, 1, moving[i].transform[4], 12};
+        cpp_moving.push_back(x);
+    }
+    for (int f = 0; f < 2; ++f) ASSERT_EQ(dc_add_dynamic_elements(meshes, s.c, moving, analyses, 3, frame), DC_OK) << dc_last_error();
+    SceneMeshes cpp_frame;
+    ASSERT_EQ(add_dynamic_elements(expected, s.cpp, cpp_moving, {&s.blob_analysis, &s.blob_analysis, &s.blob_analysis}, &cpp_frame),
+              ReconstructStatus::ok);
+    std::vector<Draw> dynamic;
+    const std::size_t extra = cpp_frame.draws.size() - expected.draws.size();
+    // Where the static draws sit in the C++ frame: after the dynamic opaque ones.
+    auto static_at = [&](std::size_t k) {
+        for (std::size_t i = 0; i < expected.draws.size(); ++i)
+            if (cpp_frame.draws[k + i].vertices != expected.draws[i].vertices) return false;
+        return true;
+    };
+    std::size_t opaque = 0;
+    while (opaque < extra && !static_at(opaque)) ++opaque;
+    ASSERT_TRUE(static_at(opaque));
+    for (std::size_t i = 0; i < cpp_frame.draws.size(); ++i)
+        if (i < opaque || i >= opaque + expected.draws.size()) dynamic.push_back(cpp_frame.draws[i]);
+    expect_draws_equal(frame, dynamic);
+    EXPECT_GT(dc_meshes_draw_count(frame), 0u);
+
+    // More than fit above the static levels (D = 256 here): a status.
+    std::vector<dc_element> many(200, moving[0]);
+    std::vector<const dc_analysis*> many_analyses(200, s.blob);
+    EXPECT_EQ(dc_add_dynamic_elements(meshes, s.c, many.data(), many_analyses.data(), many.size(), frame), DC_ERROR_TOO_MANY_DEPTH_LEVELS);
+    EXPECT_EQ(info.stats.depth_bits, 10);
+
+    dc_meshes_destroy(frame);
+    dc_meshes_destroy(meshes);
+    dc_analysis_destroy(s.blob);
+    dc_scene_destroy(s.c);
+}
+
+TEST(CApi, MeshFilesAreTheIoOnes) {
+    const Image image = blob();
+    Scenes s = both_scenes(image);
+    dc_meshes* meshes = nullptr;
+    ASSERT_EQ(dc_reconstruct(s.c, nullptr, &meshes), DC_OK);
+    // The scene's analysis handle may go before the scene.
+    dc_analysis_destroy(s.blob);
+    SceneMeshes expected;
+    ASSERT_EQ(reconstruct_scene(s.cpp, s.analyses, {}, &expected), ReconstructStatus::ok);
+
+    const auto dir = std::filesystem::temp_directory_path() / ("dc_capi_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string json = (dir / "m.json").string(), bin = (dir / "m.bin").string();
+    ASSERT_EQ(dc_meshes_write_file(meshes, json.c_str(), DC_FORMAT_JSON, DC_WRITE_NO_TIMING), DC_OK) << dc_last_error();
+    ASSERT_EQ(dc_meshes_write_file(meshes, bin.c_str(), DC_FORMAT_BINARY, DC_WRITE_NO_TIMING), DC_OK);
+    EXPECT_EQ(io::read_file(json), io::meshes_to_json(s.cpp, expected, json, false));
+    EXPECT_EQ(io::read_file(bin), io::meshes_to_binary(s.cpp, expected, bin, false));
+
+    dc_meshes *from_json = nullptr, *from_memory = nullptr;
+    ASSERT_EQ(dc_meshes_read_file(json.c_str(), &from_json), DC_OK);
+    expect_draws_equal(from_json, expected.draws);
+    void* data = nullptr;
+    std::size_t size = 0;
+    ASSERT_EQ(dc_meshes_write_memory(from_json, DC_FORMAT_BINARY, DC_WRITE_NO_TIMING, &data, &size), DC_OK);
+    ASSERT_EQ(dc_meshes_read_memory(data, size, nullptr, &from_memory), DC_OK);
+    expect_draws_equal(from_memory, expected.draws);
+    dc_free(data);
+    std::filesystem::remove_all(dir);
+    dc_meshes_destroy(from_memory);
+    dc_meshes_destroy(from_json);
+    dc_meshes_destroy(meshes);
+    dc_scene_destroy(s.c);
+}
+
+} // namespace
+} // namespace depthcull::test

@@ -1,0 +1,145 @@
+// The C API's renderer (dc_renderer_*) in a headless host context: it draws
+// what depthcull::runtime draws for the same meshes and dynamic elements,
+// pixel for pixel, and bad input is a status with a message.
+#ifdef DEPTHCULL_TEST_CAPI_RUNTIME
+
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "depthcull/depthcull.h"
+#include "depthcull/render.h"
+#include "depthcull/runtime.h"
+#include "depthcull/scene.h"
+#include "testing/ascii_image.h"
+
+namespace depthcull::test {
+namespace {
+
+Image sprite() {
+    return ascii_image({"..........", "...++++...", "..+####+..", ".+######+.", ".+######+.", ".+######+.", ".+######+.", "..+####+..",
+                        "...++++...", ".........."});
+}
+
+struct Host {
+    std::unique_ptr<render::GlHost> host;
+    std::string why;
+    Host() { host = render::GlHost::create({}, render::GlApi::desktop, &why); }
+};
+
+// The host's loader as C sees it.
+dc_gl_function gl_function(const char* name) { return reinterpret_cast<dc_gl_function>(render::GlHost::get_proc_address(name)); }
+
+#define NEED_HOST(h)                                                                   \
+    Host h;                                                                            \
+    if (!h.host) {                                                                     \
+        if (h.why.rfind("no OpenGL context", 0) == 0) GTEST_SKIP() << h.why;           \
+        FAIL() << h.why;                                                               \
+    }
+
+TEST(CApiRuntime, DrawsWhatTheCppRuntimeDraws) {
+    NEED_HOST(h);
+    const Image image = sprite();
+    const dc_rect whole{0, 0, 10, 10};
+    dc_analysis* a = nullptr;
+    ASSERT_EQ(dc_analyze_image(image.rgba.data(), 10, 10, 40, whole, nullptr, &a), DC_OK);
+    dc_scene* scene = nullptr;
+    ASSERT_EQ(dc_scene_create({0, 0, 48, 40}, &scene), DC_OK);
+    ASSERT_EQ(dc_scene_add_image(scene, "s", "s.png", 10, 10, nullptr), DC_OK);
+    std::vector<dc_element> elements(24);
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+        dc_element_default(&elements[i]);
+        elements[i].rect = whole;
+        elements[i].transform[4] = double((i * 7) % 38);
+        elements[i].transform[5] = double((i * 5) % 30);
+        elements[i].color[1] = float(i % 3) / 2;
+        elements[i].blend = i % 6 == 5 ? DC_BLEND_ADD : DC_BLEND_ALPHA;
+        ASSERT_EQ(dc_scene_add_element(scene, &elements[i], a), DC_OK);
+    }
+    dc_reconstruct_options options;
+    dc_reconstruct_options_default(&options);
+    options.reserved_dynamic_levels = 2;
+    dc_meshes *meshes = nullptr, *frame = nullptr;
+    ASSERT_EQ(dc_reconstruct(scene, &options, &meshes), DC_OK);
+    ASSERT_EQ(dc_meshes_create(&frame), DC_OK);
+    dc_element moving[2] = {elements[0], elements[1]};
+    moving[0].transform[4] = 20, moving[1].transform[4] = 24;
+    const dc_analysis* analyses[2] = {a, a};
+    ASSERT_EQ(dc_add_dynamic_elements(meshes, scene, moving, analyses, 2, frame), DC_OK);
+
+    // Through C.
+    dc_renderer* r = nullptr;
+    ASSERT_EQ(dc_renderer_create(&gl_function, &r), DC_OK) << dc_last_error();
+    EXPECT_NE(std::string(dc_renderer_gl_version(r)), "");
+    const dc_image_pixels pixels{image.rgba.data(), 10, 10, 40};
+    ASSERT_EQ(dc_renderer_upload_images(r, &pixels, 1, DC_FILTER_NEAREST), DC_OK) << dc_last_error();
+    ASSERT_EQ(dc_renderer_set_meshes(r, meshes), DC_OK) << dc_last_error();
+    ASSERT_EQ(dc_renderer_reserve_dynamic(r, 1024, 4096), DC_OK);
+    h.host->bind_framebuffer(48, 40);
+    const dc_camera camera{0, 0, 48, 40, 0};
+    const dc_frame_options frame_options{1, 1};
+    dc_frame_counts counts;
+    ASSERT_EQ(dc_renderer_draw(r, &camera, frame, &frame_options, &counts), DC_OK) << dc_last_error();
+    const Image from_c = h.host->read_pixels();
+    EXPECT_EQ(std::size_t(counts.draw_calls), dc_meshes_draw_count(meshes) + dc_meshes_draw_count(frame));
+    EXPECT_GT(counts.samples_passed, 0);
+
+    // Through C++, from the draws the C API handed out.
+    auto draws_of = [](const dc_meshes* m) {
+        std::vector<Draw> out(dc_meshes_draw_count(m));
+        for (std::size_t i = 0; i < out.size(); ++i) {
+            dc_draw d;
+            EXPECT_EQ(dc_meshes_draw(m, i, &d), DC_OK);
+            out[i].image = int(d.image);
+            out[i].pass = d.pass == DC_PASS_OPAQUE ? Pass::opaque : Pass::blend;
+            out[i].blend = Blend(d.blend);
+            out[i].vertices.assign(d.vertices, d.vertices + d.vertex_count * DC_VERTEX_FLOATS);
+            out[i].indices.assign(d.indices, d.indices + d.index_count);
+        }
+        return out;
+    };
+    std::string error;
+    auto cpp = runtime::Renderer::create(&render::GlHost::get_proc_address, &error);
+    ASSERT_TRUE(cpp) << error;
+    const ImageView view = image.view();
+    ASSERT_EQ(cpp->upload_images({&view, 1}, Filter::nearest), runtime::Status::ok);
+    SceneMeshes static_meshes;
+    dc_meshes_info info;
+    ASSERT_EQ(dc_meshes_info_get(meshes, &info), DC_OK);
+    static_meshes.viewport = {0, 0, 48, 40};
+    static_meshes.depth_test = info.depth_test != 0;
+    static_meshes.draws = draws_of(meshes);
+    ASSERT_EQ(cpp->set_meshes(static_meshes), runtime::Status::ok);
+    runtime::FrameOptions o;
+    o.clear_color = true;
+    ASSERT_EQ(cpp->draw({0, 0, 48, 40, false}, draws_of(frame), o), runtime::Status::ok);
+    const Image from_cpp = h.host->read_pixels();
+    EXPECT_EQ(from_c.rgba, from_cpp.rgba);
+    std::int64_t drawn = 0;
+    for (std::size_t i = 3; i < from_c.rgba.size(); i += 4) drawn += from_c.rgba[i] != 0;
+    EXPECT_GT(drawn, 48 * 40 / 4);
+
+    // A draw naming an image with no texture: a status and the runtime's message.
+    const char* two_images = R"({"viewport": {"x": 0, "y": 0, "width": 8, "height": 8}, "depth_test": false,
+        "images": [{"id": "a", "path": "a.png", "width": 4, "height": 4}, {"id": "b", "path": "b.png", "width": 4, "height": 4}],
+        "draws": [{"image": "b", "pass": "blend", "blend": "alpha",
+          "vertices": [0,0,0.5,0,0,1,1,1,1, 4,0,0.5,1,0,1,1,1,1, 0,4,0.5,0,1,1,1,1,1], "indices": [0,1,2]}]})";
+    dc_meshes* bad = nullptr;
+    ASSERT_EQ(dc_meshes_read_memory(two_images, std::strlen(two_images), nullptr, &bad), DC_OK) << dc_last_error();
+    EXPECT_EQ(dc_renderer_set_meshes(r, bad), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(dc_last_error()).find("dc_renderer_set_meshes: "), std::string::npos) << dc_last_error();
+    EXPECT_EQ(dc_renderer_draw(r, nullptr, nullptr, nullptr, nullptr), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(dc_renderer_create(nullptr, &r), DC_ERROR_INVALID_ARGUMENT);
+
+    dc_meshes_destroy(bad);
+    dc_renderer_destroy(r);
+    dc_meshes_destroy(frame);
+    dc_meshes_destroy(meshes);
+    dc_scene_destroy(scene);
+    dc_analysis_destroy(a);
+}
+
+} // namespace
+} // namespace depthcull::test
+
+#endif

@@ -1,0 +1,283 @@
+// The meshes readers: write -> read -> write is byte-identical and gives
+// the same values, in both forms; bad files get one-line errors naming the
+// place (JSON path or byte offset), limits are checked before allocating.
+#include <charconv>
+#include <cstring>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "test_scene_json_helpers.h"
+
+namespace depthcull::test {
+namespace {
+
+struct Optimized {
+    io::PreparedScene prepared;
+    SceneMeshes meshes;
+};
+
+Optimized optimized_scene(const SceneDir& dir) {
+    dir.standard_art();
+    std::string elements;
+    for (int i = 0; i < 12; ++i) {
+        if (i) elements += ",";
+        elements += R"({"image": ")" + std::string(i % 3 ? "blob" : "tiles") + R"(", "rect": [0, 0, 8, 8], "transform": [1, 0, 0, 1, )" +
+                    std::to_string((i * 7) % 30) + ", " + std::to_string((i * 5) % 20) + "]" +
+                    (i % 4 == 1 ? R"(, "blend": "add", "color": [1, 0.5, 0.25, 0.75])" : "") + "}";
+    }
+    std::string path = dir.write("scene.json", R"({"viewport": {"x": -3, "y": 2, "width": 40, "height": 30},
+        "images": [{"id": "blob", "path": "art/blob.png"}, {"id": "tiles", "path": "art/tiles.png"}], "elements": [)" + elements + "]}");
+    Optimized o{io::prepare_scene(path, {}), {}};
+    EXPECT_EQ(reconstruct_scene(o.prepared.scene, o.prepared.element_analysis, {}, &o.meshes), ReconstructStatus::ok);
+    o.meshes.stats.seconds = 0.125; // exact in both forms
+    return o;
+}
+
+void expect_same_meshes(const SceneMeshes& a, const SceneMeshes& b) {
+    EXPECT_EQ(a.viewport.x, b.viewport.x);
+    EXPECT_EQ(a.viewport.y, b.viewport.y);
+    EXPECT_EQ(a.viewport.width, b.viewport.width);
+    EXPECT_EQ(a.viewport.height, b.viewport.height);
+    EXPECT_EQ(a.depth_test, b.depth_test);
+    ASSERT_EQ(a.draws.size(), b.draws.size());
+    for (std::size_t i = 0; i < a.draws.size(); ++i) {
+        EXPECT_EQ(a.draws[i].image, b.draws[i].image) << i;
+        EXPECT_EQ(a.draws[i].pass, b.draws[i].pass) << i;
+        EXPECT_EQ(a.draws[i].blend, b.draws[i].blend) << i;
+        EXPECT_EQ(a.draws[i].vertices, b.draws[i].vertices) << i;
+        EXPECT_EQ(a.draws[i].indices, b.draws[i].indices) << i;
+    }
+    EXPECT_EQ(a.stats.elements, b.stats.elements);
+    EXPECT_EQ(a.stats.draw_calls, b.stats.draw_calls);
+    EXPECT_EQ(a.stats.triangles, b.stats.triangles);
+    EXPECT_EQ(a.stats.depth_levels, b.stats.depth_levels);
+    EXPECT_EQ(a.stats.depth_bits, b.stats.depth_bits);
+    EXPECT_EQ(a.stats.graph_edges, b.stats.graph_edges);
+    EXPECT_EQ(a.stats.seconds, b.stats.seconds);
+}
+
+void expect_same_images(const std::vector<SceneImage>& a, const std::vector<SceneImage>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].id, b[i].id);
+        EXPECT_EQ(std::filesystem::path(a[i].path).lexically_normal(), std::filesystem::path(b[i].path).lexically_normal());
+        EXPECT_EQ(a[i].width, b[i].width);
+        EXPECT_EQ(a[i].height, b[i].height);
+    }
+}
+
+TEST(MeshReaders, JsonRoundTripIsByteIdenticalWithEqualValues) {
+    SceneDir dir("mesh_read_json");
+    Optimized o = optimized_scene(dir);
+    std::filesystem::create_directories(dir.path("out"));
+    const std::string path = dir.path("out/meshes.json");
+    io::write_meshes_json(path, o.prepared.scene, o.meshes);
+    io::LoadedMeshes loaded = io::read_meshes_json(path);
+    expect_same_meshes(o.meshes, loaded.meshes);
+    expect_same_images(o.prepared.scene.images, loaded.images);
+    EXPECT_EQ(io::meshes_to_json(loaded.images, loaded.meshes, path), io::read_file(path));
+    EXPECT_TRUE(loaded.meshes.element_maps.empty());
+}
+
+TEST(MeshReaders, BinaryRoundTripIsByteIdenticalWithEqualValues) {
+    SceneDir dir("mesh_read_bin");
+    Optimized o = optimized_scene(dir);
+    std::filesystem::create_directories(dir.path("out"));
+    const std::string path = dir.path("out/meshes.bin");
+    io::write_meshes_binary(path, o.prepared.scene, o.meshes);
+    io::LoadedMeshes loaded = io::read_meshes_binary(path);
+    expect_same_meshes(o.meshes, loaded.meshes);
+    expect_same_images(o.prepared.scene.images, loaded.images);
+    EXPECT_EQ(io::meshes_to_binary(loaded.images, loaded.meshes, path), io::read_file(path));
+}
+
+TEST(MeshReaders, ReadMeshesTellsTheFormsApartAndTheyAgree) {
+    SceneDir dir("mesh_read_any");
+    Optimized o = optimized_scene(dir);
+    io::write_meshes_json(dir.path("m.json"), o.prepared.scene, o.meshes);
+    io::write_meshes_binary(dir.path("m.bin"), o.prepared.scene, o.meshes);
+    io::LoadedMeshes j = io::read_meshes(dir.path("m.json")), b = io::read_meshes(dir.path("m.bin"));
+    expect_same_meshes(j.meshes, b.meshes);
+    expect_same_images(j.images, b.images);
+    // Converting one form into the other gives what the writer gives.
+    EXPECT_EQ(io::meshes_to_binary(j.images, j.meshes, dir.path("m.bin")), io::read_file(dir.path("m.bin")));
+}
+
+TEST(MeshReaders, FromMemoryKeepsPathsAsWritten) {
+    SceneDir dir("mesh_read_mem");
+    Optimized o = optimized_scene(dir);
+    const std::string text = io::meshes_to_json(o.prepared.scene, o.meshes, dir.path("sub/m.json"));
+    io::LoadedMeshes m = io::meshes_from_json(text, "memory");
+    EXPECT_EQ(m.images[0].path, "../art/blob.png");
+    EXPECT_EQ(io::meshes_to_json(m.images, m.meshes, ""), text);
+    io::LoadedMeshes based = io::meshes_from_json(text, "memory", "/assets/sub");
+    EXPECT_EQ(based.images[0].path, "/assets/art/blob.png");
+    const std::string bytes = io::meshes_to_binary(o.prepared.scene, o.meshes, dir.path("sub/m.bin"));
+    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory").images, io::meshes_from_binary(bytes, "memory").meshes, ""), bytes);
+}
+
+// The JSON reader parses doubles and rounds them to float once; the
+// writer's shortest float text must survive that for every float.
+TEST(MeshReaders, ShortestFloatTextReadsBackThroughDouble) {
+    std::mt19937 rng(13);
+    for (int i = 0; i < 200000; ++i) {
+        std::uint32_t bits = rng();
+        float f;
+        std::memcpy(&f, &bits, 4);
+        if (!std::isfinite(f)) continue;
+        char buf[32];
+        auto r = std::to_chars(buf, buf + sizeof buf, f);
+        const double d = nlohmann::json::parse(std::string(buf, r.ptr)).get<double>();
+        ASSERT_EQ(float(d), f) << std::string(buf, r.ptr);
+    }
+}
+
+// ---- Bad files
+
+const char* kSmallJson = R"({"viewport": {"x": 0, "y": 0, "width": 8, "height": 8}, "depth_test": true,
+ "images": [{"id": "a", "path": "a.png", "width": 4, "height": 4}],
+ "draws": [{"image": "a", "pass": "blend", "blend": "alpha",
+   "vertices": [0,0,0.5,0,0,1,1,1,1, 4,0,0.5,1,0,1,1,1,1, 0,4,0.5,0,1,1,1,1,1],
+   "indices": [0,1,2]}],
+ "stats": {"elements": 1, "draw_calls": 1, "triangles": 1, "depth_levels": 1, "depth_bits": 10, "graph_edges": 0, "seconds": 0}})";
+
+std::string json_error(const std::string& text) {
+    try {
+        io::meshes_from_json(text, "m.json");
+    } catch (const io::Error& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+    auto at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return s.replace(at, from.size(), to);
+}
+
+TEST(MeshReaders, JsonErrorsNameThePath) {
+    EXPECT_NO_THROW(io::meshes_from_json(kSmallJson, "m.json"));
+    const std::string s = kSmallJson;
+    const std::pair<std::string, std::string> cases[] = {
+        {replaced(s, "[0,1,2]", "[0,1,3]"), "m.json: draws[0].indices[2]: must be an integer in 0..2"},
+        {replaced(s, "[0,1,2]", "[0,1]"), "m.json: draws[0].indices: has 2 indices, not a multiple of 3"},
+        {replaced(s, "[0,1,2]", "[0,1,-2]"), "m.json: draws[0].indices[2]:"},
+        {replaced(s, "[0,0,0.5,", "[0,0,1.5,"), "m.json: draws[0].vertices[2]: is a depth (z) outside [0, 1]"},
+        {replaced(s, "[0,0,0.5,", "[1e39,0,0.5,"), "m.json: draws[0].vertices[0]: is outside the range of a float"},
+        {replaced(s, "[0,0,0.5,", "[\"x\",0,0.5,"), "m.json: draws[0].vertices[0]: must be a number"},
+        {replaced(s, "[0,0,0.5,", "[0,0.5,"), "m.json: draws[0].vertices: has 26 numbers, not 9 per vertex"},
+        {replaced(s, "\"pass\": \"blend\"", "\"pass\": \"front\""), "m.json: draws[0].pass: unknown pass \"front\""},
+        {replaced(s, "\"blend\": \"alpha\"", "\"blend\": \"screen\""), "m.json: draws[0].blend: unknown blend \"screen\""},
+        {replaced(s, "\"image\": \"a\"", "\"image\": \"b\""), "m.json: draws[0].image: unknown image id \"b\""},
+        {replaced(s, "\"width\": 4", "\"width\": 99999"), "m.json: images[0].width: must be an integer in 0..16384"},
+        {replaced(s, "\"depth_test\": true", "\"depth_test\": 1"), "m.json: depth_test: must be true or false"},
+        {replaced(s, "\"viewport\"", "\"view\""), "m.json: top level: missing \"viewport\""},
+        {replaced(s, "\"seconds\": 0", "\"seconds\": -1"), "m.json: stats.seconds: must not be negative"},
+        {replaced(s, "\"triangles\": 1", "\"triangles\": 1.5"), "m.json: stats.triangles: must be an integer"},
+        {"[1, 2]", "m.json: top level: expected a JSON object"},
+        {"{\"viewport\": ", "m.json: byte 13: not valid JSON"},
+    };
+    for (const auto& [text, expected] : cases) {
+        const std::string error = json_error(text);
+        EXPECT_EQ(error.substr(0, expected.size()), expected) << error;
+        EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+    }
+}
+
+std::string binary_error(const std::string& bytes) {
+    try {
+        io::meshes_from_binary(bytes, "m.bin");
+    } catch (const io::Error& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+template <class T>
+std::string patched(std::string bytes, std::size_t at, T v) {
+    std::memcpy(bytes.data() + at, &v, sizeof v);
+    return bytes;
+}
+
+TEST(MeshReaders, BinaryErrorsNameTheByte) {
+    const io::LoadedMeshes small = io::meshes_from_json(kSmallJson, "m.json");
+    const std::string b = io::meshes_to_binary(small.images, small.meshes, "");
+    ASSERT_NO_THROW(io::meshes_from_binary(b, "m.bin"));
+    // Header 104 bytes; image "a"/"a.png": 4+1+4+5 = 14, padded to 16, sizes at 120; draw header at 128, vertices at 144.
+    ASSERT_EQ(b.size(), 264u);
+    const std::size_t counts = 40, draw = 128, vertices = 144, indices = vertices + 27 * 4;
+    const std::pair<std::string, std::string> cases[] = {
+        {"DCMESH", "m.bin: byte 0: not a depthcull binary meshes file"},
+        {patched(b, 8, std::uint32_t(2)), "m.bin: byte 8: format version 2 is not supported"},
+        {patched(b, 12, std::uint32_t(3)), "m.bin: byte 12: unknown flags 3"},
+        {patched(b, 16, std::numeric_limits<double>::quiet_NaN()), "m.bin: byte 16: viewport x is not a finite number"},
+        {patched(b, counts, std::uint32_t(1 << 16)), "m.bin: byte 40: 65536 images and 1 draws do not fit in the"},
+        {patched(b, counts, std::uint32_t(1 << 20)), "m.bin: byte 40: more than 65536 images"},
+        {patched(b, counts + 4, std::uint32_t(1 << 24)), "m.bin: byte 40: 1 images and 16777216 draws do not fit"},
+        {patched(b, counts + 4, std::uint32_t(0xffffffff)), "m.bin: byte 44: more than 16777216 draws"},
+        {patched(b, 48, std::int64_t(-1)), "m.bin: byte 48: a negative stats count"},
+        {patched(b, 119, char(1)), "m.bin: byte 119: an image entry padding is not zero"},
+        {patched(b, 120, std::int32_t(-4)), "m.bin: byte 120: image width -4 is outside 0..16384"},
+        {patched(b, draw, std::uint32_t(1)), "m.bin: byte 128: draw names image 1 of 1"},
+        {patched(b, draw + 4, std::uint8_t(2)), "m.bin: byte 132: unknown pass 2"},
+        {patched(b, draw + 5, std::uint8_t(4)), "m.bin: byte 133: unknown blend 4"},
+        {patched(b, draw + 6, std::uint16_t(1)), "m.bin: byte 134: reserved field is not 0"},
+        {patched(b, draw + 8, std::uint32_t(0xffffffff)), "m.bin: byte 136: more than 33554432 vertices"},
+        {patched(b, draw + 8, std::uint32_t(1000)), "m.bin: byte 136: 1000 vertices and 3 indices do not fit in the 120 bytes left"},
+        {patched(b, draw + 12, std::uint32_t(4)), "m.bin: byte 140: index count 4 is not a multiple of 3"},
+        {patched(b, vertices + 4 * 11, std::numeric_limits<float>::infinity()), "m.bin: byte 188: vertex 1 value 2 is not a finite number"},
+        {patched(b, vertices + 4 * 2, 2.0f), "m.bin: byte 152: vertex 0 value 2 is a depth (z) outside [0, 1]"},
+        {patched(b, indices + 8, std::uint32_t(3)), "m.bin: byte 260: index 3 is not below the draw's vertex count 3"},
+        {b + "x", "m.bin: byte 264: 1 bytes after the last draw"},
+    };
+    for (const auto& [bytes, expected] : cases) {
+        const std::string error = binary_error(bytes);
+        EXPECT_EQ(error.substr(0, expected.size()), expected) << error;
+    }
+    // Every truncation is an error naming where the file ends, never a crash.
+    for (std::size_t n = 0; n < b.size(); ++n) EXPECT_NE(binary_error(b.substr(0, n)), "no error") << n;
+}
+
+// A few thousand random byte edits of both forms: every outcome is a value
+// or an io::Error (the fuzz harnesses in fuzz/ run this without bound).
+TEST(MeshReaders, RandomEditsNeverCrash) {
+    const io::LoadedMeshes small = io::meshes_from_json(kSmallJson, "m.json");
+    const std::string forms[] = {kSmallJson, io::meshes_to_binary(small.images, small.meshes, "")};
+    std::mt19937 rng(7);
+    for (const std::string& form : forms) {
+        for (int i = 0; i < 3000; ++i) {
+            std::string s = form;
+            for (int k = 0; k < 1 + int(rng() % 4); ++k) s[rng() % s.size()] = char(rng());
+            try {
+                io::LoadedMeshes m = io::is_binary_meshes(s) ? io::meshes_from_binary(s, "x") : io::meshes_from_json(s, "x");
+                for (const Draw& d : m.meshes.draws)
+                    for (std::uint32_t index : d.indices) ASSERT_LT(index, d.vertex_count());
+            } catch (const io::Error&) {
+            }
+        }
+    }
+}
+
+// The fuzz harnesses' seeds (fuzz/corpus/mesh_json, mesh_binary) are
+// valid files, so fuzzing starts from inputs that reach every check.
+TEST(MeshReaders, FuzzSeedsAreValidMeshes) {
+    int seeds = 0;
+    for (const char* dir : {"mesh_json", "mesh_binary"}) {
+        for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(DEPTHCULL_SOURCE_DIR) / "fuzz/corpus" / dir)) {
+            io::LoadedMeshes m = io::read_meshes(entry.path().string());
+            EXPECT_FALSE(m.meshes.draws.empty()) << entry.path();
+            ++seeds;
+        }
+    }
+    EXPECT_GE(seeds, 4);
+    // Both forms of a seed hold the same meshes.
+    const std::string root = std::string(DEPTHCULL_SOURCE_DIR) + "/fuzz/corpus/";
+    io::LoadedMeshes j = io::read_meshes(root + "mesh_json/two_draws.json"), b = io::read_meshes(root + "mesh_binary/two_draws.bin");
+    expect_same_meshes(j.meshes, b.meshes);
+}
+
+} // namespace
+} // namespace depthcull::test
