@@ -1,7 +1,11 @@
 // depthcull bench: the paper's Table 2 for our scenes, measured by
-// drawing: draw calls, triangles, overdraw (GL_SAMPLES_PASSED), the ideal
-// overdraw, milliseconds per frame and the pixel difference against
-// overpaint, for overpaint, meshes only and optimized.
+// drawing: draw calls, triangles, fragments rasterized and shaded
+// (GL_SAMPLES_PASSED), the ideal overdraw, wall and CPU milliseconds per
+// frame and the pixel difference against overpaint, for overpaint, meshes
+// only and optimized. Frames are drawn by depthcull::runtime, the plain
+// sprite shader an engine runs; --renderer instrumented times the
+// measuring renderer of `render --compare` instead (texel maps and rect
+// tests in its shader), for comparison.
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +35,8 @@ struct BenchArgs {
     std::string output;
     std::string modes = "overpaint,meshes,optimized";
     int lp_threads = -1;
+    enum class Shader { runtime, instrumented } shader = Shader::runtime;
+    bool instrumented = false; // shader == instrumented, set when run
     RenderInput input;
 };
 
@@ -51,8 +57,61 @@ std::vector<render::Mode> parse_modes(const std::string& text) {
 struct SceneResult {
     std::string path;
     std::size_t elements = 0;
-    render::SceneMeasurement m;
+    render::SceneMeasurement m;        // --renderer instrumented
+    render::RuntimeMeasurement rt;     // the runtime renderer
 };
+
+std::string short_path(const std::string& path) { return path.size() > 24 ? "..." + path.substr(path.size() - 21) : path; }
+
+std::string runtime_table(const std::vector<SceneResult>& results) {
+    std::string out;
+    char line[512];
+    std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %7s %8s %9s %9s %7s %7s\n", "Scene", "Mode", "Obj", "Tri", "raster",
+                  "OD", "ideal", "OD/ideal", "ms", "cpu ms", "diffpx", "offedge");
+    out += line;
+    for (const SceneResult& r : results) {
+        const double pixels = double(r.rt.width) * double(r.rt.height);
+        for (const render::RuntimeModeMeasurement& m : r.rt.modes) {
+            const double od = pixels > 0 ? double(m.fragments_shaded) / pixels : 0;
+            std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %7.3f %8.3f %9.3f %9.3f %7" PRId64 " %7" PRId64 "\n",
+                          short_path(r.path).c_str(), render::mode_name(m.mode), m.draw_calls, m.triangles,
+                          pixels > 0 ? double(m.fragments_rasterized) / pixels : 0, od, r.rt.ideal_overdraw,
+                          r.rt.ideal_overdraw > 0 ? od / r.rt.ideal_overdraw : 0.0, m.wall_ms, m.cpu_ms, m.diff.pixels_differ,
+                          m.off_texel_edges);
+            out += line;
+        }
+    }
+    return out;
+}
+
+json runtime_json(const SceneResult& r) {
+    json modes = json::array();
+    const double pixels = double(r.rt.width) * double(r.rt.height);
+    for (const render::RuntimeModeMeasurement& m : r.rt.modes) {
+        const double od = pixels > 0 ? double(m.fragments_shaded) / pixels : 0;
+        modes.push_back({{"mode", render::mode_name(m.mode)},
+                         {"draw_calls", m.draw_calls},
+                         {"triangles", m.triangles},
+                         {"fragments_rasterized", m.fragments_rasterized},
+                         {"fragments_shaded", m.fragments_shaded},
+                         {"samples_passed", m.fragments_shaded},
+                         {"rasterized_overdraw", pixels > 0 ? double(m.fragments_rasterized) / pixels : 0},
+                         {"overdraw", od},
+                         {"overdraw_over_ideal", r.rt.ideal_overdraw > 0 ? od / r.rt.ideal_overdraw : 0.0},
+                         {"ms_median", m.wall_ms},
+                         {"cpu_ms_median", m.cpu_ms},
+                         {"max_channel_diff", m.diff.max_channel_diff},
+                         {"pixels_differ", m.diff.pixels_differ},
+                         {"pixels_differ_on_texel_edges", m.diff.pixels_differ - m.off_texel_edges},
+                         {"pixels_differ_elsewhere", m.off_texel_edges}});
+    }
+    return {{"scene", r.path},
+            {"width", r.rt.width},
+            {"height", r.rt.height},
+            {"elements", r.elements},
+            {"ideal_overdraw", r.rt.ideal_overdraw},
+            {"modes", modes}};
+}
 
 std::string table(const std::vector<SceneResult>& results) {
     std::string out;
@@ -61,7 +120,7 @@ std::string table(const std::vector<SceneResult>& results) {
                   "ideal", "OD/ideal", "ms", "min ms", "maxdiff", "diffpx", "offedge");
     out += line;
     for (const SceneResult& r : results) {
-        std::string name = r.path.size() > 24 ? "..." + r.path.substr(r.path.size() - 21) : r.path;
+        std::string name = short_path(r.path);
         for (const render::ModeMeasurement& mode : r.m.modes) {
             std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %8.3f %9.3f %9.3f %7d %7" PRId64 " %7" PRId64 "\n",
                           name.c_str(), render::mode_name(mode.mode), mode.counts.draw_calls, mode.counts.triangles, mode.overdraw,
@@ -76,6 +135,10 @@ std::string table(const std::vector<SceneResult>& results) {
 json to_json(const std::vector<SceneResult>& results, const std::string& renderer, const BenchArgs& args, const char* lp_threads) {
     json scenes = json::array();
     for (const SceneResult& r : results) {
+        if (!args.instrumented) {
+            scenes.push_back(runtime_json(r));
+            continue;
+        }
         json modes = json::array();
         for (const render::ModeMeasurement& m : r.m.modes)
             modes.push_back({{"mode", render::mode_name(m.mode)},
@@ -99,6 +162,7 @@ json to_json(const std::vector<SceneResult>& results, const std::string& rendere
                           {"modes", modes}});
     }
     return {{"renderer", renderer},
+            {"shader", args.instrumented ? "instrumented" : "runtime"},
             {"lp_num_threads", lp_threads ? lp_threads : ""},
             {"frames", args.frames},
             {"warmup", args.warmup},
@@ -107,13 +171,25 @@ json to_json(const std::vector<SceneResult>& results, const std::string& rendere
 
 void run_bench(BenchArgs& args) {
     const std::vector<render::Mode> modes = parse_modes(args.modes);
+    args.instrumented = args.shader == BenchArgs::Shader::instrumented;
     // llvmpipe reads LP_NUM_THREADS when the context is made; pin it so
     // timings from different runs and machines are comparable.
     if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
     else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
     const char* lp_threads = std::getenv("LP_NUM_THREADS");
 
-    auto renderer = open_renderer(args.input);
+    std::unique_ptr<render::GlRenderer> renderer;
+    std::unique_ptr<render::GlHost> host;
+    std::string description;
+    if (args.instrumented) {
+        renderer = open_renderer(args.input);
+        description = renderer->description();
+    } else {
+        std::string error;
+        host = render::GlHost::create({args.input.platform}, render::GlApi::desktop, &error);
+        if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
+        description = host->description();
+    }
     std::vector<SceneResult> results;
     for (const std::string& path : args.scenes) {
         io::PreparedScene prepared = prepare_for_render(path, args.input);
@@ -126,7 +202,10 @@ void run_bench(BenchArgs& args) {
         r.path = path;
         r.elements = prepared.scene.elements.size();
         try {
-            r.m = render::measure_scene(*renderer, prepared.scene, image_views(prepared), prepared.element_analysis, options);
+            if (renderer)
+                r.m = render::measure_scene(*renderer, prepared.scene, image_views(prepared), prepared.element_analysis, options);
+            else
+                r.rt = render::measure_runtime(*host, prepared.scene, image_views(prepared), prepared.element_analysis, options);
         } catch (const render::Error& e) {
             throw CliError(path + ": " + e.what());
         }
@@ -135,18 +214,29 @@ void run_bench(BenchArgs& args) {
 
     std::string text;
     if (args.json_output) {
-        text = to_json(results, renderer->description(), args, lp_threads).dump(1) + "\n";
+        text = to_json(results, description, args, lp_threads).dump(1) + "\n";
     } else {
         char header[512];
-        std::snprintf(header, sizeof header, "# %s, LP_NUM_THREADS=%s, median of %d frames after %d warm-up, glFinish each\n",
-                      renderer->description().c_str(), lp_threads ? lp_threads : "", args.frames, args.warmup);
-        text = header + table(results);
-        text += "# Obj: draw calls; Tri: triangles; OD: fragments passing the depth test (GL_SAMPLES_PASSED) / viewport pixels;\n"
-                "# ideal: per pixel, elements with a visible texel down to the first fully opaque one;\n"
-                "# ms, min ms: median and fastest frame (modes take turns frame by frame);\n"
-                "# maxdiff, diffpx: largest RGBA channel difference and pixels that differ from the overpaint frame\n"
-                "#   (both drawn with 1/64 px coverage skirts and the rect test; with nearest filtering both must be 0);\n"
-                "# offedge: of those, pixels farther than 1/64 px from every triangle edge and texel edge (rounding cannot explain them).\n";
+        std::snprintf(header, sizeof header, "# %s, %s shader, LP_NUM_THREADS=%s, median of %d frames after %d warm-up, glFinish each\n",
+                      description.c_str(), args.instrumented ? "instrumented" : "runtime (plain sprite)", lp_threads ? lp_threads : "",
+                      args.frames, args.warmup);
+        if (args.instrumented) {
+            text = header + table(results);
+            text += "# Obj: draw calls; Tri: triangles; OD: fragments passing the depth test (GL_SAMPLES_PASSED) / viewport pixels;\n"
+                    "# ideal: per pixel, elements with a visible texel down to the first fully opaque one;\n"
+                    "# ms, min ms: median and fastest frame (modes take turns frame by frame);\n"
+                    "# maxdiff, diffpx: largest RGBA channel difference and pixels that differ from the overpaint frame\n"
+                    "#   (both drawn with 1/64 px coverage skirts and the rect test; with nearest filtering both must be 0);\n"
+                    "# offedge: of those, pixels farther than 1/64 px from every triangle edge and texel edge (rounding cannot explain them).\n";
+        } else {
+            text = header + runtime_table(results);
+            text += "# Obj: draw calls; Tri: triangles; raster: fragments rasterized with the depth test off / viewport pixels;\n"
+                    "# OD: fragments shaded (passing the depth test, GL_SAMPLES_PASSED) / viewport pixels;\n"
+                    "# ideal: per pixel, elements with a visible texel down to the first fully opaque one;\n"
+                    "# ms, cpu ms: median wall and process CPU time per frame (modes take turns frame by frame);\n"
+                    "# diffpx: pixels that differ from the runtime's overpaint frame; offedge: of those, pixels whose centre\n"
+                    "#   is on no texel edge (with nearest filtering it must be 0).\n";
+        }
     }
     write_output(args.output, text);
 }
@@ -165,6 +255,11 @@ void add_bench_command(CLI::App& app) {
     cmd->add_option("--lp-threads", args->lp_threads, "LP_NUM_THREADS for llvmpipe (default: the environment's, else 1)")
         ->check(CLI::Range(0, 64));
     cmd->add_flag("--json", args->json_output, "JSON instead of the table");
+    cmd->add_option("--renderer", args->shader,
+                    "runtime: depthcull::runtime, the plain sprite shader an engine runs (default); "
+                    "instrumented: the measuring renderer of render --compare")
+        ->transform(choice<BenchArgs::Shader>({{"runtime", BenchArgs::Shader::runtime}, {"instrumented", BenchArgs::Shader::instrumented}}))
+        ->default_str("runtime");
     cmd->add_option("-o,--output", args->output, "Write the table / JSON here (atomically) instead of stdout");
     add_render_input_options(*cmd, args->input);
     cmd->callback([args] { run_bench(*args); });

@@ -14,11 +14,11 @@
 
 namespace depthcull {
 
-// How an element combines with what is behind it (OpenGL terms):
-// alpha    src*a + dst*(1-a)         (the paper's case; may get opaque polygons)
-// add      src*a + dst
-// multiply src*dst                   (texel colour premultiplied by alpha in the shader)
-// opaque   src                       (texel alpha ignored: the whole rect is opaque)
+// How an element combines with what is behind it (s = texel * colour; GL factors: docs/engine-integration.md):
+// alpha    s*a + dst*(1-a)           (the paper's case; may get opaque polygons)
+// add      s*a + dst
+// multiply dst*(s*a + 1-a)           (s*dst where the texel is opaque, dst where transparent)
+// opaque   s                         (texel alpha ignored: the whole rect is opaque)
 enum class Blend { alpha, add, multiply, opaque };
 
 // The part of the world the frame shows: world [x, x+width) x [y, y+height)

@@ -15,13 +15,17 @@
 //   fragments leave the frame as it is in every blend mode, however its
 //   pieces overlap; clipped, it never samples past the rect (the next atlas
 //   frame), and the rect's own edges stay overpaint's.
+//   Elements placed so that GL does not snap their vertices at all (tiles:
+//   snaps_exactly) need no skirt.
 // - opaque polygons (convex) are pulled `margin` inward, so every pixel the
-//   opaque pass may cover samples a texel its polygon covered.
+//   opaque pass may cover samples a texel its polygon covered (also a pixel
+//   centre exactly on the polygon's edge, which the fill rule may give it).
 // Why texel space: the margin must beat the snapping after the element's
 // scale. 1/32 texel is 1/256 pixel at a scale of 1/8, still twice
 // llvmpipe's worst snapping error (1/512 pixel per coordinate), and at
 // scale 1 it costs the opaque pass a 1/32-pixel strip per edge.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "scene/internal.h"
@@ -88,6 +92,26 @@ Vec2 outward_normal(const Polygon& p, std::size_t i) {
     return len > 0 ? Vec2{d.y / len, -d.x / len} : Vec2{0, 0};
 }
 
+// True when GL rasterizes the element's polygons without snapping error:
+// a transform of power-of-two scales (1/8 .. 8) and quarter turns or
+// flips, moved by a multiple of 1/256 pixel. Polygon vertices (on the half
+// texel grid) then land exactly on GL's 1/256 subpixel grid (llvmpipe; 8
+// subpixel bits is what D3D11-class hardware guarantees) and in a float, so
+// coverage is decided exactly, as in overpaint: no skirt needed. That is
+// every tile of a tile map, at no cost in triangles.
+bool snaps_exactly(const std::array<double, 6>& m) {
+    auto power_of_two_or_zero = [](double a) {
+        if (a == 0) return true;
+        int exponent = 0;
+        const double mantissa = std::frexp(std::abs(a), &exponent); // a = mantissa * 2^exponent, mantissa in [0.5, 1)
+        return mantissa == 0.5 && exponent >= -2 && exponent <= 4;  // 1/8 .. 8
+    };
+    auto on_subpixel_grid = [](double t) { return std::abs(t) < 8192 && std::floor(t * 256) == t * 256; };
+    const bool axis_aligned = (m[1] == 0 && m[2] == 0) || (m[0] == 0 && m[3] == 0);
+    return axis_aligned && power_of_two_or_zero(m[0]) && power_of_two_or_zero(m[1]) && power_of_two_or_zero(m[2]) &&
+           power_of_two_or_zero(m[3]) && on_subpixel_grid(m[4]) && on_subpixel_grid(m[5]);
+}
+
 } // namespace
 
 void MeshBuilder::add_convex_piece(Draw& d, std::uint32_t element, const Polygon& piece, float z) {
@@ -101,7 +125,7 @@ void MeshBuilder::add_convex_piece(Draw& d, std::uint32_t element, const Polygon
 
 void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z) {
     const double m = texel_margin_;
-    if (!(m > 0) || !std::isfinite(m)) return;
+    if (!(m > 0) || !std::isfinite(m) || snaps_exactly(scene_.elements[element].transform)) return;
     // Polygons (or parts of one) closer than the skirt reaches would get
     // each other's skirt over their inside texels, blending those twice:
     // no skirt for them.

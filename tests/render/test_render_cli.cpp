@@ -73,8 +73,18 @@ TEST(BenchCli, PrintsTableTwoAsJson) {
     const std::string scene = test::source_path("examples/meadow.json");
     CliRun r = run_cli("bench \"" + scene + "\" --no-cache --frames 2 --warmup 0 --json");
     ASSERT_EQ(r.status, 0) << r.output;
-    for (const char* key : {"\"overpaint\"", "\"meshes\"", "\"optimized\"", "\"ideal_overdraw\"", "\"samples_passed\""})
+    for (const char* key : {"\"overpaint\"", "\"meshes\"", "\"optimized\"", "\"ideal_overdraw\"", "\"samples_passed\"",
+                            "\"fragments_rasterized\"", "\"fragments_shaded\"", "\"cpu_ms_median\"", "\"shader\": \"runtime\""})
         EXPECT_NE(r.output.find(key), std::string::npos) << key;
+    // The runtime renderer's frames equal its overpaint frame off texel edges.
+    std::size_t equal = 0;
+    for (std::size_t at = 0; (at = r.output.find("\"pixels_differ_elsewhere\": 0,", at)) != std::string::npos; ++at) ++equal;
+    EXPECT_EQ(equal, 3u) << r.output;
+    r = run_cli("bench \"" + scene + "\" --no-cache --frames 1 --warmup 0 --renderer instrumented");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("instrumented shader"), std::string::npos) << r.output;
+    r = run_cli("bench \"" + scene + "\" --no-cache --frames 1 --renderer bogus");
+    EXPECT_NE(r.status, 0);
     r = run_cli("bench \"" + scene + "\" --no-cache --frames 1 --modes optimized,bogus");
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.output.find("unknown mode 'bogus'"), std::string::npos) << r.output;

@@ -1,0 +1,169 @@
+// An engine's frame loop with depthcull::runtime, headless: read this top to
+// bottom. The "engine" here is 60 lines of EGL (no window: Mesa's
+// surfaceless platform and an offscreen framebuffer); yours has SDL, GLFW or
+// a platform layer instead, and passes its own loader the same way.
+//
+//   runtime_frame SCENE.json [OUT.png]
+//
+// Draws the scene overpainted and optimized and counts the pixels that
+// differ (only pixel centres exactly on a texel edge may: see
+// docs/engine-integration.md, "Pixel for pixel"), then runs three frames with moving sprites (dynamic elements) on
+// top of the optimized static scene. With OUT.png, writes the last frame.
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/glcorearb.h>
+
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "depthcull/io.h"
+#include "depthcull/runtime.h"
+#include "depthcull/scene.h"
+
+using namespace depthcull;
+
+namespace {
+
+// ---- The host: a GL context current on this thread, and a framebuffer
+// with a depth buffer. This is the part your engine already has.
+struct Host {
+    EGLDisplay display = EGL_NO_DISPLAY;
+    EGLContext context = EGL_NO_CONTEXT;
+    GLuint framebuffer = 0;
+    PFNGLREADPIXELSPROC ReadPixels = nullptr;
+
+    bool open(int width, int height) {
+        auto get_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+        if (!get_display) return false;
+        display = get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        if (display == EGL_NO_DISPLAY || !eglInitialize(display, nullptr, nullptr) || !eglBindAPI(EGL_OPENGL_API)) return false;
+        const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
+        if (context == EGL_NO_CONTEXT || !eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) return false;
+
+        // No window, so render into an RGBA8 + 24-bit depth framebuffer.
+        auto load = [](const char* name) { return eglGetProcAddress(name); };
+        auto GenFramebuffers = reinterpret_cast<PFNGLGENFRAMEBUFFERSPROC>(load("glGenFramebuffers"));
+        auto BindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(load("glBindFramebuffer"));
+        auto GenRenderbuffers = reinterpret_cast<PFNGLGENRENDERBUFFERSPROC>(load("glGenRenderbuffers"));
+        auto BindRenderbuffer = reinterpret_cast<PFNGLBINDRENDERBUFFERPROC>(load("glBindRenderbuffer"));
+        auto RenderbufferStorage = reinterpret_cast<PFNGLRENDERBUFFERSTORAGEPROC>(load("glRenderbufferStorage"));
+        auto FramebufferRenderbuffer = reinterpret_cast<PFNGLFRAMEBUFFERRENDERBUFFERPROC>(load("glFramebufferRenderbuffer"));
+        auto PixelStorei = reinterpret_cast<PFNGLPIXELSTOREIPROC>(load("glPixelStorei"));
+        ReadPixels = reinterpret_cast<PFNGLREADPIXELSPROC>(load("glReadPixels"));
+        if (!GenFramebuffers || !ReadPixels) return false;
+        GLuint buffers[2];
+        GenRenderbuffers(2, buffers);
+        BindRenderbuffer(GL_RENDERBUFFER, buffers[0]);
+        RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+        BindRenderbuffer(GL_RENDERBUFFER, buffers[1]);
+        RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+        GenFramebuffers(1, &framebuffer);
+        BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
+        FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
+        PixelStorei(GL_PACK_ALIGNMENT, 1);
+        return true;
+    }
+
+    Image read(int width, int height) const {
+        Image image;
+        image.width = width;
+        image.height = height;
+        image.rgba.resize(std::size_t(width) * std::size_t(height) * 4);
+        ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+        return image;
+    }
+};
+
+// The loader the runtime gets: any function from a name to an address.
+void* gl_loader(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
+
+} // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: %s SCENE.json [OUT.png]\n", argv[0]);
+        return 2;
+    }
+    try {
+        // ---- Asset build side (usually `depthcull optimize` at build time):
+        // the scene, its images, their analysis, the static meshes with
+        // room for 64 moving sprites in front.
+        io::PreparedScene p = io::prepare_scene(argv[1], {});
+        const Viewport& view = p.scene.viewport;
+        ReconstructOptions options;
+        options.reserved_dynamic_levels = 64;
+        SceneMeshes static_meshes;
+        if (reconstruct_scene(p.scene, p.element_analysis, options, &static_meshes) != ReconstructStatus::ok)
+            throw io::Error(std::string(argv[1]) + ": reconstruction failed");
+
+        // ---- Engine start-up: context, then the runtime renderer.
+        Host host;
+        if (!host.open(view.width, view.height)) {
+            std::fprintf(stderr, "runtime_frame: no headless OpenGL 3.3 context (needs Mesa's EGL), skipped\n");
+            return 77;
+        }
+        std::string error;
+        auto renderer = runtime::Renderer::create(&gl_loader, &error);
+        if (!renderer) throw io::Error(error);
+        std::printf("runtime renderer on %s\n", renderer->gl_version().c_str());
+        std::vector<ImageView> images;
+        for (const Image& image : p.images) images.push_back(image.view());
+        if (renderer->upload_images(images, p.scene.filter) != runtime::Status::ok) throw io::Error(renderer->error());
+
+        // flip_y false: the framebuffer is read back top row first. A window
+        // (row 0 at the bottom) keeps the default, true.
+        const runtime::Camera camera = runtime::camera_of(view, false);
+        runtime::FrameOptions clear;
+        clear.clear_color = true;
+
+        // ---- The same frame two ways: overpaint, then optimized.
+        renderer->set_meshes(overpaint_meshes(p.scene));
+        renderer->draw(camera, {}, clear);
+        const Image overpainted = host.read(view.width, view.height);
+        renderer->set_meshes(static_meshes);
+        runtime::FrameCounts counts;
+        renderer->draw(camera, {}, clear, &counts);
+        const Image optimized = host.read(view.width, view.height);
+        std::int64_t differ = 0;
+        for (std::size_t i = 0; i < optimized.rgba.size(); i += 4)
+            differ += std::memcmp(&optimized.rgba[i], &overpainted.rgba[i], 4) != 0;
+        std::printf("optimized: %" PRId64 " draw calls, %" PRId64 " triangles; %" PRId64 " pixels differ from overpaint\n",
+                    counts.draw_calls, counts.triangles, differ);
+
+        // ---- The frame loop: sprites move, the static meshes stay uploaded.
+        // add_dynamic_elements over the static meshes without their draws
+        // yields only this frame's own draws, which draw() uploads into
+        // buffers reserved once.
+        SceneMeshes no_draws = static_meshes;
+        no_draws.draws.clear();
+        renderer->reserve_dynamic(4096, 8192);
+        const std::size_t sprites = std::min<std::size_t>(8, p.scene.elements.size());
+        SceneMeshes dynamic;
+        for (int frame = 0; frame < 3; ++frame) {
+            std::vector<Element> moving;
+            std::vector<const ImageAnalysis*> analyses;
+            for (std::size_t k = 0; k < sprites; ++k) {
+                const std::size_t source = p.scene.elements.size() - 1 - k;
+                Element e = p.scene.elements[source];
+                const double angle = 0.4 * frame + 6.2831853 * double(k) / double(sprites);
+                e.transform = {1, 0, 0, 1, view.x + view.width / 2.0 + 120 * std::cos(angle), view.y + view.height / 2.0 + 80 * std::sin(angle)};
+                moving.push_back(e);
+                analyses.push_back(p.element_analysis[source]);
+            }
+            if (add_dynamic_elements(no_draws, p.scene, moving, analyses, &dynamic) != ReconstructStatus::ok)
+                throw io::Error("more moving sprites than reserved depth levels");
+            if (renderer->draw(camera, dynamic.draws, clear, &counts) != runtime::Status::ok) throw io::Error(renderer->error());
+            std::printf("frame %d: %zu moving sprites, %" PRId64 " draw calls\n", frame, moving.size(), counts.draw_calls);
+        }
+        if (argc > 2) io::save_png(argv[2], host.read(view.width, view.height).view());
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "runtime_frame: error: %s\n", e.what());
+        return 1;
+    }
+}
