@@ -130,11 +130,13 @@ typedef struct dc_viewport {
     int width, height;
 } dc_viewport;
 
+/* How an element combines with what is behind it; s = texel * colour, a its
+ * alpha (the GL blend factors: docs/engine-integration.md). */
 typedef enum dc_blend {
-    DC_BLEND_ALPHA = 0,    /* src*a + dst*(1-a) */
-    DC_BLEND_ADD = 1,      /* src*a + dst */
-    DC_BLEND_MULTIPLY = 2, /* src*dst, texel colour premultiplied by alpha in the shader */
-    DC_BLEND_OPAQUE = 3    /* src, texel alpha ignored */
+    DC_BLEND_ALPHA = 0,    /* s*a + dst*(1-a) */
+    DC_BLEND_ADD = 1,      /* s*a + dst */
+    DC_BLEND_MULTIPLY = 2, /* dst*(s*a + 1-a): s*dst where the texel is opaque, dst where transparent */
+    DC_BLEND_OPAQUE = 3    /* s, texel alpha ignored */
 } dc_blend;
 
 typedef struct dc_element {
