@@ -1,6 +1,7 @@
 // The depthcull command line: one file per subcommand, each adding itself
 // to the app. Errors are thrown as CliError (or io::Error) and printed by
-// main() as one line, exit status 1 (2 for usage errors, from CLI11).
+// main() as one line. Exit status (README, "Exit status"): 0 success,
+// 1 an error in the input or output, 2 a usage error.
 #pragma once
 
 #include <functional>
@@ -18,6 +19,11 @@ namespace depthcull::cli {
 
 struct CliError : std::runtime_error {
     using std::runtime_error::runtime_error;
+};
+// A command line that asks for nothing sensible: exit status 2, as CLI11's
+// own usage errors.
+struct UsageError : CliError {
+    using CliError::CliError;
 };
 
 void add_analyze_command(CLI::App& app);
@@ -59,6 +65,15 @@ CLI::Validator choice(std::vector<std::pair<std::string, E>> names) {
     };
     return CLI::Validator(check, "{" + list + "}");
 }
+
+// Rejects nan and infinities (which CLI::Range lets through).
+CLI::Validator finite_number();
+
+// CliError when an output names the same file as an input or as another
+// output (io::same_file): `import m.tmx -o m.tmx` overwrote the map.
+void check_distinct_files(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
+// A scene's files: the scene and its images.
+std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene);
 
 // --viewport x,y,w,h: the camera rectangle in world units (for Tiled maps
 // and scenes alike); sets options.has_viewport.

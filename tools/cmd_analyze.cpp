@@ -170,6 +170,13 @@ std::string summary_text(const std::vector<Result>& results, double wall_seconds
 void run_analyze(const AnalyzeArgs& args) {
     auto start = std::chrono::steady_clock::now();
     std::vector<Input> inputs = expand_inputs(args.inputs);
+    std::vector<std::string> paths;
+    for (const Input& in : inputs) {
+        // The path goes into the JSON, which must be UTF-8.
+        if (!io::valid_utf8(in.path)) throw CliError(in.path + ": file name is not valid UTF-8 (JSON output needs it)");
+        paths.push_back(in.path);
+    }
+    check_distinct_files(paths, {args.output});
     std::vector<Result> results(inputs.size());
     io::parallel_for(inputs.size(), args.threads, [&](std::size_t i) { results[i] = analyze_input(inputs[i], args); });
     double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

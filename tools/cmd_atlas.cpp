@@ -16,6 +16,7 @@ struct AtlasArgs {
 };
 
 void run_atlas(const AtlasArgs& args) {
+    check_distinct_files({args.input, io::load_texturepacker(args.input).image_path}, {args.output});
     io::AtlasPolygonStats stats;
     std::string text = io::atlas_with_polygons(args.input, args.analyze, &stats);
     write_output(args.output, text);

@@ -47,10 +47,10 @@ std::vector<render::Mode> parse_modes(const std::string& text) {
     std::stringstream in(text);
     for (std::string name; std::getline(in, name, ',');) {
         auto it = names.find(name);
-        if (it == names.end()) throw CliError("bench: --modes: unknown mode '" + name + "' (overpaint, meshes, optimized)");
+        if (it == names.end()) throw UsageError("bench: --modes: unknown mode '" + name + "' (overpaint, meshes, optimized)");
         modes.push_back(it->second);
     }
-    if (modes.empty()) throw CliError("bench: --modes: no modes given");
+    if (modes.empty()) throw UsageError("bench: --modes: no modes given");
     return modes;
 }
 
@@ -178,6 +178,7 @@ void run_bench(BenchArgs& args) {
     else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
     const char* lp_threads = std::getenv("LP_NUM_THREADS");
 
+    check_distinct_files(args.scenes, {args.output});
     std::unique_ptr<render::GlRenderer> renderer;
     std::unique_ptr<render::GlHost> host;
     std::string description;

@@ -49,7 +49,9 @@ void run_optimize(OptimizeArgs& args) {
     prepare.analyze.opaque.filter = prepare.analyze.boundary.filter;
     prepare.filter_from_scene = args.filter_option->count() == 0;
     if (!args.no_cache) prepare.cache_dir = args.cache_dir.empty() ? io::default_cache_dir() : args.cache_dir;
+    check_distinct_files({args.scene}, {args.output, args.binary});
     io::PreparedScene prepared = io::prepare_scene(args.scene, prepare);
+    check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.binary});
 
     if (args.reconstruct.sort == SortMethod::paper && prepared.scene.elements.size() > kPaperSortMaxElements)
         std::fprintf(stderr, "depthcull: warning: --sort paper is quadratic (paper 2.3.1); %zu elements may take long\n",

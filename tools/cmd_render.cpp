@@ -62,8 +62,10 @@ void write_heatmap(const io::PreparedScene& prepared, const SceneMeshes& drawn, 
 
 void run_render(RenderArgs& args) {
     if (args.output.empty() && args.heatmap.empty() && !args.compare)
-        throw CliError("render: nothing to do: give -o FRAME.png, --heatmap HEAT.png or --compare");
+        throw UsageError("render: nothing to do: give -o FRAME.png, --heatmap HEAT.png or --compare");
+    check_distinct_files({args.scene}, {args.output, args.heatmap});
     io::PreparedScene prepared = prepare_for_render(args.scene, args.input);
+    check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.heatmap});
     const SceneMeshes meshes = meshes_for(args.mode, prepared, args);
     if (!args.heatmap.empty()) write_heatmap(prepared, meshes, args);
     if (args.output.empty() && !args.compare) return;

@@ -1,8 +1,11 @@
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 
 #include "cli.h"
 #include "depthcull/io.h"
+#include "depthcull/limits.h"
 
 namespace depthcull::cli {
 
@@ -13,6 +16,34 @@ void write_output(const std::string& path, const std::string& text) {
         return;
     }
     io::write_file_atomic(path, text);
+}
+
+CLI::Validator finite_number() {
+    // CLI::Range lets "nan" through (every comparison with it is false).
+    return CLI::Validator(
+        [](std::string& value) -> std::string {
+            char* end = nullptr;
+            double v = std::strtod(value.c_str(), &end);
+            return std::isfinite(v) ? std::string() : "'" + value + "' is not a finite number";
+        },
+        "FINITE");
+}
+
+void check_distinct_files(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+    for (std::size_t i = 0; i < outputs.size(); ++i) {
+        for (const std::string& in : inputs)
+            if (io::same_file(outputs[i], in))
+                throw CliError(outputs[i] + ": refusing to overwrite an input (" + in + ") with an output");
+        for (std::size_t j = 0; j < i; ++j)
+            if (io::same_file(outputs[i], outputs[j]))
+                throw CliError(outputs[i] + ": two outputs name the same file (" + outputs[j] + ")");
+    }
+}
+
+std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene) {
+    std::vector<std::string> inputs{scene_path};
+    for (const SceneImage& image : scene.images) inputs.push_back(image.path);
+    return inputs;
 }
 
 void add_boundary_options(CLI::App& cmd, BoundaryOptions& o) {
@@ -36,6 +67,7 @@ void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
     cmd.add_option("--min-coverage", o.opaque.min_coverage, "Stop adding opaque polygons at this fraction of opaque texels covered")
+        ->check(finite_number())
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     cmd.add_option("--min-opaque-area", o.opaque.min_area,
@@ -61,9 +93,13 @@ void add_viewport_option(CLI::App& cmd, io::LoadOptions& options) {
                double x, y;
                int w, h;
                char tail;
+               // "nan,nan,64,64" scanned fine and crashed render: x and y
+               // must be finite and within kMaxCoordinate.
                if (std::sscanf(text.c_str(), "%lf,%lf,%d,%d%c", &x, &y, &w, &h, &tail) != 4 || w <= 0 || h <= 0 ||
-                   w > kMaxImageSide || h > kMaxImageSide)
-                   throw CLI::ValidationError("--viewport", "expected x,y,w,h with 0 < w, h <= 16384, got '" + text + "'");
+                   w > kMaxImageSide || h > kMaxImageSide || !(std::fabs(x) <= limits::kMaxCoordinate) ||
+                   !(std::fabs(y) <= limits::kMaxCoordinate))
+                   throw CLI::ValidationError("--viewport", "expected x,y,w,h with finite |x|, |y| <= 1e9 and 0 < w, h <= 16384, got '" +
+                                                                text + "'");
                options.has_viewport = true;
                options.viewport = {x, y, w, h};
            },

@@ -1,6 +1,7 @@
 // depthcull: depth-cull optimization of 2D scenes for 3D graphics hardware.
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include "cli.h"
 #include "depthcull/io.h"
@@ -10,6 +11,7 @@ int main(int argc, char** argv) {
     app.name("depthcull");
     app.require_subcommand(1);
     app.set_version_flag("--version", "depthcull 0.1.0");
+    app.footer("Exit status: 0 success, 1 an error in the input or output (one line on stderr naming the file), 2 a usage error.");
     depthcull::cli::add_analyze_command(app);
     depthcull::cli::add_optimize_command(app);
     depthcull::cli::add_render_command(app);
@@ -19,7 +21,16 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // --help and --version exit 0; every other CLI11 error is a usage
+        // error, exit 2 (CLI11's own codes run 105-109).
+        int status = app.exit(e);
+        return status == 0 ? 0 : 2;
+    } catch (const depthcull::cli::UsageError& e) {
+        std::fprintf(stderr, "depthcull: error: %s\n", e.what());
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "depthcull: error: out of memory\n");
+        return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "depthcull: error: %s\n", e.what());
         return 1;

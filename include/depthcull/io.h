@@ -1,6 +1,9 @@
 // depthcull: file formats and files. Everything here may do I/O and throws
 // depthcull::io::Error, whose message is one line naming the file and what
 // is wrong with it ("scene.json: element 3: unknown image id \"rok\"").
+// io::Error is the only exception that leaves these functions: parser
+// errors, std::bad_alloc and the like are mapped to it. The limits on what
+// is read are in depthcull/limits.h.
 #pragma once
 
 #include <array>
@@ -8,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 
 #include "depthcull/image.h"
 #include "depthcull/scene.h"
@@ -26,10 +30,21 @@ Image decode_png(const void* data, std::size_t size, const std::string& name);
 std::string encode_png(ImageView image);
 void save_png(const std::string& path, ImageView image); // atomic
 
+// A regular file of at most limits::kMaxFileBytes (devices and FIFOs are
+// refused, so /dev/zero cannot be read without end).
 std::string read_file(const std::string& path);
-// Writes to a temporary file beside `path`, then renames it over `path`, so
-// a reader never sees a half-written file and a failure leaves none.
+// Writes to a temporary file beside `path` (".NAME.tmp.<pid>.<n>"), then
+// renames it over `path`, so a reader never sees a half-written file and a
+// failure leaves none; temporaries that a killed writer left there (whose
+// pid is gone) are removed first.
 void write_file_atomic(const std::string& path, std::string_view bytes);
+// Whether two paths name one file: the same inode when both exist, else
+// the same canonical path (an output not yet written vs another). Never
+// true for "" or "-" (stdout).
+bool same_file(const std::string& a, const std::string& b);
+// Whether `text` is valid UTF-8 (JSON's encoding; paths and names from
+// file systems and XML may hold other bytes).
+bool valid_utf8(std::string_view text);
 
 // Scene loading, by extension: .json (our scene format), .tmx / .tmx.gz
 // (Tiled). Image sizes are filled in; images are not kept.
@@ -67,6 +82,9 @@ struct Atlas {
     std::string image_path;  // meta.image, resolved relative to the .json
     int width = 0, height = 0; // meta.size when given
     std::vector<AtlasFrame> frames; // in file order
+    // Frame index by name (load_texturepacker fills it); find() searches
+    // linearly when it does not describe `frames`.
+    std::unordered_map<std::string, std::size_t> by_name;
     const AtlasFrame* find(const std::string& name) const;
 };
 

@@ -101,22 +101,29 @@ public:
         pos_ += sizeof v;
         return true;
     }
+    // Structural checks beyond the checksum (an entry can be damaged
+    // before it is summed, or collide): every count fits in the bytes
+    // left, so nothing is allocated for data that is not there, and every
+    // vertex is finite and within the rect grown by one texel (linear
+    // filtering's half-texel margin, with room to spare).
     bool polygons(std::vector<Polygon>& list, Rect rect) {
         std::uint32_t count = 0, total = 0;
-        if (!get(count) || count > kMaxCachedVertices) return false;
+        if (!get(count) || count > kMaxCachedVertices || count > left() / sizeof(std::uint32_t)) return false;
         list.resize(count);
         for (Polygon& p : list) {
             std::uint32_t n = 0;
-            if (!get(n) || (total += n) > kMaxCachedVertices) return false;
+            if (!get(n) || (total += n) > kMaxCachedVertices || n > left() / (2 * sizeof(double))) return false;
             p.resize(n);
             for (Vec2& v : p) {
                 if (!get(v.x) || !get(v.y)) return false;
+                if (!(v.x >= -1 && v.x <= rect.w + 1 && v.y >= -1 && v.y <= rect.h + 1)) return false; // false for nan
                 v.x += rect.x;
                 v.y += rect.y;
             }
         }
         return true;
     }
+    std::size_t left() const { return bytes_.size() - pos_; }
     bool done() const { return pos_ == bytes_.size(); }
 
 private:
@@ -222,6 +229,14 @@ std::optional<ImageAnalysis> parse_analysis(const std::string& bytes, const Cach
     if (!r.polygons(a.boundary, rect) || !r.polygons(a.opaque, rect)) return std::nullopt;
     if (!r.get(nontransparent) || !r.get(opaque) || !r.get(s.boundary_area) || !r.get(s.bbox_area) || !r.get(vertices) ||
         !r.get(s.opaque_area) || !r.get(covered) || !r.get(s.opaque_coverage) || !r.get(s.seconds) || !r.done())
+        return std::nullopt;
+    // Counts within the rect, areas and fractions finite and sane.
+    const std::int64_t texels = std::int64_t(w) * h;
+    auto count_ok = [&](std::int64_t c) { return c >= 0 && c <= texels; };
+    auto area_ok = [&](double a) { return a >= 0 && a <= double(rect.w + 2) * double(rect.h + 2); }; // false for nan
+    if (!count_ok(nontransparent) || !count_ok(opaque) || !count_ok(covered) || covered > opaque || vertices < 0 ||
+        vertices > std::int32_t(kMaxCachedVertices) || !area_ok(s.boundary_area) || !area_ok(s.bbox_area) || !area_ok(s.opaque_area) ||
+        !(s.opaque_coverage >= 0 && s.opaque_coverage <= 1) || !(s.seconds >= 0 && s.seconds < 1e9))
         return std::nullopt;
     s.nontransparent_texels = nontransparent;
     s.opaque_texels = opaque;

@@ -1,7 +1,12 @@
-// Internal: the scene readers that io::load_scene dispatches to.
+// Internal: the scene readers that io::load_scene dispatches to, and what
+// every reader shares to keep its errors ours.
 #pragma once
 
+#include <filesystem>
+#include <new>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "depthcull/io.h"
 
@@ -14,6 +19,51 @@ Scene load_tiled_map(const std::string& path, const LoadOptions& options);  // t
 // io::Error when the file is missing, not a PNG, or over our size limits.
 void png_size(const std::string& path, int* width, int* height); // png.cpp
 
+// io::Error "<where>: ..." unless the viewport is finite, within
+// limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).
+void check_viewport(const Viewport& viewport, const std::string& where);
+
 bool ends_with(const std::string& s, const std::string& suffix);
+
+// io::Error unless `path` is a regular file within kMaxFileBytes.
+void check_input_file(const std::string& path); // file.cpp
+
+// io::Error when JSON `text` nests arrays / objects deeper than
+// limits::kMaxNestingDepth: nlohmann's parser copes, but copying, dumping
+// and our walks of the document recurse (json_checks.cpp).
+void check_json_depth(std::string_view text, const std::string& path);
+
+// Whether `text` is UTF-8 (JSON's encoding); check_utf8 throws io::Error
+// "<where>: '<text>' is not valid UTF-8 ..." when it is not. Paths and
+// names come from file systems and XML, which allow other bytes.
+void check_utf8(const std::string& text, const std::string& where);
+// How errors name an output: its path, "stdout" for "" and "-".
+inline std::string output_name(const std::string& path) { return path.empty() || path == "-" ? "stdout" : path; }
+
+// A library exception's text without nlohmann's "[json.exception.x.n] ".
+inline std::string exception_text(const std::exception& e) {
+    std::string message = e.what();
+    if (message.compare(0, 16, "[json.exception.") == 0)
+        if (auto end = message.find("] "); end != std::string::npos) message = message.substr(end + 2);
+    return message;
+}
+
+// fn(), with every exception that is not ours (std::bad_alloc, a library's
+// own types) turned into an io::Error naming `path`: the library throws
+// only its documented types.
+template <class F>
+auto guarded(const std::string& path, F&& fn) -> decltype(fn()) {
+    try {
+        return fn();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw Error(path + ": out of memory");
+    } catch (const std::filesystem::filesystem_error& e) {
+        throw Error(path + ": " + e.code().message() + " (" + e.path1().string() + ")");
+    } catch (const std::exception& e) {
+        throw Error(path + ": " + exception_text(e));
+    }
+}
 
 } // namespace depthcull::io

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 #include "io/mesh_common.h"
 
 namespace depthcull::io {
@@ -55,9 +56,12 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
         const SceneImage& img = images[i];
         s += i ? ",\n  " : "\n  ";
         s += "{\"id\": ";
+        check_utf8(img.id, output_name(output_path) + ": image id");
         append_string(s, img.id);
         s += ", \"path\": ";
-        append_string(s, output_relative_path(img.path, output_path));
+        std::string path = output_relative_path(img.path, output_path);
+        check_utf8(path, output_name(output_path) + ": image \"" + img.id + "\": path");
+        append_string(s, path);
         s += ", \"width\": ";
         append_int(s, img.width);
         s += ", \"height\": ";

@@ -14,6 +14,7 @@
 
 #include "depthcull/io.h"
 #include "io/cache.h"
+#include "io/formats.h"
 
 namespace depthcull::io {
 
@@ -51,7 +52,9 @@ void parallel_for(std::size_t n, unsigned threads, const std::function<void(std:
     if (error) std::rethrow_exception(error);
 }
 
-PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options) {
+namespace {
+
+PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     PreparedScene out;
     out.scene = load_scene(path, options.load);
@@ -120,6 +123,13 @@ PreparedScene prepare_scene(const std::string& path, const PrepareOptions& optio
     out.analyzed = int(work.size()) - out.cache_hits;
     out.analysis_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
+}
+
+} // namespace
+
+PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options) {
+    // std::bad_alloc from a scene that fits the limits but not this machine.
+    return guarded(path, [&] { return prepare(path, options); });
 }
 
 } // namespace depthcull::io

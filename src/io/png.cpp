@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "depthcull/io.h"
@@ -25,6 +26,9 @@ std::string size_problem(std::uint32_t w, std::uint32_t h) {
 } // namespace
 
 void png_size(const std::string& path, int* width, int* height) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw Error("cannot open image " + path + " (" + std::strerror(ENOENT) + ")");
+    check_input_file(path); // before opening: a FIFO would block
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot open image " + path + " (" + std::strerror(errno) + ")");
     unsigned char b[24];
@@ -51,7 +55,7 @@ Image decode_png(const void* data, std::size_t size, const std::string& name) {
     Image image;
     image.width = int(png.width);
     image.height = int(png.height);
-    image.rgba.resize(PNG_IMAGE_SIZE(png));
+    guarded(name, [&] { image.rgba.resize(PNG_IMAGE_SIZE(png)); });
     if (!png_image_finish_read(&png, nullptr, image.rgba.data(), 0, nullptr)) {
         std::string message = png.message;
         png_image_free(&png);

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "depthcull/limits.h"
 #include "io/formats.h"
 
 namespace depthcull::io {
@@ -22,8 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr std::size_t kMaxImages = 1 << 16;
-constexpr std::size_t kMaxElements = 1 << 24;
+constexpr std::size_t kMaxImages = limits::kMaxSceneImages;
+constexpr std::size_t kMaxElements = std::size_t(limits::kMaxSceneElements);
 
 struct Context {
     std::string file;
@@ -72,6 +73,8 @@ Viewport parse_viewport(const Context& ctx, const json& v) {
     Viewport vp;
     if (v.contains("x")) vp.x = number(c, v["x"], "x");
     if (v.contains("y")) vp.y = number(c, v["y"], "y");
+    if (std::fabs(vp.x) > limits::kMaxCoordinate || std::fabs(vp.y) > limits::kMaxCoordinate)
+        c.fail("x and y must be within +-1e9 (kMaxCoordinate)");
     if (!v.contains("width") || !v.contains("height")) c.fail("needs \"width\" and \"height\"");
     vp.width = integer(c, v["width"], "width");
     vp.height = integer(c, v["height"], "height");
@@ -107,7 +110,7 @@ Element parse_element(const Context& ctx, const json& v, const Scene& scene, con
         e.transform = number_array<6>(ctx, v["transform"], "transform");
         // Far beyond any screen, and keeps every product finite.
         for (double t : e.transform)
-            if (std::fabs(t) > 1e9) ctx.fail("\"transform\" values must be within +-1e9");
+            if (std::fabs(t) > limits::kMaxCoordinate) ctx.fail("\"transform\" values must be within +-1e9 (kMaxCoordinate)");
     }
     if (v.contains("color")) {
         auto c = number_array<4>(ctx, v["color"], "color");
@@ -165,9 +168,12 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
     Context ctx{path, ""};
     json doc;
     try {
-        doc = json::parse(read_file(path));
-    } catch (const json::parse_error& e) {
-        ctx.fail(std::string("not valid JSON (") + e.what() + ")");
+        std::string text = read_file(path);
+        check_json_depth(text, path);
+        doc = json::parse(text);
+    } catch (const json::exception& e) {
+        // parse_error, and out_of_range for numbers like 1e400.
+        ctx.fail("not valid JSON (" + exception_text(e) + ")");
     }
     if (!doc.is_object()) ctx.fail("expected a JSON object with \"images\" and \"elements\"");
     const fs::path base = fs::path(path).parent_path();
@@ -183,8 +189,8 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
     if (!doc.contains("elements") || !doc["elements"].is_array()) ctx.fail("missing \"elements\" array");
     const json& images = doc["images"];
     const json& elements = doc["elements"];
-    if (images.size() > kMaxImages) ctx.fail("more than " + std::to_string(kMaxImages) + " images");
-    if (elements.size() > kMaxElements) ctx.fail("more than " + std::to_string(kMaxElements) + " elements");
+    if (images.size() > kMaxImages) ctx.fail("more than " + std::to_string(kMaxImages) + " images (kMaxSceneImages)");
+    if (elements.size() > kMaxElements) ctx.fail("more than " + std::to_string(kMaxElements) + " elements (kMaxSceneElements)");
 
     std::map<std::string, int> ids;
     std::vector<ImageEntry> entries(images.size());

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 #include "io/mesh_common.h"
 
 namespace fs = std::filesystem;
@@ -67,7 +68,12 @@ std::string scene_to_json_text(const Scene& scene, const std::string& output_pat
                        {"height", scene.viewport.height}};
     doc["filter"] = scene.filter == Filter::linear ? "linear" : "nearest";
     Json images = Json::array();
-    for (const SceneImage& image : scene.images) images.push_back({{"id", image.id}, {"path", portable_path(image.path, base)}});
+    for (const SceneImage& image : scene.images) {
+        std::string path = portable_path(image.path, base);
+        check_utf8(image.id, output_name(output_path) + ": image id");
+        check_utf8(path, output_name(output_path) + ": image \"" + image.id + "\": path");
+        images.push_back({{"id", image.id}, {"path", std::move(path)}});
+    }
     doc["images"] = std::move(images);
     Json elements = Json::array();
     for (std::size_t i = 0; i < scene.elements.size(); ++i) {

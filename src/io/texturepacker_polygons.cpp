@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 
 namespace depthcull::io {
 
@@ -58,9 +59,7 @@ void add_polygons(Json& out, const AtlasFrame& frame, const std::vector<Polygon>
     out["triangles"] = std::move(triangles);
 }
 
-} // namespace
-
-std::string atlas_with_polygons(const std::string& path, const AnalyzeOptions& options, AtlasPolygonStats* stats_out) {
+std::string polygons_text(const std::string& path, const AnalyzeOptions& options, AtlasPolygonStats* stats_out) {
     Atlas atlas = load_texturepacker(path); // validates every frame
     Image page = load_png(atlas.image_path);
     if (atlas.width > 0 && (atlas.width != page.width || atlas.height != page.height))
@@ -85,6 +84,12 @@ std::string atlas_with_polygons(const std::string& path, const AnalyzeOptions& o
         for (Json& f : frames) visit(f);
     if (stats_out) *stats_out = stats;
     return doc.dump(1, '\t') + "\n";
+}
+
+} // namespace
+
+std::string atlas_with_polygons(const std::string& path, const AnalyzeOptions& options, AtlasPolygonStats* stats_out) {
+    return guarded(path, [&] { return polygons_text(path, options, stats_out); });
 }
 
 } // namespace depthcull::io

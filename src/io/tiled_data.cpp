@@ -8,6 +8,7 @@
 #include <climits>
 #include <cstring>
 
+#include "depthcull/limits.h"
 #include "io/tiled_internal.h"
 
 namespace depthcull::io::tiled {
@@ -94,7 +95,7 @@ std::vector<std::uint32_t> decode_cells(pugi::xml_node node, const std::string& 
 std::size_t checked_cells(int width, int height, const std::string& where) {
     if (width <= 0 || height <= 0 || std::int64_t(width) * height > kMaxCells)
         throw Error(where + ": layer size " + std::to_string(width) + "x" + std::to_string(height) + " is outside 1.." +
-                    std::to_string(kMaxCells) + " cells");
+                    std::to_string(kMaxCells) + " cells (kMaxLayerCells)");
     return std::size_t(width) * std::size_t(height);
 }
 
@@ -205,6 +206,7 @@ CellGrid read_layer_data(pugi::xml_node layer, int width, int height, bool infin
     };
     std::vector<Chunk> chunks;
     std::int64_t x0 = INT_MAX, y0 = INT_MAX, x1 = INT_MIN, y1 = INT_MIN;
+    std::int64_t total = 0; // cells decoded: overlapping chunks each count
     for (pugi::xml_node node : data.children("chunk")) {
         Chunk c;
         std::string here = where + ": chunk " + std::to_string(chunks.size());
@@ -212,7 +214,18 @@ CellGrid read_layer_data(pugi::xml_node layer, int width, int height, bool infin
         c.y = int_attr(node, "y", 0, here);
         c.w = int_attr(node, "width", 0, here);
         c.h = int_attr(node, "height", 0, here);
-        c.gids = decode_cells(node, encoding, compression, checked_cells(c.w, c.h, here), here);
+        // Cell coordinates stay within +-kMaxMapSide, so every sum and
+        // product of them below (and in the placement) fits.
+        constexpr int side = limits::kMaxMapSide;
+        if (c.x < -side || c.y < -side || c.x > side || c.y > side || c.w > side || c.h > side ||
+            c.x + std::int64_t(c.w) > side || c.y + std::int64_t(c.h) > side)
+            throw Error(here + ": chunk " + std::to_string(c.x) + "," + std::to_string(c.y) + " " + std::to_string(c.w) + "x" +
+                        std::to_string(c.h) + " lies outside +-" + std::to_string(side) + " cells (kMaxMapSide)");
+        total += std::int64_t(checked_cells(c.w, c.h, here));
+        // 64 overlapping 4096x4096 chunks (23 KB gzipped) reached 4.2 GB.
+        if (total > kMaxCells)
+            throw Error(here + ": the layer's chunks hold more than " + std::to_string(kMaxCells) + " cells (kMaxLayerCells)");
+        c.gids = decode_cells(node, encoding, compression, std::size_t(c.w) * std::size_t(c.h), here);
         x0 = std::min<std::int64_t>(x0, c.x);
         y0 = std::min<std::int64_t>(y0, c.y);
         x1 = std::max<std::int64_t>(x1, std::int64_t(c.x) + c.w);
@@ -220,7 +233,7 @@ CellGrid read_layer_data(pugi::xml_node layer, int width, int height, bool infin
         chunks.push_back(std::move(c));
     }
     if (x1 - x0 > INT_MAX || y1 - y0 > INT_MAX || (x1 - x0) * (y1 - y0) > kMaxCells)
-        throw Error(where + ": chunks span more than " + std::to_string(kMaxCells) + " cells");
+        throw Error(where + ": chunks span more than " + std::to_string(kMaxCells) + " cells (kMaxLayerCells)");
     grid.x0 = int(x0);
     grid.y0 = int(y0);
     grid.width = int(x1 - x0);

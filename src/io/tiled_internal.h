@@ -16,16 +16,18 @@
 #include <pugixml.hpp>
 
 #include "depthcull/io.h"
+#include "depthcull/limits.h"
 #include "io/formats.h"
 
 namespace depthcull::io::tiled {
 
-// Bounds that keep a hostile map from making us allocate without bound.
-inline constexpr std::int64_t kMaxCells = std::int64_t(1) << 24;    // per tile layer
-inline constexpr std::int64_t kMaxElements = 4'000'000;             // per scene
-inline constexpr int kMaxLayers = 10'000;
-inline constexpr int kMaxTilesets = 10'000;
-inline constexpr std::size_t kMaxXmlBytes = std::size_t(256) << 20; // after gunzip
+// Bounds that keep a hostile map from making us allocate without bound
+// (depthcull/limits.h; errors name them).
+inline constexpr std::int64_t kMaxCells = limits::kMaxLayerCells;     // per tile layer, its chunks summed
+inline constexpr std::int64_t kMaxElements = limits::kMaxMapElements; // per scene
+inline constexpr int kMaxLayers = limits::kMaxLayers;
+inline constexpr int kMaxTilesets = limits::kMaxTilesets;
+inline constexpr std::size_t kMaxXmlBytes = limits::kMaxXmlBytes;     // after gunzip
 
 // The gid flag bits (Tiled's TMX format): the rest is the global tile id.
 inline constexpr std::uint32_t kFlipHorizontal = 0x80000000u;
@@ -75,7 +77,15 @@ struct Tileset {
     double offset_x = 0, offset_y = 0;   // <tileoffset>
     Alignment alignment = Alignment::unspecified;
     bool render_grid_size = false;       // tilerendersize="grid": tiles scaled to the map's grid
-    std::vector<Tile> tiles;             // by local id (animations resolved to their first frame)
+    // Tiles by local id. An image tileset's grid is computed, not stored (a
+    // 16384x16384 image of 1x1 tiles would be a table of 5 GB); tiles named
+    // by <tile id> (image collections, animations resolved to their first
+    // frame) are sparse, so id 16777215 costs one entry.
+    int image = -1; // the image of an image tileset, cut in columns x rows
+    int columns = 0, rows = 0, margin = 0, spacing = 0;
+    std::map<std::uint32_t, Tile> named;
+    std::uint32_t tile_count() const; // one past the largest local id
+    Tile tile(std::uint32_t local) const; // image -1: no such tile
 };
 
 // Images shared by every tileset of the map: one SceneImage per distinct
@@ -105,7 +115,7 @@ std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_pa
 // gid names no tile.
 struct TileRef {
     const Tileset* tileset = nullptr;
-    const Tile* tile = nullptr;
+    Tile tile;
 };
 TileRef find_tile(const std::vector<Tileset>& tilesets, std::uint32_t gid, const std::string& where);
 
@@ -146,11 +156,13 @@ struct Emitter {
     ImageTable& images;
     const Viewport* cull = nullptr; // drop elements that miss it
     Scene& scene;
+    std::int64_t cells = 0; // tile-layer cells read so far (limits::kMaxMapCells)
 };
 
-// Walks the layers under `parent` (groups recursively) in Tiled's drawing
-// order and appends their visible tiles to the scene.
-void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out);
+// Walks the layers under `parent` (groups recursively, at most
+// limits::kMaxNestingDepth deep) in Tiled's drawing order and appends
+// their visible tiles to the scene.
+void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out, int depth = 0);
 
 // Screen bounding box of an element: [x0, x1) x [y0, y1).
 Box element_bounds(const Element& element);

@@ -102,8 +102,8 @@ LayerState child_state(pugi::xml_node layer, const LayerState& parent, const std
     s.offset_x += layer.attribute("offsetx").as_double(0);
     s.offset_y += layer.attribute("offsety").as_double(0);
     double opacity = layer.attribute("opacity").as_double(1);
-    if (!std::isfinite(s.offset_x) || !std::isfinite(s.offset_y) || !std::isfinite(opacity))
-        throw Error(where + ": offset or opacity is not a finite number");
+    if (!(std::fabs(s.offset_x) <= limits::kMaxCoordinate && std::fabs(s.offset_y) <= limits::kMaxCoordinate) || !std::isfinite(opacity))
+        throw Error(where + ": offset or opacity is not a finite number within +-1e9 (kMaxCoordinate)");
     s.opacity *= clamp01(opacity);
     if (pugi::xml_attribute tint = layer.attribute("tintcolor")) {
         auto c = parse_color(tint.as_string(), where);
@@ -128,7 +128,7 @@ void push(Emitter& out, const Element& e, const std::string& where) {
         if (b.x1 <= v.x || b.y1 <= v.y || b.x0 >= v.x + v.width || b.y0 >= v.y + v.height) return;
     }
     if (std::int64_t(out.scene.elements.size()) >= kMaxElements)
-        throw Error(where + ": the scene has more than " + std::to_string(kMaxElements) + " elements (use --viewport)");
+        throw Error(where + ": the scene has more than " + std::to_string(kMaxElements) + " elements (kMaxMapElements; use --viewport)");
     out.scene.elements.push_back(e);
 }
 
@@ -138,7 +138,7 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
     if ((raw & kRotateHex120) && !m.hex_rotation)
         throw Error(where + ": the 120-degree rotation flag is only valid on hexagonal maps");
     TileRef ref = find_tile(out.tilesets, raw & kGidMask, where);
-    const Rect& r = ref.tile->rect;
+    const Rect& r = ref.tile.rect;
     double bw = ref.tileset->render_grid_size ? m.tile_width : r.w;
     double bh = ref.tileset->render_grid_size ? m.tile_height : r.h;
     // The cell's bottom-left corner on screen.
@@ -158,7 +158,7 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
     x += s.offset_x + ref.tileset->offset_x * bw / r.w;
     y += s.offset_y + ref.tileset->offset_y * bh / r.h;
     Element e;
-    e.image = ref.tile->image;
+    e.image = ref.tile.image;
     e.rect = r;
     std::uint32_t flags = raw & ~kGidMask;
     if (m.hex_rotation && (flags & (kFlipDiagonal | kRotateHex120))) {
@@ -179,6 +179,9 @@ void emit_tile_layer(pugi::xml_node layer, const LayerState& s, Emitter& out, co
     const MapInfo& m = out.info;
     CellGrid grid = read_layer_data(layer, layer.attribute("width").as_int(m.width), layer.attribute("height").as_int(m.height),
                                     m.infinite, where);
+    out.cells += std::int64_t(grid.gids.size());
+    if (out.cells > limits::kMaxMapCells)
+        throw Error(where + ": the map's tile layers hold more than " + std::to_string(limits::kMaxMapCells) + " cells (kMaxMapCells)");
     auto color = element_color(s);
     auto cell = [&](int c, int r) {
         std::uint32_t gid = grid.gids[std::size_t(r) * grid.width + c];
@@ -227,7 +230,7 @@ struct TileObject {
 void emit_object(Emitter& out, const TileObject& o, const LayerState& s, const std::array<float, 4>& color) {
     const MapInfo& m = out.info;
     TileRef ref = find_tile(out.tilesets, o.gid & kGidMask, o.where);
-    const Rect& r = ref.tile->rect;
+    const Rect& r = ref.tile.rect;
     double w = o.width, h = o.height;
     if (w <= 0 || h <= 0) return; // a zero-size object draws nothing
     // The object's alignment point on screen.
@@ -248,7 +251,7 @@ void emit_object(Emitter& out, const TileObject& o, const LayerState& s, const s
     double bx = px - ax * w + ref.tileset->offset_x * w / r.w;
     double by = py - ay * h + ref.tileset->offset_y * h / r.h;
     Element e;
-    e.image = ref.tile->image;
+    e.image = ref.tile.image;
     e.rect = r;
     e.transform = place_in_box(r.w, r.h, bx, by, w, h, o.gid & ~kGidMask, false);
     if (o.rotation != 0) e.transform = compose(rotation_about(o.rotation, px, py), e.transform);
@@ -283,7 +286,11 @@ void load_template(const std::string& source, const Emitter& out, const std::str
     std::uint32_t first = ts.attribute("firstgid").as_uint(1);
     for (const Tileset& m : out.tilesets)
         if (!m.source.empty() && std::filesystem::path(m.source) == std::filesystem::path(tsx) && (raw & kGidMask) >= first) {
-            t.gid = ((raw & kGidMask) - first + m.firstgid) | (raw & ~kGidMask);
+            // Wider arithmetic: a large local id plus the map's firstgid
+            // must not spill into the flag bits.
+            std::uint64_t gid = std::uint64_t(raw & kGidMask) - first + m.firstgid;
+            if (gid > kGidMask) throw Error(where + ": template " + path + ": gid " + std::to_string(gid) + " is out of range");
+            t.gid = std::uint32_t(gid) | (raw & ~kGidMask);
             return;
         }
     throw Error(where + ": template " + path + " uses tileset " + tsx + ", which the map does not list");
@@ -313,12 +320,12 @@ void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, 
         TileRef ref = find_tile(out.tilesets, o.gid & kGidMask, here);
         o.x = node.attribute("x").as_double(0);
         o.y = node.attribute("y").as_double(0);
-        o.width = attr("width").as_double(ref.tile->rect.w);
-        o.height = attr("height").as_double(ref.tile->rect.h);
+        o.width = attr("width").as_double(ref.tile.rect.w);
+        o.height = attr("height").as_double(ref.tile.rect.h);
         o.rotation = attr("rotation").as_double(0);
-        if (!std::isfinite(o.x) || !std::isfinite(o.y) || !std::isfinite(o.width) || !std::isfinite(o.height) ||
-            !std::isfinite(o.rotation))
-            throw Error(here + ": position, size or rotation is not a finite number");
+        auto in_range = [](double v) { return std::fabs(v) <= limits::kMaxCoordinate; }; // false for nan
+        if (!in_range(o.x) || !in_range(o.y) || !in_range(o.width) || !in_range(o.height) || !std::isfinite(o.rotation))
+            throw Error(here + ": position, size or rotation is not a finite number within +-1e9 (kMaxCoordinate)");
         objects.push_back(std::move(o));
     }
     std::string order = group.attribute("draworder").as_string("topdown");
@@ -373,12 +380,15 @@ Box element_bounds(const Element& e) {
     return b;
 }
 
-void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out) {
+void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out, int depth) {
+    // 20,000 nested groups (646 bytes gzipped) overflowed the stack.
+    if (depth > limits::kMaxNestingDepth)
+        throw Error(out.info.where + ": groups nested deeper than " + std::to_string(limits::kMaxNestingDepth) + " (kMaxNestingDepth)");
     int count = 0;
     for (pugi::xml_node layer : parent.children()) {
         std::string kind = layer.name();
         if (kind != "layer" && kind != "objectgroup" && kind != "imagelayer" && kind != "group") continue;
-        if (++count > kMaxLayers) throw Error(out.info.where + ": more than " + std::to_string(kMaxLayers) + " layers");
+        if (++count > kMaxLayers) throw Error(out.info.where + ": more than " + std::to_string(kMaxLayers) + " layers (kMaxLayers)");
         std::string where = out.info.where + ": " + (kind == "objectgroup" ? "object layer" : kind == "group" ? "group" : kind == "imagelayer" ? "image layer" : "layer") +
                             " '" + layer.attribute("name").as_string() + "'";
         if (!visible(layer)) continue;
@@ -387,7 +397,7 @@ void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out) {
         if (kind == "layer") emit_tile_layer(layer, s, out, where);
         else if (kind == "objectgroup") emit_object_group(layer, s, out, where);
         else if (kind == "imagelayer") emit_image_layer(layer, s, out, where);
-        else emit_layers(layer, s, out);
+        else emit_layers(layer, s, out, depth + 1);
     }
 }
 

@@ -25,7 +25,7 @@ namespace depthcull::io {
 namespace {
 
 constexpr int kDefaultViewportMax = 4096;
-constexpr int kMaxMapSide = 1 << 20;
+constexpr int kMaxMapSide = limits::kMaxMapSide;
 
 int positive_attr(pugi::xml_node node, const char* name, const std::string& where, int max) {
     long long v = node.attribute(name).as_llong(0);
@@ -120,7 +120,7 @@ Viewport drawn_extent(const Scene& scene) {
 
 Scene load_tiled_map(const std::string& path, const LoadOptions& options) {
     std::string text = tiled::read_maybe_gzipped(path);
-    if (text.size() > tiled::kMaxXmlBytes) throw Error(path + ": map is larger than 256 MiB");
+    if (text.size() > tiled::kMaxXmlBytes) throw Error(path + ": map is larger than 256 MiB (kMaxXmlBytes)");
     pugi::xml_document doc;
     pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
     if (!ok) throw Error(path + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());

@@ -11,6 +11,7 @@
 // SceneImage at it.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -106,20 +107,23 @@ Alignment parse_alignment(const std::string& text, const std::string& where) {
 
 // An image tileset cut like Tiled's Tileset::sliceImage: tiles start at
 // `margin` and are `spacing` apart; a partial tile at the right or bottom
-// edge is not a tile.
+// edge is not a tile. Margin and spacing beyond the image's side cut no
+// tile, and bounding them keeps every tile's position within int.
 void slice_image(Tileset& ts, int image, int image_w, int image_h, int margin, int spacing, const std::string& where) {
-    if (ts.tile_width <= 0 || ts.tile_height <= 0) throw Error(where + ": tile size must be positive");
-    if (margin < 0 || spacing < 0) throw Error(where + ": negative margin or spacing");
+    if (ts.tile_width <= 0 || ts.tile_height <= 0 || ts.tile_width > kMaxImageSide || ts.tile_height > kMaxImageSide)
+        throw Error(where + ": tile size must be 1.." + std::to_string(kMaxImageSide) + " (kMaxImageSide)");
+    if (margin < 0 || spacing < 0 || margin > kMaxImageSide || spacing > kMaxImageSide)
+        throw Error(where + ": margin and spacing must be 0.." + std::to_string(kMaxImageSide) + " (kMaxImageSide)");
     int columns = image_w - margin >= ts.tile_width ? (image_w - margin - ts.tile_width) / (ts.tile_width + spacing) + 1 : 0;
     int rows = image_h - margin >= ts.tile_height ? (image_h - margin - ts.tile_height) / (ts.tile_height + spacing) + 1 : 0;
     if (columns == 0 || rows == 0)
         throw Error(where + ": image " + std::to_string(image_w) + "x" + std::to_string(image_h) + " holds no " +
                     std::to_string(ts.tile_width) + "x" + std::to_string(ts.tile_height) + " tile");
-    ts.tiles.resize(std::size_t(columns) * std::size_t(rows));
-    for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < columns; ++c)
-            ts.tiles[std::size_t(r) * columns + c] = {
-                image, {margin + c * (ts.tile_width + spacing), margin + r * (ts.tile_height + spacing), ts.tile_width, ts.tile_height}};
+    ts.image = image;
+    ts.columns = columns;
+    ts.rows = rows;
+    ts.margin = margin;
+    ts.spacing = spacing;
 }
 
 Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::string& file, const std::string& where,
@@ -138,6 +142,8 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
     if (pugi::xml_node offset = node.child("tileoffset")) {
         ts.offset_x = offset.attribute("x").as_double(0);
         ts.offset_y = offset.attribute("y").as_double(0);
+        if (!(std::fabs(ts.offset_x) <= limits::kMaxCoordinate && std::fabs(ts.offset_y) <= limits::kMaxCoordinate))
+            throw Error(where + ": tileoffset is not a finite number within +-1e9 (kMaxCoordinate)");
     }
     std::string base_dir = dir_of(file);
     auto add_image = [&](pugi::xml_node image, const std::string& here) {
@@ -152,7 +158,7 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
     for (pugi::xml_node tile : node.children("tile")) {
         std::string here = where + ": tile " + tile.attribute("id").as_string();
         int id = int_attr(tile, "id", -1, here);
-        if (id < 0 || id >= kMaxCells) throw Error(here + ": tile id out of range");
+        if (id < 0 || std::uint32_t(id) > kGidMask) throw Error(here + ": tile id out of range 0.." + std::to_string(kGidMask));
         pugi::xml_node image = tile.child("image");
         if (!image) continue;
         if (node.child("image")) throw Error(here + ": a tile image in a tileset that has one image");
@@ -162,22 +168,22 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
                   int_attr(tile, "height", full.h, here)};
         if (rect.empty() || rect.x < 0 || rect.y < 0 || rect.x > full.w - rect.w || rect.y > full.h - rect.h)
             throw Error(here + ": sub-rectangle lies outside its image");
-        if (std::size_t(id) >= ts.tiles.size()) ts.tiles.resize(std::size_t(id) + 1);
-        ts.tiles[std::size_t(id)] = {index, rect};
+        ts.named[std::uint32_t(id)] = {index, rect};
     }
-    // Animations: the first frame is what Tiled shows at time zero.
-    std::vector<Tile> still = ts.tiles;
+    // Animations: the first frame is what Tiled shows at time zero (looked
+    // up among the still tiles, before any animation is resolved).
+    std::vector<std::pair<std::uint32_t, Tile>> animated;
     for (pugi::xml_node tile : node.children("tile")) {
         pugi::xml_node frame = tile.child("animation").child("frame");
         if (!frame) continue;
         std::string here = where + ": tile " + tile.attribute("id").as_string() + ": animation";
         int id = int_attr(tile, "id", -1, here);
         int first = int_attr(frame, "tileid", -1, here);
-        if (first < 0 || std::size_t(first) >= still.size() || still[std::size_t(first)].image < 0)
-            throw Error(here + ": frame names no tile (" + std::to_string(first) + ")");
-        if (std::size_t(id) >= ts.tiles.size()) ts.tiles.resize(std::size_t(id) + 1);
-        ts.tiles[std::size_t(id)] = still[std::size_t(first)];
+        Tile still = first < 0 ? Tile{} : ts.tile(std::uint32_t(first));
+        if (still.image < 0) throw Error(here + ": frame names no tile (" + std::to_string(first) + ")");
+        animated.emplace_back(std::uint32_t(id), still);
     }
+    for (const auto& [id, still] : animated) ts.named[id] = still;
     return ts;
 }
 
@@ -218,7 +224,8 @@ std::string resolve_tsx(const std::string& base_dir, const std::string& source) 
 std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images) {
     std::vector<Tileset> tilesets;
     for (pugi::xml_node node : map.children("tileset")) {
-        if (int(tilesets.size()) >= kMaxTilesets) throw Error(map_path + ": more than " + std::to_string(kMaxTilesets) + " tilesets");
+        if (int(tilesets.size()) >= kMaxTilesets)
+            throw Error(map_path + ": more than " + std::to_string(kMaxTilesets) + " tilesets (kMaxTilesets)");
         std::string where = map_path + ": tileset " + std::to_string(tilesets.size());
         if (node.attribute("name")) where = map_path + ": tileset '" + node.attribute("name").as_string() + "'";
         long long firstgid = node.attribute("firstgid").as_llong(0);
@@ -242,15 +249,27 @@ std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_pa
     return tilesets;
 }
 
+std::uint32_t Tileset::tile_count() const {
+    std::uint32_t grid = std::uint32_t(columns) * std::uint32_t(rows);
+    return named.empty() ? grid : std::max(grid, named.rbegin()->first + 1);
+}
+
+Tile Tileset::tile(std::uint32_t local) const {
+    if (auto it = named.find(local); it != named.end()) return it->second;
+    if (image < 0 || local >= std::uint32_t(columns) * std::uint32_t(rows)) return {};
+    const int c = int(local % std::uint32_t(columns)), r = int(local / std::uint32_t(columns));
+    return {image, {margin + c * (tile_width + spacing), margin + r * (tile_height + spacing), tile_width, tile_height}};
+}
+
 TileRef find_tile(const std::vector<Tileset>& tilesets, std::uint32_t gid, const std::string& where) {
     auto it = std::upper_bound(tilesets.begin(), tilesets.end(), gid, [](std::uint32_t g, const Tileset& t) { return g < t.firstgid; });
     if (it == tilesets.begin()) throw Error(where + ": gid " + std::to_string(gid) + " has no tileset");
     const Tileset& ts = *(it - 1);
-    std::uint32_t local = gid - ts.firstgid;
-    if (local >= ts.tiles.size() || ts.tiles[local].image < 0)
+    const Tile tile = ts.tile(gid - ts.firstgid);
+    if (tile.image < 0)
         throw Error(where + ": gid " + std::to_string(gid) + " is out of range of tileset '" + ts.name + "' (" +
-                    std::to_string(ts.tiles.size()) + " tiles from gid " + std::to_string(ts.firstgid) + ")");
-    return {&ts, &ts.tiles[local]};
+                    std::to_string(ts.tile_count()) + " tiles from gid " + std::to_string(ts.firstgid) + ")");
+    return {&ts, tile};
 }
 
 } // namespace depthcull::io::tiled

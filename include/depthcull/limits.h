@@ -1,0 +1,43 @@
+// depthcull: the limits on what we read, in one place (README, "Limits").
+// A hostile or broken file must not make us recurse, allocate or loop
+// without bound, so every reader checks its input against these before it
+// allocates, and names the limit in its error ("... more than 256 nested
+// groups (kMaxNestingDepth)"). Each is far above what a real game asset
+// needs; the image limits live in image.h beside Image.
+#pragma once
+
+#include <cstdint>
+#include <cstddef>
+
+#include "depthcull/image.h" // kMaxImageSide, kMaxImageTexels
+
+namespace depthcull::limits {
+
+// Files: larger inputs are refused before they are read; inputs must be
+// regular files (not /dev/zero, FIFOs or directories).
+inline constexpr std::uint64_t kMaxFileBytes = std::uint64_t(1) << 30;  // 1 GiB, any input file
+inline constexpr std::size_t kMaxXmlBytes = std::size_t(256) << 20;     // a Tiled map / tileset / template after gunzip
+
+// Nesting of input structures (Tiled <group> layers, JSON arrays and
+// objects): deeper input is refused rather than walked recursively.
+inline constexpr int kMaxNestingDepth = 256;
+
+// Coordinates and numbers read from files and options: finite and within
+// +-kMaxCoordinate world units (keeps every product finite and exact
+// enough; far beyond any screen).
+inline constexpr double kMaxCoordinate = 1e9;
+
+// Scenes.
+inline constexpr std::size_t kMaxSceneImages = std::size_t(1) << 16;
+inline constexpr std::int64_t kMaxSceneElements = std::int64_t(1) << 24; // scene JSON
+inline constexpr std::size_t kMaxAtlasFrames = 1'000'000;                // one TexturePacker page
+
+// Tiled maps.
+inline constexpr int kMaxMapSide = 1 << 20;                          // cells per side; chunk coordinates within +-this
+inline constexpr std::int64_t kMaxLayerCells = std::int64_t(1) << 24; // one tile layer (its chunks summed)
+inline constexpr std::int64_t kMaxMapCells = std::int64_t(1) << 26;   // all tile layers of a map together
+inline constexpr std::int64_t kMaxMapElements = 4'000'000;            // elements a map may produce
+inline constexpr int kMaxLayers = 10'000;                             // layers per map or group
+inline constexpr int kMaxTilesets = 10'000;
+
+} // namespace depthcull::limits
