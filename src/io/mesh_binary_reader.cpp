@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 #include "io/mesh_common.h"
 
 namespace depthcull::io {
@@ -160,6 +161,8 @@ Draw read_draw(Reader& in, std::size_t image_count, std::size_t* total_vertices,
 bool is_binary_meshes(std::string_view bytes) { return bytes.substr(0, 8) == std::string_view("DCMESH\0\0", 8); }
 
 LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
+  // bad_alloc and the like: ours, naming the file.
+  return guarded(name, [&] {
     Reader in{bytes, name};
     LoadedMeshes out;
     std::uint32_t image_count = 0, draw_count = 0;
@@ -171,6 +174,7 @@ LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name,
     for (std::uint32_t i = 0; i < draw_count; ++i) out.meshes.draws.push_back(read_draw(in, image_count, &total_vertices, &total_indices));
     if (in.left()) in.fail(in.pos, std::to_string(in.left()) + " bytes after the last draw");
     return out;
+  });
 }
 
 LoadedMeshes read_meshes_binary(const std::string& path) {

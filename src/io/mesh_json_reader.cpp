@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 #include "io/mesh_common.h"
 
 namespace depthcull::io {
@@ -158,14 +159,18 @@ SceneStats read_stats(const Context& ctx, const json& v) {
 
 } // namespace
 
-LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir) {
+namespace {
+
+LoadedMeshes parse_meshes_json(std::string_view text, const std::string& name, const std::string& base_dir) {
     const Context ctx{name};
+    // Deep nesting would overflow the parser's stack: refuse it first.
+    check_json_depth(text, name);
     json doc;
     try {
         doc = json::parse(text);
     } catch (const json::parse_error& e) {
         // nlohmann counts bytes from 1; our offsets (as the binary reader's) from 0.
-        throw Error(name + ": byte " + std::to_string(e.byte ? e.byte - 1 : 0) + ": not valid JSON (" + e.what() + ")");
+        throw Error(name + ": byte " + std::to_string(e.byte ? e.byte - 1 : 0) + ": not valid JSON (" + exception_text(e) + ")");
     }
     if (!doc.is_object()) ctx.fail("top level", "expected a JSON object with \"images\" and \"draws\"");
     LoadedMeshes out;
@@ -187,6 +192,13 @@ LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, co
     for (std::size_t i = 0; i < draws.size(); ++i) out.meshes.draws.push_back(read_draw(ctx, draws[i], at("draws", i), ids, &totals));
     if (doc.contains("stats")) out.meshes.stats = read_stats(ctx, doc["stats"]);
     return out;
+}
+
+} // namespace
+
+LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir) {
+    // Numbers like 1e400 (json::out_of_range), bad_alloc: ours, naming the file.
+    return guarded(name, [&] { return parse_meshes_json(text, name, base_dir); });
 }
 
 LoadedMeshes read_meshes_json(const std::string& path) {

@@ -28,8 +28,10 @@ namespace depthcull::io {
 
 namespace {
 
-// Ordered: "in file order" must hold for the hash form too.
-using Json = nlohmann::ordered_json;
+// Plain (std::map) objects: ordered_json finds keys linearly, so a
+// 200,000-frame hash took 30 s to parse. The hash form's file order ("in
+// file order" holds for it too) is recorded while parsing instead.
+using Json = nlohmann::json;
 constexpr std::size_t kMaxFrames = limits::kMaxAtlasFrames;
 
 int int_field(const Json& obj, const char* key, const std::string& where, int min, int max, bool required = true,
@@ -121,10 +123,40 @@ const AtlasFrame* Atlas::find(const std::string& name) const {
 
 namespace {
 
-Json parse_json_file(const std::string& path) {
+// Records the keys of a top-level "frames" object in file order
+// (duplicates included). A parse callback cannot do it: nlohmann then scans
+// the parent object at every member's end, quadratic in the frame count.
+struct FrameOrder final : nlohmann::json_sax<Json> {
+    std::vector<std::string>* keys;
+    int depth = 0;
+    bool in_frames = false;
+    explicit FrameOrder(std::vector<std::string>* k) : keys(k) {}
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t, const string_t&) override { return true; }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool start_object(std::size_t) override { return ++depth, true; }
+    bool end_object() override { return --depth, true; }
+    bool start_array(std::size_t) override { return ++depth, true; }
+    bool end_array() override { return --depth, true; }
+    bool key(string_t& k) override {
+        if (depth == 1) in_frames = k == "frames";
+        else if (depth == 2 && in_frames) keys->push_back(k);
+        return true;
+    }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+};
+
+// The document, and in *frame_order the hash form's frame names in file order.
+Json parse_json_file(const std::string& path, std::vector<std::string>* frame_order) {
     std::string text = read_file(path);
     check_json_depth(text, path);
+    FrameOrder order(frame_order);
     try {
+        Json::sax_parse(text, &order); // a syntax error is reported by the parse below
         return Json::parse(text);
     } catch (const Json::exception& e) { // parse_error, and out_of_range for numbers like 1e400
         std::string message = e.what();
@@ -138,7 +170,8 @@ Json parse_json_file(const std::string& path) {
 namespace {
 
 Atlas read_texturepacker(const std::string& path) {
-    Json doc = parse_json_file(path);
+    std::vector<std::string> order;
+    Json doc = parse_json_file(path, &order);
     if (!doc.is_object()) throw Error(path + ": not a TexturePacker atlas (top level is not an object)");
     if (doc.contains("textures") && !doc.contains("frames"))
         throw Error(path + ": multipack atlases (\"textures\") are not supported; load each page's JSON (hash or array form)");
@@ -172,7 +205,8 @@ Atlas read_texturepacker(const std::string& path) {
         atlas.frames.push_back(std::move(frame));
     };
     if (frames->is_object()) {
-        for (const auto& [name, f] : frames->items()) add(name, f);
+        // A name given twice is refused by add(), as the parsed object kept one.
+        for (const std::string& name : order) add(name, frames->at(name));
     } else {
         std::size_t index = 0;
         for (const Json& f : *frames) {

@@ -315,6 +315,32 @@ TEST(HostileMemory, AtlasFramesAreFoundByName) {
     EXPECT_EQ(manual.find("f6"), nullptr);
 }
 
+TEST(HostileMemory, AtlasHashKeepsFileOrderAndRefusesDuplicateNames) {
+    // Parsed with std::map objects (ordered_json took 30 s on 200,000
+    // frames); the file order is recorded separately and must survive.
+    SceneDir dir("hostile_atlas_order");
+    dir.standard_art();
+    auto frame = [](const char* name) { return std::string("\"") + name + R"(": {"frame": {"x": 0, "y": 0, "w": 1, "h": 1}})"; };
+    io::Atlas atlas = io::load_texturepacker(
+        dir.write("a.json", "{\"frames\": {" + frame("zeta") + "," + frame("alpha") + "," + frame("mid") + R"(}, "meta": {"image": "art/blob.png"}})"));
+    ASSERT_EQ(atlas.frames.size(), 3u);
+    EXPECT_EQ(atlas.frames[0].name, "zeta");
+    EXPECT_EQ(atlas.frames[1].name, "alpha");
+    EXPECT_EQ(atlas.frames[2].name, "mid");
+    std::string e = io_error([&] {
+        io::load_texturepacker(dir.write("d.json", "{\"frames\": {" + frame("a") + "," + frame("a") + R"(}, "meta": {"image": "art/blob.png"}})"));
+    });
+    EXPECT_TRUE(has(e, "d.json")) << e;
+    EXPECT_TRUE(has(e, "duplicate frame name")) << e;
+}
+
+TEST(HostileErrors, MeshJsonHugeNumbersAndDeepNestingAreOurErrors) {
+    std::string e = io_error([] { io::meshes_from_json(R"({"viewport": [0, 0, 1e400, 1]})", "m.json", "."); });
+    EXPECT_TRUE(has(e, "m.json")) << e;
+    e = io_error([] { io::meshes_from_json(std::string(100000, '[') + std::string(100000, ']'), "deep.json", "."); });
+    EXPECT_TRUE(has(e, "deep.json")) << e;
+}
+
 // ---- 4. Caches heal
 
 TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
