@@ -221,6 +221,8 @@ typedef struct dc_image_info {
     const char* id;
     const char* path;   /* as loaded: read files resolve it against the meshes file's directory */
     int width, height;
+    int has_trans;      /* 1: texels of colour `trans` are transparent (a colour key the file does not hold) */
+    uint32_t trans;     /* 0xRRGGBB */
 } dc_image_info;
 
 /* Reconstructs the scene; `options` NULL: the defaults. */

@@ -26,6 +26,11 @@ struct Error : std::runtime_error {
 // RGB, RGBA), converted to RGBA8. Rejects images over kMaxImageSide /
 // kMaxImageTexels.
 Image load_png(const std::string& path);
+// The pixels a SceneImage stands for: its file decoded, its colour key
+// (SceneImage::trans) applied.
+Image load_scene_image(const SceneImage& image);
+// Texels of colour 0xRRGGBB become fully transparent (alpha 0).
+void apply_colour_key(Image& image, std::uint32_t rgb);
 Image decode_png(const void* data, std::size_t size, const std::string& name);
 std::string encode_png(ImageView image);
 void save_png(const std::string& path, ImageView image); // atomic
@@ -50,9 +55,9 @@ bool valid_utf8(std::string_view text);
 // (Tiled). Image sizes are filled in; images are not kept.
 // Tiled maps (src/io/tiled_map.cpp): orthogonal, isometric, staggered and
 // hexagonal; every layer encoding; external and gzipped tilesets; tile
-// objects and templates; drawn in Tiled's order. A tileset image with a
-// trans colour key is replaced by a keyed RGBA copy written once into
-// $XDG_CACHE_HOME/depthcull/keyed (default ~/.cache/depthcull/keyed).
+// objects and templates; drawn in Tiled's order. A tileset image's trans
+// colour key is kept on its SceneImage (has_trans, trans) and applied at
+// decode (load_scene_image); loading writes no file.
 struct LoadOptions {
     bool has_viewport = false; // --viewport x,y,w,h
     Viewport viewport;

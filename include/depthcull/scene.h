@@ -32,6 +32,11 @@ struct SceneImage {
     std::string id;
     std::string path;         // as loaded (absolute or relative to the cwd)
     int width = 0, height = 0;
+    // A colour key (Tiled's `trans`, 0xRRGGBB): texels of exactly this
+    // colour are transparent, applied when the file is decoded. The file
+    // on disk does not say so, so scene and mesh files carry the key.
+    bool has_trans = false;
+    std::uint32_t trans = 0;
 };
 
 // Paper 2: an element is an image (a rect of it) placed on screen.

@@ -57,7 +57,7 @@ dc_status dc_meshes_image(const dc_meshes* meshes, size_t i, dc_image_info* out)
     if (!meshes || !out || i >= meshes->loaded.images.size())
         return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_image: NULL argument or image index out of range");
     const SceneImage& img = meshes->loaded.images[i];
-    *out = dc_image_info{img.id.c_str(), img.path.c_str(), img.width, img.height};
+    *out = dc_image_info{img.id.c_str(), img.path.c_str(), img.width, img.height, img.has_trans ? 1 : 0, img.trans};
     return DC_OK;
 }
 

@@ -33,6 +33,11 @@ void check_input_file(const std::string& path); // file.cpp
 // and our walks of the document recurse (json_checks.cpp).
 void check_json_depth(std::string_view text, const std::string& path);
 
+// Colour keys (SceneImage::trans) as files write them: "RRGGBB" or
+// "#RRGGBB" in, "rrggbb" out.
+std::uint32_t parse_colour_key(const std::string& text, const std::string& where);
+std::string colour_key_text(std::uint32_t rgb);
+
 // Whether `text` is UTF-8 (JSON's encoding); check_utf8 throws io::Error
 // "<where>: '<text>' is not valid UTF-8 ..." when it is not. Paths and
 // names come from file systems and XML, which allow other bytes.

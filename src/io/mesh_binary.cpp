@@ -1,9 +1,11 @@
 // The compact binary meshes form (docs/mesh-format.md): everything the
 // JSON holds, little-endian, vertex and index arrays ready to upload.
+#include <algorithm>
 #include <bit>
 #include <cstring>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 #include "io/mesh_common.h"
 
 namespace depthcull::io {
@@ -31,7 +33,10 @@ std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneM
     Out o;
     o.bytes.append("DCMESH\0\0", 8);
     o.put(std::uint32_t(1)); // format version
-    o.put(std::uint32_t(meshes.depth_test ? 1 : 0));
+    // Bit 1: image entries carry a colour key (set only when one has one,
+    // so files without keys stay as version 1 wrote them).
+    const bool keys = std::any_of(images.begin(), images.end(), [](const SceneImage& img) { return img.has_trans; });
+    o.put(std::uint32_t((meshes.depth_test ? 1 : 0) | (keys ? 2 : 0)));
     o.put(meshes.viewport.x);
     o.put(meshes.viewport.y);
     o.put(std::int32_t(meshes.viewport.width));
@@ -47,6 +52,7 @@ std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneM
         o.pad4();
         o.put(std::int32_t(img.width));
         o.put(std::int32_t(img.height));
+        if (keys) o.put(std::uint32_t(img.has_trans ? kColourKeyed | img.trans : 0));
     }
     for (const Draw& d : meshes.draws) {
         o.put(std::uint32_t(d.image));

@@ -70,15 +70,16 @@ struct Reader {
     }
 };
 
-void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std::uint32_t* draw_count) {
+void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* colour_keys) {
     if (in.bytes.size() < 8 || !is_binary_meshes(in.bytes)) in.fail(0, "not a depthcull binary meshes file (no \"DCMESH\" magic)");
     in.pos = 8;
     const auto version = in.get<std::uint32_t>("the header");
     if (version != 1) in.fail(8, "format version " + std::to_string(version) + " is not supported (expected 1)");
     const auto flags = in.get<std::uint32_t>("the header");
-    if (flags & ~1u) in.fail(12, "unknown flags " + std::to_string(flags) + " (only bit 0, depth_test, is defined)");
+    if (flags & ~3u) in.fail(12, "unknown flags " + std::to_string(flags) + " (bit 0 depth_test and bit 1 colour keys are defined)");
     SceneMeshes& m = out.meshes;
     m.depth_test = flags & 1;
+    *colour_keys = flags & 2;
     m.viewport.x = in.finite_double("viewport x");
     m.viewport.y = in.finite_double("viewport y");
     m.viewport.width = in.size_value("viewport width", INT32_MAX);
@@ -102,13 +103,20 @@ void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std:
                                std::to_string(in.left()) + " bytes left");
 }
 
-SceneImage read_image(Reader& in, const std::string& base_dir) {
+SceneImage read_image(Reader& in, const std::string& base_dir, bool colour_keys) {
     SceneImage img;
     img.id = in.str("an image id");
     img.path = resolve_mesh_path(base_dir, in.str("an image path"));
     in.pad4("an image entry");
     img.width = in.size_value("image width", kMaxImageSide);
     img.height = in.size_value("image height", kMaxImageSide);
+    if (colour_keys) {
+        const std::size_t at = in.pos;
+        const auto key = in.get<std::uint32_t>("an image colour key");
+        if (key & ~(kColourKeyed | 0xffffffu)) in.fail(at, "colour key " + std::to_string(key) + " has unknown bits");
+        img.has_trans = key & kColourKeyed;
+        img.trans = key & 0xffffffu;
+    }
     return img;
 }
 
@@ -166,9 +174,10 @@ LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name,
     Reader in{bytes, name};
     LoadedMeshes out;
     std::uint32_t image_count = 0, draw_count = 0;
-    read_header(in, out, &image_count, &draw_count);
+    bool colour_keys = false;
+    read_header(in, out, &image_count, &draw_count, &colour_keys);
     out.images.reserve(image_count);
-    for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image(in, base_dir));
+    for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image(in, base_dir, colour_keys));
     out.meshes.draws.reserve(draw_count);
     std::size_t total_vertices = 0, total_indices = 0;
     for (std::uint32_t i = 0; i < draw_count; ++i) out.meshes.draws.push_back(read_draw(in, image_count, &total_vertices, &total_indices));

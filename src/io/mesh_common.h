@@ -7,6 +7,12 @@
 #include "depthcull/scene.h"
 
 namespace depthcull::io {
+// Binary image entries with flags bit 1: u32 colour key, this bit set when
+// the image has one, 0xRRGGBB in the low bits.
+inline constexpr std::uint32_t kColourKeyed = 1u << 24;
+} // namespace depthcull::io
+
+namespace depthcull::io {
 
 // image_path (absolute or relative to the cwd) as seen from the directory
 // of output_path, so the meshes file finds its images wherever it is

@@ -66,6 +66,10 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
         append_int(s, img.width);
         s += ", \"height\": ";
         append_int(s, img.height);
+        if (img.has_trans) {
+            s += ", \"trans\": ";
+            append_string(s, colour_key_text(img.trans));
+        }
         s += "}";
     }
     s += "],\n \"draws\": [";

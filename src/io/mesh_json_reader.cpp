@@ -83,6 +83,10 @@ SceneImage read_image(const Context& ctx, const json& v, const std::string& wher
     img.path = resolve_mesh_path(base_dir, string(ctx, field(ctx, v, where, "path"), at(where, "path")));
     img.width = int(integer(ctx, field(ctx, v, where, "width"), at(where, "width"), kMaxImageSide));
     img.height = int(integer(ctx, field(ctx, v, where, "height"), at(where, "height"), kMaxImageSide));
+    if (v.contains("trans")) {
+        img.has_trans = true;
+        img.trans = parse_colour_key(string(ctx, v["trans"], at(where, "trans")), ctx.name + ": " + at(where, "trans"));
+    }
     return img;
 }
 

@@ -66,12 +66,14 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
         analyze.opaque.filter = scene.filter;
     }
 
-    // Decode each file once; image entries naming the same file share it.
+    // Decode each (file, colour key) once; image entries naming the same
+    // file with the same key share it.
     std::map<std::string, std::size_t> first_with_path;
     std::vector<std::size_t> canon(scene.images.size());
     std::vector<std::size_t> to_decode;
     for (std::size_t i = 0; i < scene.images.size(); ++i) {
-        auto [it, fresh] = first_with_path.emplace(scene.images[i].path, i);
+        const SceneImage& img = scene.images[i];
+        auto [it, fresh] = first_with_path.emplace(img.path + (img.has_trans ? "\n" + colour_key_text(img.trans) : std::string()), i);
         canon[i] = it->second;
         if (fresh) to_decode.push_back(i);
     }
@@ -79,7 +81,7 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     parallel_for(to_decode.size(), options.threads, [&](std::size_t k) {
         std::size_t i = to_decode[k];
         const SceneImage& img = scene.images[i];
-        out.images[i] = load_png(img.path);
+        out.images[i] = load_scene_image(img);
         if (out.images[i].width != img.width || out.images[i].height != img.height)
             throw Error(path + ": image " + std::to_string(i) + " \"" + img.id + "\": " + img.path + " is " +
                         std::to_string(out.images[i].width) + "x" + std::to_string(out.images[i].height) + ", expected " +

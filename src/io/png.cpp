@@ -3,6 +3,8 @@
 #include <png.h>
 
 #include <cerrno>
+#include <charconv>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -67,6 +69,34 @@ Image decode_png(const void* data, std::size_t size, const std::string& name) {
 Image load_png(const std::string& path) {
     std::string bytes = read_file(path);
     return decode_png(bytes.data(), bytes.size(), path);
+}
+
+std::uint32_t parse_colour_key(const std::string& text, const std::string& where) {
+    std::string_view hex = text;
+    if (!hex.empty() && hex[0] == '#') hex.remove_prefix(1);
+    std::uint32_t value = 0;
+    auto [end, ec] = std::from_chars(hex.data(), hex.data() + hex.size(), value, 16);
+    if (hex.size() != 6 || ec != std::errc() || end != hex.data() + hex.size())
+        throw Error(where + ": colour key '" + text + "' is not RRGGBB hex");
+    return value;
+}
+
+std::string colour_key_text(std::uint32_t rgb) {
+    char text[8];
+    std::snprintf(text, sizeof text, "%06x", unsigned(rgb & 0xffffffu));
+    return text;
+}
+
+void apply_colour_key(Image& image, std::uint32_t rgb) {
+    const std::uint8_t r = std::uint8_t(rgb >> 16), g = std::uint8_t(rgb >> 8), b = std::uint8_t(rgb);
+    for (std::size_t i = 0; i + 3 < image.rgba.size(); i += 4)
+        if (image.rgba[i] == r && image.rgba[i + 1] == g && image.rgba[i + 2] == b) image.rgba[i + 3] = 0;
+}
+
+Image load_scene_image(const SceneImage& image) {
+    Image out = load_png(image.path);
+    if (image.has_trans) apply_colour_key(out, image.trans);
+    return out;
 }
 
 std::string encode_png(ImageView image) {

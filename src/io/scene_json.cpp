@@ -208,6 +208,10 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
         } else {
             img.path = resolve(base, string_field(c, v, "path"));
         }
+        if (v.contains("trans")) {
+            img.has_trans = true;
+            img.trans = parse_colour_key(string_field(c, v, "trans"), path + ": image " + std::to_string(i));
+        }
         try {
             png_size(img.path, &img.width, &img.height);
         } catch (const Error& e) {

@@ -72,7 +72,9 @@ std::string scene_to_json_text(const Scene& scene, const std::string& output_pat
         std::string path = portable_path(image.path, base);
         check_utf8(image.id, output_name(output_path) + ": image id");
         check_utf8(path, output_name(output_path) + ": image \"" + image.id + "\": path");
-        images.push_back({{"id", image.id}, {"path", std::move(path)}});
+        Json entry = {{"id", image.id}, {"path", std::move(path)}};
+        if (image.has_trans) entry["trans"] = colour_key_text(image.trans);
+        images.push_back(std::move(entry));
     }
     doc["images"] = std::move(images);
     Json elements = Json::array();

@@ -4,11 +4,9 @@
 // time zero), and the trans colour key.
 //
 // The trans key: Tiled makes texels of the key colour transparent when it
-// loads the image; the PNG on disk does not say so, and a Scene refers to
-// image files. So we write a keyed copy (RGBA PNG) once into
-// $XDG_CACHE_HOME/depthcull/keyed (default ~/.cache/depthcull/keyed),
-// named by a hash of the file's bytes and the key, and point the
-// SceneImage at it.
+// loads the image; the PNG on disk does not say so. The key travels on the
+// SceneImage (has_trans, trans) and is applied where the file is decoded
+// (io::load_scene_image): loading a map writes nothing.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -23,46 +21,6 @@ namespace fs = std::filesystem;
 namespace depthcull::io::tiled {
 
 namespace {
-
-std::string keyed_cache_dir() {
-    if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return std::string(d) + "/depthcull/keyed";
-    const char* home = std::getenv("HOME");
-    return std::string(home && *home ? home : "/tmp") + "/.cache/depthcull/keyed";
-}
-
-std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 14695981039346656037ull) {
-    for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
-    return h;
-}
-
-// "ff00ff" or "#ff00ff" -> 0xRRGGBB.
-std::uint32_t parse_trans(const std::string& text, const std::string& where) {
-    std::string_view hex = text;
-    if (!hex.empty() && hex[0] == '#') hex.remove_prefix(1);
-    std::uint32_t value = 0;
-    auto [end, ec] = std::from_chars(hex.data(), hex.data() + hex.size(), value, 16);
-    if (hex.size() != 6 || ec != std::errc() || end != hex.data() + hex.size())
-        throw Error(where + ": trans colour '" + text + "' is not RRGGBB hex");
-    return value;
-}
-
-// The keyed copy of `path`: texels of colour `key` get alpha 0.
-std::string keyed_copy(const std::string& path, std::uint32_t key, const std::string& where) {
-    std::string bytes = read_file(path);
-    char name[64];
-    std::snprintf(name, sizeof name, "%016llx-%06x.png", static_cast<unsigned long long>(fnv1a(bytes)), unsigned(key));
-    fs::path out = fs::path(keyed_cache_dir()) / name;
-    std::error_code ec;
-    if (fs::exists(out, ec)) return out.string();
-    Image image = decode_png(bytes.data(), bytes.size(), path);
-    const std::uint8_t r = std::uint8_t(key >> 16), g = std::uint8_t(key >> 8), b = std::uint8_t(key);
-    for (std::size_t i = 0; i < image.rgba.size(); i += 4)
-        if (image.rgba[i] == r && image.rgba[i + 1] == g && image.rgba[i + 2] == b) image.rgba[i + 3] = 0;
-    fs::create_directories(out.parent_path(), ec);
-    if (ec) throw Error(where + ": cannot create the keyed-image cache " + out.parent_path().string() + " (" + ec.message() + ")");
-    save_png(out.string(), image.view()); // atomic: concurrent writers produce the same bytes
-    return out.string();
-}
 
 // Tiled resolves an image relative to the file naming it. Some games'
 // maps name paths relative to their data root instead (btanks'
@@ -195,10 +153,13 @@ int ImageTable::add(const std::string& base_dir, const std::string& source, cons
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec)) throw Error(where + ": image '" + source + "' not found (" + resolved.string() + ")");
     std::string path = resolved.string();
-    std::string key = path + "\n" + trans;
+    std::string key = path + "\n" + (trans.empty() ? std::string() : colour_key_text(parse_colour_key(trans, where)));
     if (auto it = by_key_.find(key); it != by_key_.end()) return it->second;
-    if (!trans.empty()) path = keyed_copy(path, parse_trans(trans, where), where);
     SceneImage image;
+    if (!trans.empty()) {
+        image.has_trans = true;
+        image.trans = parse_colour_key(trans, where);
+    }
     png_size(path, &image.width, &image.height);
     // Ids: the file stem, numbered when two files share a stem.
     std::string stem = resolved.stem().string();

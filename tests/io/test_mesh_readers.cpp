@@ -65,6 +65,8 @@ void expect_same_images(const std::vector<SceneImage>& a, const std::vector<Scen
         EXPECT_EQ(std::filesystem::path(a[i].path).lexically_normal(), std::filesystem::path(b[i].path).lexically_normal());
         EXPECT_EQ(a[i].width, b[i].width);
         EXPECT_EQ(a[i].height, b[i].height);
+        EXPECT_EQ(a[i].has_trans, b[i].has_trans);
+        EXPECT_EQ(a[i].trans, b[i].trans);
     }
 }
 
@@ -116,6 +118,34 @@ TEST(MeshReaders, FromMemoryKeepsPathsAsWritten) {
     EXPECT_EQ(based.images[0].path, "/assets/art/blob.png");
     const std::string bytes = io::meshes_to_binary(o.prepared.scene, o.meshes, dir.path("sub/m.bin"));
     EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory").images, io::meshes_from_binary(bytes, "memory").meshes, ""), bytes);
+}
+
+// A colour key (Tiled's trans) is part of the image: both forms carry it,
+// and files without keys are what they were before keys existed.
+TEST(MeshReaders, ColourKeysRoundTripInBothForms) {
+    SceneDir dir("mesh_read_keys");
+    Optimized o = optimized_scene(dir);
+    const std::string plain = io::meshes_to_binary(o.prepared.scene, o.meshes, "");
+    std::uint32_t flags = 0;
+    std::memcpy(&flags, plain.data() + 12, 4);
+    EXPECT_EQ(flags & 2u, 0u);
+    std::vector<SceneImage> keyed = o.prepared.scene.images;
+    keyed[0].has_trans = true;
+    keyed[0].trans = 0xff00ff;
+    const std::string text = io::meshes_to_json(keyed, o.meshes, "");
+    EXPECT_NE(text.find("\"trans\": \"ff00ff\""), std::string::npos);
+    expect_same_images(keyed, io::meshes_from_json(text, "memory").images);
+    const std::string bytes = io::meshes_to_binary(keyed, o.meshes, "");
+    expect_same_images(keyed, io::meshes_from_binary(bytes, "memory").images);
+    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory").images, o.meshes, ""), bytes);
+    std::string bad = text;
+    bad.replace(bad.find("ff00ff"), 6, "ff00fg");
+    try {
+        io::meshes_from_json(bad, "bad.json");
+        ADD_FAILURE() << "a bad colour key was read";
+    } catch (const io::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+    }
 }
 
 // The JSON reader parses doubles and rounds them to float once; the
@@ -212,7 +242,7 @@ TEST(MeshReaders, BinaryErrorsNameTheByte) {
     const std::pair<std::string, std::string> cases[] = {
         {"DCMESH", "m.bin: byte 0: not a depthcull binary meshes file"},
         {patched(b, 8, std::uint32_t(2)), "m.bin: byte 8: format version 2 is not supported"},
-        {patched(b, 12, std::uint32_t(3)), "m.bin: byte 12: unknown flags 3"},
+        {patched(b, 12, std::uint32_t(5)), "m.bin: byte 12: unknown flags 5"},
         {patched(b, 16, std::numeric_limits<double>::quiet_NaN()), "m.bin: byte 16: viewport x is not a finite number"},
         {patched(b, counts, std::uint32_t(1 << 16)), "m.bin: byte 40: 65536 images and 1 draws do not fit in the"},
         {patched(b, counts, std::uint32_t(1 << 20)), "m.bin: byte 40: more than 65536 images"},

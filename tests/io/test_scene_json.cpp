@@ -50,6 +50,24 @@ TEST(SceneJson, LoadsFieldsAndDefaults) {
     EXPECT_EQ(s.elements[1].blend, Blend::add);
 }
 
+TEST(SceneJson, ColourKeysAreReadAndWrittenBack) {
+    SceneDir dir("scene_json_trans");
+    dir.standard_art();
+    std::string path = dir.write("scene.json", R"({"images": [{"id": "blob", "path": "art/blob.png", "trans": "#FF00ff"}],
+                                                   "elements": [{"image": "blob"}]})");
+    Scene s = io::load_scene(path);
+    ASSERT_TRUE(s.images[0].has_trans);
+    EXPECT_EQ(s.images[0].trans, 0xff00ffu);
+    std::string text = io::scene_to_json_text(s, path);
+    EXPECT_NE(text.find("\"trans\":\"ff00ff\""), std::string::npos) << text;
+    Scene again = io::load_scene(dir.write("again.json", text));
+    EXPECT_TRUE(again.images[0].has_trans);
+    EXPECT_EQ(again.images[0].trans, 0xff00ffu);
+    std::string e = load_error(dir, R"({"images": [{"id": "blob", "path": "art/blob.png", "trans": "red"}], "elements": []})");
+    EXPECT_NE(e.find("scene.json"), std::string::npos) << e;
+    EXPECT_NE(e.find("colour key"), std::string::npos) << e;
+}
+
 TEST(SceneJson, ViewportOverrideAndDefault) {
     SceneDir dir("scene_json_vp");
     dir.standard_art();
