@@ -32,6 +32,13 @@ inline constexpr std::size_t kMaxSceneImages = std::size_t(1) << 16;
 inline constexpr std::int64_t kMaxSceneElements = std::int64_t(1) << 24; // scene JSON
 inline constexpr std::size_t kMaxAtlasFrames = 1'000'000;                // one TexturePacker page
 
+// The element graph (paper 2.3, docs/element-graph.md): candidate pairs
+// its broad phase compares. Past the budget, the most crowded grid cells
+// keep painter's order among their elements (a chain) instead of comparing
+// all pairs, so edges <= kGraphPairBudget + 2 * elements. Not an error:
+// the result stays correct, only less reordered.
+inline constexpr std::uint64_t kGraphPairBudget = std::uint64_t(1) << 22;
+
 // Tiled maps.
 inline constexpr int kMaxMapSide = 1 << 20;                          // cells per side; chunk coordinates within +-this
 inline constexpr std::int64_t kMaxLayerCells = std::int64_t(1) << 24; // one tile layer (its chunks summed)

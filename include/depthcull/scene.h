@@ -11,6 +11,7 @@
 #include "depthcull/analyze.h"
 #include "depthcull/geometry.h"
 #include "depthcull/image.h"
+#include "depthcull/limits.h"
 
 namespace depthcull {
 
@@ -213,6 +214,11 @@ struct ReconstructOptions {
     // snapping. See src/scene/texel_margin.cpp for why kTexelMargin; 0
     // turns it off (the paper's meshes exactly).
     double texel_margin = kTexelMargin;
+    // Candidate pairs the element graph may compare (limits::kGraphPairBudget;
+    // docs/element-graph.md): past it, crowded spots keep painter's order
+    // among their elements (correct, less batching), so a pile of sprites
+    // costs linear time and memory. Edges <= graph_pair_budget + 2n.
+    std::uint64_t graph_pair_budget = limits::kGraphPairBudget;
 };
 
 enum class ReconstructStatus {
@@ -250,7 +256,10 @@ struct ElementGraph {
 // Builds the graph with a uniform grid (broad phase) and a conservative
 // polygon overlap test (narrow phase); near-linear in practice. Null or
 // invalid analyses count as drawing nothing.
-ElementGraph build_element_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, GraphMode mode);
+// At most pair_budget candidate pairs are compared (ReconstructOptions::
+// graph_pair_budget): see docs/element-graph.md for the bound.
+ElementGraph build_element_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, GraphMode mode,
+                                 std::uint64_t pair_budget = limits::kGraphPairBudget);
 
 // Paper 2.3.1: a drawing order (a permutation of element indices) that
 // never moves an element across one it overlaps. SortMethod::batch returns

@@ -3,6 +3,8 @@
 // pairs; we find candidate pairs with a uniform grid over the screen boxes
 // (broad phase) and test the transformed boundary polygons (narrow phase),
 // so building it is near-linear when elements are small next to the scene.
+// Hostile scenes cannot make it quadratic: see "The bound" below and
+// docs/element-graph.md.
 //
 // The test is conservative about rasterization: a missing edge could let a
 // reordered element draw over one it should be behind (the look changes),
@@ -11,6 +13,10 @@
 // vertices reach the GPU as floats (relative error 2^-24) and rasterizers
 // snap them to a sub-pixel grid (1/256 pixel on common hardware), so two
 // polygons separated by less than that on paper may share a pixel centre.
+// Float rounding grows with the coordinates, so the tolerance of a pair is
+// taken from the two elements' own coordinates, never the scene's largest:
+// one element 3e9 px wide must not make 100,000 small sprites near the
+// origin pair up.
 #include <algorithm>
 #include <cmath>
 
@@ -35,9 +41,17 @@ struct ScreenGeometry {
     std::vector<ScreenPolygon> polygons;
     std::vector<std::uint32_t> element_first; // polygons of element i: [first[i], first[i+1])
     std::vector<Box> element_box;
+    std::vector<double> element_eps; // the element's overlap tolerance (element_tolerance)
     std::vector<std::uint8_t> draws;
-    double max_coordinate = 0;
 };
+
+// kSeparation plus the float rounding of the element's largest screen
+// coordinate (2^-22: a float's 2^-24 twice over, for both polygons, with
+// room to spare). A pair uses the larger of its two elements'.
+double element_tolerance(const Box& b) {
+    double m = std::max({std::fabs(b.x0), std::fabs(b.y0), std::fabs(b.x1), std::fabs(b.y1)});
+    return kSeparation + m * 0x1p-22;
+}
 
 // Convex in either orientation (a mirroring transform flips it), collinear
 // vertices allowed. Exact for texel-grid vertices.
@@ -62,7 +76,6 @@ void add_polygon(ScreenGeometry& g, const Element& e, const Polygon& p, bool con
         Vec2 s = apply(e.transform, {v.x - e.rect.x, v.y - e.rect.y});
         g.vertices.push_back(s);
         sp.box = {std::min(sp.box.x0, s.x), std::min(sp.box.y0, s.y), std::max(sp.box.x1, s.x), std::max(sp.box.y1, s.y)};
-        g.max_coordinate = std::max({g.max_coordinate, std::fabs(s.x), std::fabs(s.y)});
     }
     g.polygons.push_back(sp);
 }
@@ -73,6 +86,7 @@ ScreenGeometry screen_geometry(const Scene& scene, const std::vector<const Image
     ScreenGeometry g;
     g.element_first.reserve(n + 1);
     g.element_box.resize(n);
+    g.element_eps.resize(n, kSeparation);
     g.draws.resize(n, 0);
     g.vertices.reserve(n * 8);
     g.polygons.reserve(n);
@@ -95,6 +109,7 @@ ScreenGeometry screen_geometry(const Scene& scene, const std::vector<const Image
         }
         g.element_box[i] = b;
         g.draws[i] = g.polygons.size() > g.element_first.back();
+        if (g.draws[i]) g.element_eps[i] = element_tolerance(b);
     }
     g.element_first.push_back(std::uint32_t(g.polygons.size()));
     return g;
@@ -180,13 +195,54 @@ bool elements_overlap(const ScreenGeometry& g, std::size_t i, std::size_t j, dou
     return false;
 }
 
-// A uniform grid over the drawn elements' boxes, stored as one array of
-// element indices per cell (counting sort), ascending within a cell.
+// ---- The bound
+//
+// The broad phase compares at most pair_budget candidate pairs (boxes of
+// two elements that share a grid cell, or a large element and any other):
+// 50,000 sprites stacked at one spot would otherwise compare 1.25e9 pairs
+// and keep as many edges. Where the cells' pairs would exceed the budget,
+// the fullest cells become "dense": their pairs are not compared; instead
+// every element of a dense cell joins one chain in painter's order, an edge
+// from each to the previous chained element and to the previous chained
+// element the blend-pass sort sees (the sort ignores the others' edges).
+// Two elements sharing a dense cell are then joined by a path from the
+// later to the earlier, so the sort keeps their painter's order and the
+// later gets the higher depth level, as an edge between them would do:
+// always correct, only less reordering. Edges <= pair_budget + 2n.
+//
+// Elements spanning more than kLargeCells cells (a background; a hostile
+// sprite 3e9 px wide) stay out of the grid and are compared with every
+// drawn element, at most pair_budget / 2 comparisons in all. Cells are
+// about the median element's size (not the mean, which one huge element
+// would dominate) and coarsen (x2) until there are at most 4n + 64 cells
+// over the small elements' bounds, at most 16n + 1024 cell entries and few
+// enough large elements; if no size fits (absurd coordinates), one cell.
+
+constexpr double kLargeCells = 64;
+
+// Cells of side `cell` that [lo, hi] spans, at most, wherever the grid's
+// origin lies; infinite for absurd or NaN extents.
+double span_cells(double lo, double hi, double cell) {
+    double s = std::floor((hi - lo) / cell) + 2;
+    return std::isfinite(s) ? s : INFINITY;
+}
+
+Box grown(const Box& b, double eps) { return {b.x0 - eps, b.y0 - eps, b.x1 + eps, b.y1 + eps}; }
+
+Box united(const Box& a, const Box& b) {
+    return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
+}
+
+// A uniform grid over the small drawn elements' boxes (each grown by its
+// tolerance), stored as one array of element indices per cell (counting
+// sort), ascending within a cell.
 struct Grid {
-    double x0 = 0, y0 = 0, cell = 1;
+    double x0 = 0, y0 = 0, cell = INFINITY;
     std::int64_t nx = 1, ny = 1;
     std::vector<std::uint32_t> start; // nx*ny + 1
     std::vector<std::uint32_t> items;
+    std::vector<std::uint8_t> dense; // per cell: chained, its pairs not compared
+    std::vector<std::uint8_t> large; // per element: drawn but not in the grid
 
     void cell_range(const Box& b, std::int64_t& cx0, std::int64_t& cy0, std::int64_t& cx1, std::int64_t& cy1) const {
         auto clampx = [&](double v, std::int64_t hi) {
@@ -201,53 +257,97 @@ struct Grid {
     }
 };
 
-Grid build_grid(const ScreenGeometry& g, double eps) {
+Grid build_grid(const ScreenGeometry& g, std::uint64_t pair_budget) {
     Grid grid;
     const std::size_t n = g.draws.size();
+    grid.large.assign(n, 0);
+    std::vector<double> sides;
+    for (std::size_t i = 0; i < n; ++i)
+        if (g.draws[i]) sides.push_back(std::max(g.element_box[i].x1 - g.element_box[i].x0, g.element_box[i].y1 - g.element_box[i].y0));
+    const double drawn = double(sides.size());
+    bool fits = false;
     Box all{INFINITY, INFINITY, -INFINITY, -INFINITY};
-    double sum_side = 0;
-    std::size_t drawn = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!g.draws[i]) continue;
-        const Box& b = g.element_box[i];
-        all = {std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
-        sum_side += std::max(b.x1 - b.x0, b.y1 - b.y0);
-        ++drawn;
+    if (!sides.empty()) {
+        std::nth_element(sides.begin(), sides.begin() + std::ptrdiff_t(sides.size() / 2), sides.end());
+        double cell = sides[sides.size() / 2];
+        if (!(cell >= 1e-3)) cell = 1e-3; // also NaN
+        const double max_cells = 4 * drawn + 64, max_items = 16 * drawn + 1024;
+        const double max_large_pairs = double(pair_budget) / 2;
+        for (int attempt = 0; attempt < 160; ++attempt, cell *= 2) {
+            all = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+            double items = 0, large = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                if (!g.draws[i]) continue;
+                Box b = grown(g.element_box[i], g.element_eps[i]);
+                double cells = span_cells(b.x0, b.x1, cell) * span_cells(b.y0, b.y1, cell);
+                grid.large[i] = !(cells <= kLargeCells);
+                if (grid.large[i]) {
+                    ++large;
+                } else {
+                    items += cells;
+                    all = united(all, b);
+                }
+            }
+            double cells = large < drawn ? span_cells(all.x0, all.x1, cell) * span_cells(all.y0, all.y1, cell) : 1;
+            if (cells <= max_cells && items <= max_items && large * drawn <= max_large_pairs) {
+                fits = true;
+                grid.cell = cell;
+                break;
+            }
+        }
     }
-    if (drawn == 0) {
-        grid.start.assign(2, 0);
-        return grid;
-    }
-    grid.x0 = all.x0 - eps;
-    grid.y0 = all.y0 - eps;
-    double w = all.x1 - all.x0 + 2 * eps, h = all.y1 - all.y0 + 2 * eps;
-    // Cells about the size of an average element, so an element touches a
-    // few cells; at most ~4 cells per element so sparse scenes stay small.
-    grid.cell = std::max(sum_side / double(drawn), 1e-3);
-    const double max_cells = 4.0 * double(drawn) + 64;
-    if (!std::isfinite(w) || !std::isfinite(h) || !std::isfinite(grid.cell)) {
-        grid.cell = INFINITY; // absurd coordinates: one cell, all pairs
-    } else {
-        while ((std::ceil(w / grid.cell) * std::ceil(h / grid.cell)) > max_cells) grid.cell *= 1.5;
-        grid.nx = std::max<std::int64_t>(1, std::int64_t(std::ceil(w / grid.cell)));
-        grid.ny = std::max<std::int64_t>(1, std::int64_t(std::ceil(h / grid.cell)));
+    if (fits && all.x0 <= all.x1) {
+        grid.x0 = all.x0;
+        grid.y0 = all.y0;
+        grid.nx = std::max<std::int64_t>(1, std::int64_t(std::ceil((all.x1 - all.x0) / grid.cell)));
+        grid.ny = std::max<std::int64_t>(1, std::int64_t(std::ceil((all.y1 - all.y0) / grid.cell)));
+    } else if (!fits) {
+        std::fill(grid.large.begin(), grid.large.end(), 0); // one cell, everything in it
     }
     grid.start.assign(std::size_t(grid.nx * grid.ny + 1), 0);
     auto for_cells = [&](std::size_t i, auto&& fn) {
-        Box b = g.element_box[i];
-        b = {b.x0 - eps, b.y0 - eps, b.x1 + eps, b.y1 + eps};
         std::int64_t cx0, cy0, cx1, cy1;
-        grid.cell_range(b, cx0, cy0, cx1, cy1);
+        grid.cell_range(grown(g.element_box[i], g.element_eps[i]), cx0, cy0, cx1, cy1);
         for (std::int64_t cy = cy0; cy <= cy1; ++cy)
             for (std::int64_t cx = cx0; cx <= cx1; ++cx) fn(std::size_t(cy * grid.nx + cx));
     };
+    auto in_grid = [&](std::size_t i) { return g.draws[i] && !grid.large[i]; };
     for (std::size_t i = 0; i < n; ++i)
-        if (g.draws[i]) for_cells(i, [&](std::size_t c) { ++grid.start[c + 1]; });
+        if (in_grid(i)) for_cells(i, [&](std::size_t c) { ++grid.start[c + 1]; });
     for (std::size_t c = 1; c < grid.start.size(); ++c) grid.start[c] += grid.start[c - 1];
     grid.items.resize(grid.start.back());
     std::vector<std::uint32_t> fill(grid.start.begin(), grid.start.end() - 1);
     for (std::size_t i = 0; i < n; ++i)
-        if (g.draws[i]) for_cells(i, [&](std::size_t c) { grid.items[fill[c]++] = std::uint32_t(i); });
+        if (in_grid(i)) for_cells(i, [&](std::size_t c) { grid.items[fill[c]++] = std::uint32_t(i); });
+
+    // Dense cells: the fullest, until the rest's pairs fit what the large
+    // elements' comparisons leave of the budget.
+    std::uint64_t large_pairs = 0;
+    for (std::size_t i = 0; i < n; ++i) large_pairs += grid.large[i] ? std::uint64_t(drawn) : 0;
+    const std::uint64_t budget = pair_budget - std::min(pair_budget, large_pairs);
+    const std::size_t cells = grid.start.size() - 1;
+    auto pairs_in = [&](std::size_t c) {
+        std::uint64_t s = grid.start[c + 1] - grid.start[c];
+        return s * (s - (s > 0)) / 2;
+    };
+    grid.dense.assign(cells, 0);
+    std::uint64_t total = 0;
+    std::vector<std::uint32_t> filled;
+    for (std::size_t c = 0; c < cells; ++c) {
+        total += pairs_in(c);
+        if (pairs_in(c) > 0) filled.push_back(std::uint32_t(c));
+    }
+    if (total > budget) {
+        std::sort(filled.begin(), filled.end(), [&](std::uint32_t a, std::uint32_t b) {
+            std::uint64_t pa = pairs_in(a), pb = pairs_in(b);
+            return pa != pb ? pa > pb : a < b;
+        });
+        for (std::uint32_t c : filled) {
+            if (total <= budget) break;
+            grid.dense[c] = 1;
+            total -= pairs_in(c);
+        }
+    }
     return grid;
 }
 
@@ -273,11 +373,13 @@ ScreenGeometry spatial_copy(const ScreenGeometry& g, const Grid& grid, std::vect
     local.polygons.reserve(g.polygons.size());
     local.element_first.reserve(keyed.size() + 1);
     local.element_box.reserve(keyed.size());
+    local.element_eps.reserve(keyed.size());
     rank.assign(n, std::uint32_t(-1));
     for (const auto& [cell, i] : keyed) {
         rank[i] = std::uint32_t(local.element_box.size());
         local.element_first.push_back(std::uint32_t(local.polygons.size()));
         local.element_box.push_back(g.element_box[i]);
+        local.element_eps.push_back(g.element_eps[i]);
         for (std::uint32_t p = g.element_first[i]; p < g.element_first[i + 1]; ++p) {
             ScreenPolygon sp = g.polygons[p];
             std::uint32_t first = std::uint32_t(local.vertices.size());
@@ -293,53 +395,96 @@ ScreenGeometry spatial_copy(const ScreenGeometry& g, const Grid& grid, std::vect
 } // namespace
 
 ElementGraph build_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
-                         const std::vector<Shape>& shapes, GraphMode mode) {
+                         const std::vector<Shape>& shapes, GraphMode mode, const std::vector<std::uint8_t>* sorted,
+                         std::uint64_t pair_budget) {
     const std::size_t n = scene.elements.size();
     ScreenGeometry g = screen_geometry(scene, analyses, shapes, mode);
-    const double eps = kSeparation + g.max_coordinate * 0x1p-22;
-    Grid grid = build_grid(g, eps);
+    Grid grid = build_grid(g, pair_budget);
     std::vector<std::uint32_t> rank;
     const ScreenGeometry local = spatial_copy(g, grid, rank);
-    std::vector<std::uint32_t> spatial_order(local.element_box.size());
+    const std::size_t drawn = local.element_box.size();
+    std::vector<std::uint32_t> spatial_order(drawn);
     for (std::size_t i = 0; i < n; ++i)
         if (rank[i] != std::uint32_t(-1)) spatial_order[rank[i]] = std::uint32_t(i);
 
-    // Visit elements in spatial order; each finds the overlapping elements
-    // behind it (j < i). Then gather the lists into painter's order.
-    std::vector<std::uint32_t> count(n + 1, 0);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // (front, back)
-    std::vector<std::uint32_t> seen(local.element_box.size(), std::uint32_t(-1));
-    for (std::uint32_t ri = 0; ri < spatial_order.size(); ++ri) {
+    auto compare = [&](std::uint32_t i, std::uint32_t j, std::uint32_t ri, std::uint32_t rj) {
+        const double eps = std::max(local.element_eps[ri], local.element_eps[rj]);
+        // A tolerance that is not finite (coordinates beyond any float)
+        // proves nothing: keep the edge.
+        if (!(eps < INFINITY) || (boxes_near(local.element_box[ri], local.element_box[rj], eps) && elements_overlap(local, ri, rj, eps)))
+            pairs.push_back({std::max(i, j), std::min(i, j)});
+    };
+
+    // Grid elements in spatial order; each compares the elements behind it
+    // (j < i) that share a cell that is not dense.
+    std::vector<std::uint32_t> seen(drawn, std::uint32_t(-1));
+    for (std::uint32_t ri = 0; ri < drawn; ++ri) {
         const std::uint32_t i = spatial_order[ri];
-        Box b = local.element_box[ri];
-        b = {b.x0 - eps, b.y0 - eps, b.x1 + eps, b.y1 + eps};
+        if (grid.large[i]) continue;
         std::int64_t cx0, cy0, cx1, cy1;
-        grid.cell_range(b, cx0, cy0, cx1, cy1);
+        grid.cell_range(grown(local.element_box[ri], local.element_eps[ri]), cx0, cy0, cx1, cy1);
         for (std::int64_t cy = cy0; cy <= cy1; ++cy) {
             for (std::int64_t cx = cx0; cx <= cx1; ++cx) {
                 std::size_t c = std::size_t(cy * grid.nx + cx);
+                if (grid.dense[c]) continue; // the chain orders this cell
                 for (std::uint32_t k = grid.start[c]; k < grid.start[c + 1]; ++k) {
                     std::uint32_t j = grid.items[k];
                     if (j >= i) break; // ascending: the rest are in front of i
                     std::uint32_t rj = rank[j];
                     if (seen[rj] == ri) continue;
                     seen[rj] = ri;
-                    if (boxes_near(local.element_box[ri], local.element_box[rj], eps) && elements_overlap(local, ri, rj, eps)) {
-                        pairs.push_back({i, j});
-                        ++count[i + 1];
-                    }
+                    compare(i, j, ri, rj);
                 }
             }
         }
     }
+    // Large elements against every drawn element (each large pair once).
+    for (std::uint32_t ri = 0; ri < drawn; ++ri) {
+        const std::uint32_t i = spatial_order[ri];
+        if (!grid.large[i]) continue;
+        for (std::uint32_t rj = 0; rj < drawn; ++rj) {
+            const std::uint32_t j = spatial_order[rj];
+            if (j != i && !(grid.large[j] && j > i)) compare(i, j, ri, rj);
+        }
+    }
+    // The chain through the dense cells' elements, in painter's order.
+    std::vector<std::uint8_t> chained(n, 0);
+    for (std::size_t c = 0; c + 1 < grid.start.size(); ++c)
+        if (grid.dense[c])
+            for (std::uint32_t k = grid.start[c]; k < grid.start[c + 1]; ++k) chained[grid.items[k]] = 1;
+    std::int64_t prev = -1, prev_sorted = -1;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!chained[i]) continue;
+        const bool s = !sorted || (i < sorted->size() && (*sorted)[i]);
+        if (prev >= 0) pairs.push_back({std::uint32_t(i), std::uint32_t(prev)});
+        if (s && prev_sorted >= 0 && prev_sorted != prev) pairs.push_back({std::uint32_t(i), std::uint32_t(prev_sorted)});
+        prev = std::int64_t(i);
+        if (s) prev_sorted = std::int64_t(i);
+    }
+
+    // Gather into painter's order; a chain edge may repeat an overlap edge.
     ElementGraph graph;
     graph.offsets.assign(n + 1, 0);
-    for (std::size_t i = 1; i <= n; ++i) graph.offsets[i] = graph.offsets[i - 1] + count[i];
+    for (const auto& pr : pairs) ++graph.offsets[pr.first + 1];
+    for (std::size_t i = 1; i <= n; ++i) graph.offsets[i] += graph.offsets[i - 1];
     graph.targets.resize(pairs.size());
-    std::vector<std::uint32_t> fill(graph.offsets.begin(), graph.offsets.end() - 1);
-    for (const auto& [front, back] : pairs) graph.targets[fill[front]++] = back;
-    for (std::size_t i = 0; i < n; ++i)
-        std::sort(graph.targets.begin() + graph.offsets[i], graph.targets.begin() + graph.offsets[i + 1]);
+    {
+        std::vector<std::uint32_t> fill(graph.offsets.begin(), graph.offsets.end() - 1);
+        for (const auto& [front, back] : pairs) graph.targets[fill[front]++] = back;
+    }
+    pairs = {};
+    std::uint32_t out = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        auto b = graph.targets.begin() + graph.offsets[i], e = graph.targets.begin() + graph.offsets[i + 1];
+        std::sort(b, e);
+        e = std::unique(b, e);
+        graph.offsets[i] = out;
+        out = std::uint32_t(std::copy(b, e, graph.targets.begin() + out) - graph.targets.begin());
+    }
+    graph.offsets[n] = out;
+    graph.targets.resize(out);
+    graph.targets.shrink_to_fit();
     return graph;
 }
 
@@ -352,11 +497,12 @@ bool ElementGraph::has_edge(std::size_t front, std::size_t back) const {
     return std::binary_search(behind_begin(front), behind_end(front), std::uint32_t(back));
 }
 
-ElementGraph build_element_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, GraphMode mode) {
+ElementGraph build_element_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, GraphMode mode,
+                                 std::uint64_t pair_budget) {
     std::vector<const ImageAnalysis*> a = analyses;
     a.resize(scene.elements.size(), nullptr);
     detail::ElementShapes shapes = detail::element_shapes(scene, a, false);
-    return detail::build_graph(scene, a, shapes.boundary, mode);
+    return detail::build_graph(scene, a, shapes.boundary, mode, nullptr, pair_budget);
 }
 
 } // namespace depthcull

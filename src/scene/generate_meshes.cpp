@@ -181,11 +181,14 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     // Paper 2.3 ReconstructScene: graph, sort, depth values, meshes.
     ElementShapes shapes = element_shapes(scene, analyses, options.opaque_polygons);
     if (options.cull_to_viewport) cull_to_viewport(scene, shapes);
-    ElementGraph graph = build_graph(scene, analyses, shapes.boundary, options.graph);
     std::vector<std::int32_t> keys = mesh_keys(scene);
     std::vector<std::int32_t> blend_keys = keys;
-    for (std::size_t i = 0; i < n; ++i)
+    std::vector<std::uint8_t> sorted(n);
+    for (std::size_t i = 0; i < n; ++i) {
         if (!shapes.blended[i]) blend_keys[i] = -1;
+        sorted[i] = blend_keys[i] >= 0;
+    }
+    ElementGraph graph = build_graph(scene, analyses, shapes.boundary, options.graph, &sorted, options.graph_pair_budget);
     std::vector<std::uint32_t> order = sort_order(graph, blend_keys, options.sort);
     std::vector<std::int64_t> levels = assign_depth_levels(graph);
 
@@ -231,10 +234,13 @@ ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions&
     if (options.cull_to_viewport) cull_to_viewport(scene, shapes);
     const std::vector<Shape>& rects = shapes.boundary;
     std::vector<const ImageAnalysis*> none(n, nullptr);
-    ElementGraph graph = build_graph(scene, none, rects, GraphMode::boxes);
     std::vector<std::int32_t> keys = mesh_keys(scene);
-    for (std::size_t i = 0; i < n; ++i)
+    std::vector<std::uint8_t> sorted(n);
+    for (std::size_t i = 0; i < n; ++i) {
         if (rects[i] == Shape::none) keys[i] = -1;
+        sorted[i] = keys[i] >= 0;
+    }
+    ElementGraph graph = build_graph(scene, none, rects, GraphMode::boxes, &sorted, options.graph_pair_budget);
     std::vector<std::uint32_t> order = sort_order(graph, keys, options.sort);
 
     SceneMeshes result;

@@ -49,8 +49,11 @@ std::vector<int> canonical_images(const Scene& scene);
 std::vector<std::uint32_t> sort_order(const ElementGraph& graph, const std::vector<std::int32_t>& keys, SortMethod method);
 std::int64_t count_runs(const std::vector<std::uint32_t>& order, const std::vector<std::int32_t>& keys);
 
+// `sorted` (null: all) marks the elements the blend-pass sort sees, so the
+// chain that bounds the graph (element_graph.cpp) also links those directly.
 ElementGraph build_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
-                         const std::vector<Shape>& shapes, GraphMode mode);
+                         const std::vector<Shape>& shapes, GraphMode mode, const std::vector<std::uint8_t>* sorted,
+                         std::uint64_t pair_budget);
 
 } // namespace depthcull::detail
 

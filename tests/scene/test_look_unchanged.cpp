@@ -192,6 +192,31 @@ TEST(LookUnchanged, OptimizedFramesMatchOverpaintPixelForPixel) {
     }
 }
 
+// The element graph's bound (docs/element-graph.md): with a pair budget
+// too small for the scene, crowded cells keep painter's order; the frame
+// must not change.
+TEST(LookUnchanged, GraphPairBudgetNeverChangesTheFrame) {
+    for (std::uint64_t seed = 1; seed <= 30; ++seed) {
+        RandomScene r = random_scene(seed, 20 + int(seed % 40));
+        const Frame plain = render(overpaint_meshes(r.scene), r.images);
+        for (std::uint64_t budget : {0, 3, 40}) {
+            for (SortMethod sort : {SortMethod::batch, SortMethod::paper}) {
+                ReconstructOptions o;
+                o.graph_pair_budget = budget;
+                o.sort = sort;
+                SceneMeshes m;
+                ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m), ReconstructStatus::ok);
+                expect_same_frame(plain, render(m, r.images), seed, "reconstruct_scene, small pair budget");
+                o.opaque_polygons = false;
+                ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m), ReconstructStatus::ok);
+                expect_same_frame(plain, render(m, r.images), seed, "no opaque pass, small pair budget");
+                ASSERT_EQ(rectangle_meshes(r.scene, o, &m), ReconstructStatus::ok);
+                expect_same_frame(plain, render(m, r.images), seed, "rectangle_meshes, small pair budget");
+            }
+        }
+    }
+}
+
 TEST(LookUnchanged, DynamicElementsDrawOnTop) {
     for (std::uint64_t seed = 100; seed < 110; ++seed) {
         RandomScene r = random_scene(seed, 30);
