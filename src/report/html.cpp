@@ -160,7 +160,12 @@ Image heat_image(int width, int height, const std::vector<std::uint32_t>& counts
 std::string report_html(const RunReport& run) {
     std::string h;
     h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html_escape(run.title) + "</title>\n<style>" + kStyle +
-         "</style></head><body>\n<h1>" + html_escape(run.title) + "</h1>\n";
+         "</style>\n"
+         // Says on the page whether every embedded picture decoded, for
+         // readers and for the headless-browser test (dump-dom shows it).
+         "<script>addEventListener('load',()=>{let ok=0,bad=0;for(const i of document.images)"
+         "(i.complete&&i.naturalWidth>0)?ok++:bad++;document.body.dataset.imagesLoaded=ok;document.body.dataset.imagesBroken=bad;});"
+         "</script></head><body>\n<h1>" + html_escape(run.title) + "</h1>\n";
     h += "<table id=\"options\"><tr><th>command</th><td><code>" + html_escape(run.command) + "</code></td></tr>\n";
     h += "<tr><th>renderer</th><td>" + html_escape(run.renderer) + "</td></tr>\n";
     for (const auto& [name, value] : run.options)
@@ -205,7 +210,7 @@ std::string report_html(const RunReport& run) {
         h += "<figure>" + img(r.overpaint, "overpaint frame", "frame", run.max_picture_side) + "<figcaption>overpaint</figcaption></figure>\n";
         h += "<figure>" + img(r.optimized, "optimized frame", "frame", run.max_picture_side) + "<figcaption>optimized</figcaption></figure>\n";
         h += "<figure>" + img(diff, "difference", "frame diff", run.max_picture_side) + "<figcaption>difference: " +
-             (diff.width ? integer(differ) + " pixels differ (red)" : std::string("-")) + "</figcaption></figure>\n</div>\n";
+             (diff.width ? integer(differ) + (differ == 1 ? " pixel differs" : " pixels differ") + " (red)" : std::string("-")) + "</figcaption></figure>\n</div>\n";
 
         if (!r.heatmaps.empty()) {
             h += "<h3>Overdraw per pixel</h3>\n<div class=\"legend\">fragments shaded per pixel: ";
