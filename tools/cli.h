@@ -32,6 +32,10 @@ void add_render_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_import_command(CLI::App& app);
 void add_atlas_command(CLI::App& app);
+void add_report_command(CLI::App& app);
+
+// The command line as given (set by main), for reports.
+extern std::string g_command_line;
 
 // `path` empty or "-": stdout; otherwise written atomically.
 void write_output(const std::string& path, const std::string& text);

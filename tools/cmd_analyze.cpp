@@ -1,16 +1,20 @@
 // depthcull analyze: per-image boundary and opaque polygons (paper 2.1,
 // 2.2) as JSON, and the analyzer's summary.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <regex>
 
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
 #include "depthcull/io.h"
+#include "depthcull/report.h"
+#include "progress.h"
 
 namespace depthcull::cli {
 
@@ -33,6 +37,10 @@ struct AnalyzeArgs {
     bool check = false;
     bool timing = true;
     unsigned threads = 0;
+    std::string preview_dir;
+    std::string cache_dir;
+    bool no_cache = false;
+    bool quiet = false;
 };
 
 // IMAGE or IMAGE:x,y,w,h. Only a trailing ":int,int,int,int" is a rect, so
@@ -92,9 +100,28 @@ struct Result {
     int width = 0, height = 0;
     ImageAnalysis analysis;
     std::int64_t uncontained = 0, violations = 0;
+    bool cache_hit = false;
 };
 
-Result analyze_input(const Input& in, const AnalyzeArgs& args) {
+// Preview file names: the image's stem, its rect when one was given, and
+// -2, -3... for repeats, so every input gets its own pair of files.
+std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
+    std::vector<std::string> names;
+    std::map<std::string, int> seen;
+    for (const Input& in : inputs) {
+        std::string name = fs::path(in.path).stem().string();
+        if (in.has_rect)
+            name += "_" + std::to_string(in.rect.x) + "_" + std::to_string(in.rect.y) + "_" + std::to_string(in.rect.w) + "_" +
+                    std::to_string(in.rect.h);
+        for (char& c : name)
+            if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
+        const int n = ++seen[name];
+        names.push_back(n > 1 ? name + "-" + std::to_string(n) : name);
+    }
+    return names;
+}
+
+Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base) {
     Image image = io::load_png(in.path);
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))
@@ -104,7 +131,14 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args) {
     Result r;
     r.width = image.width;
     r.height = image.height;
-    r.analysis = analyze_image(image.view(), rect, args.options);
+    r.analysis = io::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit);
+    if (!preview_base.empty()) {
+        report::PreviewOptions options;
+        options.title = fs::path(in.path).filename().string();
+        const report::Preview preview = report::make_preview(image.view(), rect, {&r.analysis}, options);
+        io::save_png(preview_base + ".png", preview.png.view());
+        io::write_file_atomic(preview_base + ".svg", preview.svg);
+    }
     if (args.check) {
         r.uncontained = count_uncontained_texels(image.view(), rect, r.analysis.boundary, args.options.boundary.filter);
         r.violations = count_opaque_violations(image.view(), rect, r.analysis.opaque, args.options.boundary.filter);
@@ -177,8 +211,23 @@ void run_analyze(const AnalyzeArgs& args) {
         paths.push_back(in.path);
     }
     check_distinct_files(paths, {args.output});
+    std::vector<std::string> previews(inputs.size());
+    if (!args.preview_dir.empty()) {
+        std::error_code ec;
+        fs::create_directories(args.preview_dir, ec);
+        if (!fs::is_directory(args.preview_dir))
+            throw CliError(args.preview_dir + ": cannot create the preview directory" + (ec ? " (" + ec.message() + ")" : ""));
+        const std::vector<std::string> names = preview_names(inputs);
+        for (std::size_t i = 0; i < inputs.size(); ++i) previews[i] = (fs::path(args.preview_dir) / names[i]).string();
+    }
     std::vector<Result> results(inputs.size());
-    io::parallel_for(inputs.size(), args.threads, [&](std::size_t i) { results[i] = analyze_input(inputs[i], args); });
+    {
+        Progress progress("analyze", "images", inputs.size(), args.quiet);
+        io::parallel_for(inputs.size(), args.threads, [&](std::size_t i) {
+            results[i] = analyze_input(inputs[i], args, previews[i]);
+            progress.add();
+        });
+    }
     double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     if (args.check) {
@@ -187,6 +236,20 @@ void run_analyze(const AnalyzeArgs& args) {
                 throw CliError(inputs[i].path + ": check failed: " + std::to_string(results[i].uncontained) +
                                " non-transparent texels outside the boundary, " + std::to_string(results[i].violations) +
                                " non-opaque texels touched by opaque polygons");
+        }
+        if (!args.quiet) {
+            std::int64_t texels = 0, opaque_polygons = 0, boundary_polygons = 0;
+            for (const Result& r : results) {
+                texels += r.analysis.stats.nontransparent_texels;
+                boundary_polygons += std::int64_t(r.analysis.boundary.size());
+                opaque_polygons += std::int64_t(r.analysis.opaque.size());
+            }
+            const bool linear = args.options.boundary.filter == Filter::linear;
+            std::fprintf(stderr,
+                         "depthcull: check passed: %zu images: all %" PRId64 " non-transparent texels%s lie inside the %" PRId64
+                         " boundary polygons, and the %" PRId64 " opaque polygons touch no texel that is not fully opaque%s\n",
+                         results.size(), texels, linear ? " (grown by half a texel for linear filtering)" : "", boundary_polygons,
+                         opaque_polygons, linear ? " (nor come within half a texel of one)" : "");
         }
     }
     if (!args.summary || !args.output.empty()) {
@@ -198,8 +261,19 @@ void run_analyze(const AnalyzeArgs& args) {
     }
     if (args.summary) {
         std::string text = summary_text(results, wall);
+        int hits = 0;
+        for (const Result& r : results) hits += r.cache_hit;
+        text += "from the cache        " + std::to_string(hits) + " of " + std::to_string(results.size()) + " images\n";
         std::fputs(text.c_str(), stdout);
     }
+    if (!args.preview_dir.empty() && !args.quiet)
+        std::fprintf(stderr, "depthcull: %zu previews (PNG and SVG) in %s\n", inputs.size(), args.preview_dir.c_str());
+}
+
+void set_cache(AnalyzeArgs& args) {
+    args.options.opaque.filter = args.options.boundary.filter; // as optimize: same key, same entries
+    if (args.no_cache) args.cache_dir.clear();
+    else if (args.cache_dir.empty()) args.cache_dir = io::default_cache_dir();
 }
 
 } // namespace
@@ -214,7 +288,17 @@ void add_analyze_command(CLI::App& app) {
     cmd->add_flag("--check", args->check, "Verify the guarantees exactly and fail on any violation");
     cmd->add_flag("!--no-timing", args->timing, "Write 0 for seconds, for byte-identical output across runs");
     cmd->add_option("-j,--threads", args->threads, "Worker threads (0: all cores)")->capture_default_str();
-    cmd->callback([args] { run_analyze(*args); });
+    cmd->add_option("--preview", args->preview_dir,
+                    "Write a PNG and an SVG per image here: texels magnified on a checkerboard, boundary and opaque polygons, "
+                    "triangles, figures")
+        ->type_name("DIR");
+    cmd->add_option("--cache", args->cache_dir, "Analysis cache directory, shared with optimize (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
+    cmd->add_flag("--no-cache", args->no_cache, "Analyze every image, read and write no cache");
+    add_quiet_flag(*cmd, args->quiet);
+    cmd->callback([args] {
+        set_cache(*args);
+        run_analyze(*args);
+    });
 }
 
 } // namespace depthcull::cli

@@ -1,29 +1,96 @@
 // depthcull atlas SHEET.json -o OUT.json: a TexturePacker atlas written back
 // with our boundary polygons in TexturePacker's polygon fields (vertices,
-// verticesUV, triangles), for engines that draw polygon sprites.
+// verticesUV, triangles), for engines that draw polygon sprites. Frames are
+// analyzed in parallel through the analysis cache optimize uses.
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 
 #include "cli.h"
+#include "depthcull/report.h"
+#include "progress.h"
 
 namespace depthcull::cli {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 struct AtlasArgs {
     std::string input;
     std::string output;
     AnalyzeOptions analyze;
+    std::string preview_dir;
+    std::string cache_dir;
+    bool no_cache = false;
+    bool quiet = false;
+    unsigned threads = 0;
 };
 
-void run_atlas(const AtlasArgs& args) {
+std::string safe_name(std::string name) {
+    for (char& c : name)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
+    return name;
+}
+
+// The page with every frame's polygons, and one preview per frame in
+// DIR/frames/ (frame names made file-safe, numbered to stay distinct).
+void write_previews(const AtlasArgs& args, const io::AtlasAnalysis& a, bool quiet) {
+    std::error_code ec;
+    const fs::path dir(args.preview_dir), frames_dir = dir / "frames";
+    fs::create_directories(frames_dir, ec);
+    if (!fs::is_directory(frames_dir))
+        throw CliError(args.preview_dir + ": cannot create the preview directory" + (ec ? " (" + ec.message() + ")" : ""));
+    std::vector<const ImageAnalysis*> all;
+    for (const ImageAnalysis& f : a.frames) all.push_back(&f);
+    report::PreviewOptions page_options;
+    page_options.title = fs::path(a.atlas.image_path).filename().string();
+    page_options.size = 1024;
+    const std::string page_base = (dir / safe_name(fs::path(a.atlas.image_path).stem().string())).string();
+    const report::Preview page = report::make_preview(a.page.view(), a.page.view().bounds(), all, page_options);
+    io::save_png(page_base + ".png", page.png.view());
+    io::write_file_atomic(page_base + ".svg", page.svg);
+    Progress progress("atlas", "previews", a.frames.size(), quiet);
+    io::parallel_for(a.frames.size(), args.threads, [&](std::size_t i) {
+        report::PreviewOptions options;
+        options.title = a.atlas.frames[i].name;
+        char number[16];
+        std::snprintf(number, sizeof number, "%04zu_", i);
+        const std::string base = (frames_dir / (number + safe_name(fs::path(a.atlas.frames[i].name).stem().string()))).string();
+        const report::Preview p = report::make_preview(a.page.view(), a.atlas.frames[i].frame, {&a.frames[i]}, options);
+        io::save_png(base + ".png", p.png.view());
+        io::write_file_atomic(base + ".svg", p.svg);
+        progress.add();
+    });
+}
+
+void run_atlas(AtlasArgs& args) {
     check_distinct_files({args.input, io::load_texturepacker(args.input).image_path}, {args.output});
+    io::AtlasPolygonOptions options;
+    options.analyze = args.analyze;
+    options.analyze.opaque.filter = options.analyze.boundary.filter; // as optimize: same key, same entries
+    if (!args.no_cache) options.cache_dir = args.cache_dir.empty() ? io::default_cache_dir() : args.cache_dir;
+    options.threads = args.threads;
     io::AtlasPolygonStats stats;
-    std::string text = io::atlas_with_polygons(args.input, args.analyze, &stats);
+    io::AtlasAnalysis analysis;
+    std::string text;
+    {
+        Progress progress("atlas", "frames", 0, args.quiet);
+        options.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
+        text = io::atlas_with_polygons(args.input, options, &stats, &analysis);
+    }
     write_output(args.output, text);
+    if (!args.preview_dir.empty()) write_previews(args, analysis, args.quiet);
+    if (args.quiet) return;
     // The analyzer's figure: area the engine fills, polygons vs whole frames.
     std::fprintf(stderr, "%s: %d frames, %lld vertices, %lld triangles, polygon area %.0f of %.0f frame texels (%.1f%%)\n",
                  args.input.c_str(), stats.frames, static_cast<long long>(stats.vertices), static_cast<long long>(stats.triangles),
                  stats.polygon_area, stats.frame_area, stats.frame_area > 0 ? 100.0 * stats.polygon_area / stats.frame_area : 0.0);
+    if (!options.cache_dir.empty())
+        std::fprintf(stderr, "%s: %d of %d frames from the analysis cache\n", args.input.c_str(), analysis.cache_hits, stats.frames);
+    if (!args.preview_dir.empty())
+        std::fprintf(stderr, "%s: previews (PNG and SVG) of the page and %zu frames in %s\n", args.input.c_str(), analysis.frames.size(),
+                     args.preview_dir.c_str());
 }
 
 } // namespace
@@ -33,7 +100,14 @@ void add_atlas_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("atlas", "Add boundary polygons to a TexturePacker JSON atlas (vertices, verticesUV, triangles)");
     cmd->add_option("atlas", args->input, "TexturePacker JSON (hash or array form)")->required();
     cmd->add_option("-o,--output", args->output, "Atlas JSON to write (default: stdout)");
-    add_boundary_options(*cmd, args->analyze.boundary);
+    add_analysis_options(*cmd, args->analyze);
+    cmd->add_option("--preview", args->preview_dir,
+                    "Write PNG and SVG previews here: the page with every frame's polygons, and each frame in frames/")
+        ->type_name("DIR");
+    cmd->add_option("--cache", args->cache_dir, "Analysis cache directory, shared with optimize (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
+    cmd->add_flag("--no-cache", args->no_cache, "Analyze every frame, read and write no cache");
+    cmd->add_option("-j,--threads", args->threads, "Worker threads (0: all cores); output never depends on it")->capture_default_str();
+    add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] { run_atlas(*args); });
 }
 

@@ -16,6 +16,8 @@
 
 #include "cli.h"
 
+#include "progress.h"
+
 #ifdef DEPTHCULL_HAVE_RENDER
 #include "render_common.h"
 #endif
@@ -38,6 +40,9 @@ struct BenchArgs {
     enum class Shader { runtime, instrumented } shader = Shader::runtime;
     bool instrumented = false; // shader == instrumented, set when run
     RenderInput input;
+    std::string report;        // --report FILE (bench), -o FILE (report)
+    bool report_only = false;  // `depthcull report`: no table
+    bool quiet = false;
 };
 
 std::vector<render::Mode> parse_modes(const std::string& text) {
@@ -59,6 +64,7 @@ struct SceneResult {
     std::size_t elements = 0;
     render::SceneMeasurement m;        // --renderer instrumented
     render::RuntimeMeasurement rt;     // the runtime renderer
+    double covered = 0;                // share of viewport pixels showing a non-transparent texel
 };
 
 std::string short_path(const std::string& path) { return path.size() > 24 ? "..." + path.substr(path.size() - 21) : path; }
@@ -66,17 +72,17 @@ std::string short_path(const std::string& path) { return path.size() > 24 ? "...
 std::string runtime_table(const std::vector<SceneResult>& results) {
     std::string out;
     char line[512];
-    std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %7s %8s %9s %9s %7s %7s\n", "Scene", "Mode", "Obj", "Tri", "raster",
-                  "OD", "ideal", "OD/ideal", "ms", "cpu ms", "diffpx", "offedge");
+    std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %7s %8s %7s %9s %9s %7s %7s\n", "Scene", "Mode", "Obj", "Tri", "raster",
+                  "OD", "ideal", "OD/ideal", "covered", "ms", "cpu ms", "diffpx", "offedge");
     out += line;
     for (const SceneResult& r : results) {
         const double pixels = double(r.rt.width) * double(r.rt.height);
         for (const render::RuntimeModeMeasurement& m : r.rt.modes) {
             const double od = pixels > 0 ? double(m.fragments_shaded) / pixels : 0;
-            std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %7.3f %8.3f %9.3f %9.3f %7" PRId64 " %7" PRId64 "\n",
+            std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %7.3f %8.3f %6.1f%% %9.3f %9.3f %7" PRId64 " %7" PRId64 "\n",
                           short_path(r.path).c_str(), render::mode_name(m.mode), m.draw_calls, m.triangles,
                           pixels > 0 ? double(m.fragments_rasterized) / pixels : 0, od, r.rt.ideal_overdraw,
-                          r.rt.ideal_overdraw > 0 ? od / r.rt.ideal_overdraw : 0.0, m.wall_ms, m.cpu_ms, m.diff.pixels_differ,
+                          r.rt.ideal_overdraw > 0 ? od / r.rt.ideal_overdraw : 0.0, 100 * r.covered, m.wall_ms, m.cpu_ms, m.diff.pixels_differ,
                           m.off_texel_edges);
             out += line;
         }
@@ -109,6 +115,7 @@ json runtime_json(const SceneResult& r) {
             {"width", r.rt.width},
             {"height", r.rt.height},
             {"elements", r.elements},
+            {"covered", r.covered},
             {"ideal_overdraw", r.rt.ideal_overdraw},
             {"modes", modes}};
 }
@@ -116,15 +123,15 @@ json runtime_json(const SceneResult& r) {
 std::string table(const std::vector<SceneResult>& results) {
     std::string out;
     char line[512];
-    std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %8s %9s %9s %7s %7s %7s\n", "Scene", "Mode", "Obj", "Tri", "OD",
-                  "ideal", "OD/ideal", "ms", "min ms", "maxdiff", "diffpx", "offedge");
+    std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %8s %7s %9s %9s %7s %7s %7s\n", "Scene", "Mode", "Obj", "Tri", "OD",
+                  "ideal", "OD/ideal", "covered", "ms", "min ms", "maxdiff", "diffpx", "offedge");
     out += line;
     for (const SceneResult& r : results) {
         std::string name = short_path(r.path);
         for (const render::ModeMeasurement& mode : r.m.modes) {
-            std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %8.3f %9.3f %9.3f %7d %7" PRId64 " %7" PRId64 "\n",
+            std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %8.3f %6.1f%% %9.3f %9.3f %7d %7" PRId64 " %7" PRId64 "\n",
                           name.c_str(), render::mode_name(mode.mode), mode.counts.draw_calls, mode.counts.triangles, mode.overdraw,
-                          r.m.ideal_overdraw, r.m.ideal_overdraw > 0 ? mode.overdraw / r.m.ideal_overdraw : 0.0, mode.ms_median, mode.ms_min,
+                          r.m.ideal_overdraw, r.m.ideal_overdraw > 0 ? mode.overdraw / r.m.ideal_overdraw : 0.0, 100 * r.covered, mode.ms_median, mode.ms_min,
                           mode.diff.max_channel_diff, mode.diff.pixels_differ, mode.causes.elsewhere);
             out += line;
         }
@@ -158,10 +165,13 @@ json to_json(const std::vector<SceneResult>& results, const std::string& rendere
                           {"width", r.m.width},
                           {"height", r.m.height},
                           {"elements", r.elements},
+                          {"covered", r.covered},
                           {"ideal_overdraw", r.m.ideal_overdraw},
                           {"modes", modes}});
     }
     return {{"renderer", renderer},
+            {"overdraw_is", "fragments shaded / all viewport pixels (empty pixels count 0); covered: share of viewport pixels showing a "
+                            "non-transparent texel"},
             {"shader", args.instrumented ? "instrumented" : "runtime"},
             {"lp_num_threads", lp_threads ? lp_threads : ""},
             {"frames", args.frames},
@@ -178,7 +188,7 @@ void run_bench(BenchArgs& args) {
     else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
     const char* lp_threads = std::getenv("LP_NUM_THREADS");
 
-    check_distinct_files(args.scenes, {args.output});
+    check_distinct_files(args.scenes, {args.output, args.report});
     std::unique_ptr<render::GlRenderer> renderer;
     std::unique_ptr<render::GlHost> host;
     std::string description;
@@ -191,14 +201,22 @@ void run_bench(BenchArgs& args) {
         if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
         description = host->description();
     }
+    const char* command = args.report_only ? "report" : "bench";
     std::vector<SceneResult> results;
+    report::RunReport run;
+    Progress progress(command, "scenes", args.scenes.size(), args.quiet);
     for (const std::string& path : args.scenes) {
+        progress.stage(path + ": analyzing");
         io::PreparedScene prepared = prepare_for_render(path, args.input);
+        check_frame_fits(path, prepared, args.input);
+        check_distinct_files(scene_inputs(path, prepared.scene), {args.output, args.report});
+        progress.stage(path + ": drawing");
         render::MeasureOptions options;
         options.modes = modes;
         options.frames = args.frames;
         options.warmup = args.warmup;
         options.reconstruct = reconstruct_options(args.input);
+        options.keep_frames = !args.report.empty();
         SceneResult r;
         r.path = path;
         r.elements = prepared.scene.elements.size();
@@ -210,8 +228,32 @@ void run_bench(BenchArgs& args) {
         } catch (const render::Error& e) {
             throw CliError(path + ": " + e.what());
         }
+        if (!args.report.empty()) {
+            progress.stage(path + ": report");
+            run.scenes.push_back(scene_report(path, prepared, args.input, renderer ? nullptr : &r.rt, renderer ? &r.m : nullptr));
+            r.covered = run.scenes.back().covered;
+            // The frames live on in the report; drop them here.
+            for (auto& mode : r.m.modes) mode.frame = {};
+            for (auto& mode : r.rt.modes) mode.frame = {};
+        } else {
+            render::OverdrawMap ideal;
+            render::ideal_overdraw(prepared.scene, image_views(prepared), &ideal);
+            r.covered = covered_share(ideal);
+        }
         results.push_back(std::move(r));
+        progress.add();
     }
+    progress.finish();
+    if (!args.report.empty()) {
+        run.title = args.scenes.size() == 1 ? "depthcull report: " + args.scenes.front() : "depthcull report: " + std::to_string(args.scenes.size()) + " scenes";
+        run.command = g_command_line;
+        run.renderer = description;
+        run.options = report_options(args.input, args.frames, args.warmup, args.instrumented ? "instrumented (render --compare's)" : "runtime (plain sprite, depthcull::runtime)");
+        io::write_file_atomic(args.report, report::report_html(run));
+        if (!args.quiet) std::fprintf(stderr, "depthcull: %s: report of %zu scene%s written to %s\n", command, args.scenes.size(),
+                                      args.scenes.size() == 1 ? "" : "s", args.report.c_str());
+    }
+    if (args.report_only) return;
 
     std::string text;
     if (args.json_output) {
@@ -223,7 +265,9 @@ void run_bench(BenchArgs& args) {
                       args.frames, args.warmup);
         if (args.instrumented) {
             text = header + table(results);
-            text += "# Obj: draw calls; Tri: triangles; OD: fragments passing the depth test (GL_SAMPLES_PASSED) / viewport pixels;\n"
+            text += "# Obj: draw calls; Tri: triangles; OD: fragments passing the depth test (GL_SAMPLES_PASSED) / all viewport pixels\n"
+                    "#   (empty pixels count 0, so OD < 1 when the scene leaves pixels uncovered);\n"
+                    "# covered: share of viewport pixels showing a non-transparent texel;\n"
                     "# ideal: per pixel, elements with a visible texel down to the first fully opaque one;\n"
                     "# ms, min ms: median and fastest frame (modes take turns frame by frame);\n"
                     "# maxdiff, diffpx: largest RGBA channel difference and pixels that differ from the overpaint frame\n"
@@ -232,7 +276,9 @@ void run_bench(BenchArgs& args) {
         } else {
             text = header + runtime_table(results);
             text += "# Obj: draw calls; Tri: triangles; raster: fragments rasterized with the depth test off / viewport pixels;\n"
-                    "# OD: fragments shaded (passing the depth test, GL_SAMPLES_PASSED) / viewport pixels;\n"
+                    "# OD: fragments shaded (passing the depth test, GL_SAMPLES_PASSED) / all viewport pixels\n"
+                    "#   (empty pixels count 0, so OD < 1 when the scene leaves pixels uncovered);\n"
+                    "# covered: share of viewport pixels showing a non-transparent texel;\n"
                     "# ideal: per pixel, elements with a visible texel down to the first fully opaque one;\n"
                     "# ms, cpu ms: median wall and process CPU time per frame (modes take turns frame by frame);\n"
                     "# diffpx: pixels that differ from the runtime's overpaint frame; offedge: of those, pixels whose centre\n"
@@ -262,6 +308,32 @@ void add_bench_command(CLI::App& app) {
         ->transform(choice<BenchArgs::Shader>({{"runtime", BenchArgs::Shader::runtime}, {"instrumented", BenchArgs::Shader::instrumented}}))
         ->default_str("runtime");
     cmd->add_option("-o,--output", args->output, "Write the table / JSON here (atomically) instead of stdout");
+    cmd->add_option("--report", args->report, "Also write the HTML report of the run here (as depthcull report)")->type_name("FILE.html");
+    add_quiet_flag(*cmd, args->quiet);
+    add_render_input_options(*cmd, args->input);
+    cmd->callback([args] { run_bench(*args); });
+}
+
+void add_report_command(CLI::App& app) {
+    auto args = std::make_shared<BenchArgs>();
+    args->report_only = true;
+    args->frames = 10;
+    args->warmup = 2;
+    auto* cmd = app.add_subcommand("report", "One self-contained HTML page per run: Table 2, frames, heatmaps, per-image polygons");
+    cmd->add_option("scenes", args->scenes, "Scenes: .json (our format) or .tmx / .tmx.gz (Tiled)")->required();
+    cmd->add_option("-o,--output", args->report, "The HTML file to write")->required()->type_name("FILE.html");
+    cmd->add_option("--frames", args->frames, "Timed frames per scene and mode (median reported; 0: no timing)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    cmd->add_option("--warmup", args->warmup, "Untimed frames before timing")->check(CLI::Range(0, 10000))->capture_default_str();
+    cmd->add_option("--lp-threads", args->lp_threads, "LP_NUM_THREADS for llvmpipe (default: the environment's, else 1)")
+        ->check(CLI::Range(0, 64));
+    cmd->add_option("--renderer", args->shader,
+                    "runtime: depthcull::runtime, the plain sprite shader an engine runs (default); "
+                    "instrumented: the measuring renderer of render --compare")
+        ->transform(choice<BenchArgs::Shader>({{"runtime", BenchArgs::Shader::runtime}, {"instrumented", BenchArgs::Shader::instrumented}}))
+        ->default_str("runtime");
+    add_quiet_flag(*cmd, args->quiet);
     add_render_input_options(*cmd, args->input);
     cmd->callback([args] { run_bench(*args); });
 }
@@ -272,6 +344,12 @@ void add_bench_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("bench", "Table 2 measured by drawing (not in this build)");
     cmd->allow_extras();
     cmd->callback([] { throw CliError("bench: this depthcull was built without the renderer (DEPTHCULL_BUILD_RENDER=OFF)"); });
+}
+
+void add_report_command(CLI::App& app) {
+    auto* cmd = app.add_subcommand("report", "HTML report of a run (not in this build)");
+    cmd->allow_extras();
+    cmd->callback([] { throw CliError("report: this depthcull was built without the renderer (DEPTHCULL_BUILD_RENDER=OFF)"); });
 }
 
 #endif

@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "depthcull/io.h"
 #include "depthcull/scene.h"
+#include "progress.h"
 
 namespace depthcull::cli {
 
@@ -23,6 +24,7 @@ struct OptimizeArgs {
     bool opaque = true;
     bool stats = false;
     bool timing = true;
+    bool quiet = false;
     CLI::Option* filter_option = nullptr;
 };
 
@@ -50,7 +52,12 @@ void run_optimize(OptimizeArgs& args) {
     prepare.filter_from_scene = args.filter_option->count() == 0;
     if (!args.no_cache) prepare.cache_dir = args.cache_dir.empty() ? io::default_cache_dir() : args.cache_dir;
     check_distinct_files({args.scene}, {args.output, args.binary});
-    io::PreparedScene prepared = io::prepare_scene(args.scene, prepare);
+    io::PreparedScene prepared;
+    {
+        Progress progress("optimize", "images analyzed", 0, args.quiet);
+        prepare.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
+        prepared = io::prepare_scene(args.scene, prepare);
+    }
     check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.binary});
 
     if (args.reconstruct.sort == SortMethod::paper && prepared.scene.elements.size() > kPaperSortMaxElements)
@@ -71,7 +78,16 @@ void run_optimize(OptimizeArgs& args) {
                      args.scene.c_str(), meshes.stats.depth_levels, kMaxDepthLevels16);
 
     if (!args.binary.empty()) io::write_meshes_binary(args.binary, prepared.scene, meshes, args.timing);
-    if (!args.output.empty() || args.binary.empty()) {
+    // No -o on a terminal: 100 KB of JSON on the screen helps nobody; say
+    // where it goes instead (-o - still prints it; a pipe gets it as before).
+    const bool hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();
+    if (hold_back) {
+        const std::size_t bytes = io::meshes_to_json(prepared.scene, meshes, "", args.timing).size();
+        std::fprintf(stderr,
+                     "depthcull: optimize: the meshes JSON (%zu KB) is not printed on a terminal: give -o MESHES.json and/or "
+                     "--binary MESHES.bin to write it, -o - to print it, or pipe stdout\n",
+                     (bytes + 1023) / 1024);
+    } else if (!args.output.empty() || args.binary.empty()) {
         if (args.output.empty() || args.output == "-") write_output("", io::meshes_to_json(prepared.scene, meshes, "", args.timing));
         else io::write_meshes_json(args.output, prepared.scene, meshes, args.timing);
     }
@@ -81,9 +97,9 @@ void run_optimize(OptimizeArgs& args) {
     if (rectangle_meshes(prepared.scene, options, &rects) != ReconstructStatus::ok) rects = overpaint;
     std::string text = figures(prepared, overpaint, rects, meshes);
     if (args.stats) {
-        bool json_on_stdout = args.binary.empty() && (args.output.empty() || args.output == "-");
+        bool json_on_stdout = !hold_back && args.binary.empty() && (args.output.empty() || args.output == "-");
         std::fputs(text.c_str(), json_on_stdout ? stderr : stdout);
-    } else {
+    } else if (!args.quiet) {
         std::fprintf(stderr, "depthcull: %s: draw calls %" PRId64 " -> %" PRId64 ", triangles %" PRId64 " -> %" PRId64 ", depth levels %" PRId64 "\n",
                      args.scene.c_str(), overpaint.stats.draw_calls, meshes.stats.draw_calls, overpaint.stats.triangles,
                      meshes.stats.triangles, meshes.stats.depth_levels);
@@ -114,6 +130,7 @@ void add_optimize_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--stats", args->stats, "Print draw calls, triangles and depth levels: overpaint, meshes only, optimized");
     cmd->add_flag("!--no-timing", args->timing, "Write 0 for seconds, for byte-identical output across runs");
+    add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] { run_optimize(*args); });
 }
 

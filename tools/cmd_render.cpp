@@ -66,6 +66,7 @@ void run_render(RenderArgs& args) {
     check_distinct_files({args.scene}, {args.output, args.heatmap});
     io::PreparedScene prepared = prepare_for_render(args.scene, args.input);
     check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.heatmap});
+    check_frame_fits(args.scene, prepared, args.input);
     const SceneMeshes meshes = meshes_for(args.mode, prepared, args);
     if (!args.heatmap.empty()) write_heatmap(prepared, meshes, args);
     if (args.output.empty() && !args.compare) return;
@@ -78,11 +79,15 @@ void run_render(RenderArgs& args) {
     if (!args.output.empty()) io::save_png(args.output, frame.view());
 
     const double pixels = double(prepared.scene.viewport.width) * double(prepared.scene.viewport.height);
-    const double ideal = render::ideal_overdraw(prepared.scene, image_views(prepared)).overdraw();
+    render::OverdrawMap ideal_map;
+    const double ideal = render::ideal_overdraw(prepared.scene, image_views(prepared), &ideal_map).overdraw();
     const double od = double(counts.samples_passed) / pixels;
-    std::fprintf(stderr, "depthcull: %s: %s: %" PRId64 " draw calls, %" PRId64 " triangles, overdraw %.3f (ideal %.3f, %.2fx), %s\n",
+    std::fprintf(stderr,
+                 "depthcull: %s: %s: %" PRId64 " draw calls, %" PRId64 " triangles, overdraw %.3f (ideal %.3f, %.2fx; fragments shaded "
+                 "over all %dx%d viewport pixels, %.1f%% of them covered), %s\n",
                  args.scene.c_str(), render::mode_name(args.mode), counts.draw_calls, counts.triangles, od, ideal,
-                 ideal > 0 ? od / ideal : 0.0, renderer->description().c_str());
+                 ideal > 0 ? od / ideal : 0.0, prepared.scene.viewport.width, prepared.scene.viewport.height, 100 * covered_share(ideal_map),
+                 renderer->description().c_str());
     if (!args.compare) return;
 
     // Both frames drawn from meshes with coverage skirts, where GL's vertex

@@ -9,6 +9,8 @@
 
 namespace depthcull::cli {
 
+std::string g_command_line;
+
 void write_output(const std::string& path, const std::string& text) {
     if (path.empty() || path == "-") {
         std::fwrite(text.data(), 1, text.size(), stdout);

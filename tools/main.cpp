@@ -18,6 +18,13 @@ int main(int argc, char** argv) {
     depthcull::cli::add_bench_command(app);
     depthcull::cli::add_import_command(app);
     depthcull::cli::add_atlas_command(app);
+    depthcull::cli::add_report_command(app);
+    for (int i = 0; i < argc; ++i) {
+        // For reports: the command that made them, shell-quoted where needed.
+        std::string arg = argv[i];
+        bool plain = !arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,@+") == std::string::npos;
+        depthcull::cli::g_command_line += (i ? " " : "") + (plain ? arg : "'" + arg + "'");
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -2,6 +2,11 @@
 #ifdef DEPTHCULL_HAVE_RENDER
 #include "render_common.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 
 namespace depthcull::cli {
@@ -52,6 +57,151 @@ std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& in) {
     auto renderer = render::GlRenderer::create({in.platform}, &error);
     if (!renderer) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
     return renderer;
+}
+
+double covered_share(const render::OverdrawMap& ideal) {
+    if (ideal.counts.empty()) return 0;
+    std::size_t covered = 0;
+    for (std::uint32_t c : ideal.counts) covered += c > 0;
+    return double(covered) / double(ideal.counts.size());
+}
+
+void check_frame_fits(const std::string& path, const io::PreparedScene& prepared, const RenderInput& input) {
+    if (input.prepare.load.has_viewport || prepared.scene.elements.empty()) return;
+    const Viewport& vp = prepared.scene.viewport;
+    if (vp.width < kMaxImageSide && vp.height < kMaxImageSide) return;
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (const Element& e : prepared.scene.elements)
+        for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), 0}, Vec2{0, double(e.rect.h)}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
+            const Vec2 s = apply(e.transform, c);
+            x0 = std::min(x0, s.x), y0 = std::min(y0, s.y), x1 = std::max(x1, s.x), y1 = std::max(y1, s.y);
+        }
+    const double w = std::ceil(x1) - std::floor(x0), h = std::ceil(y1) - std::floor(y0);
+    if (w <= vp.width && h <= vp.height) return;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "the scene draws %.0fx%.0f px, more than the %dx%d frame it gets (at most %d px per side, kMaxImageSide)", w, h,
+                  vp.width, vp.height, kMaxImageSide);
+    throw CliError(path + ": " + buf + ": give --viewport x,y,w,h (or a \"viewport\" in the scene) to draw a part of it");
+}
+
+std::vector<std::pair<std::string, std::string>> report_options(const RenderInput& in, int frames, int warmup, const char* shader) {
+    const AnalyzeOptions& a = in.prepare.analyze;
+    const char* lp = std::getenv("LP_NUM_THREADS");
+    auto str = [](double v) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", v);
+        return std::string(buf);
+    };
+    std::vector<std::pair<std::string, std::string>> o{
+        {"shader", shader},
+        {"frames", std::to_string(frames) + " timed (median), " + std::to_string(warmup) + " warm-up, glFinish each"},
+        {"LP_NUM_THREADS", lp ? lp : "(unset)"},
+        {"filter", in.filter_option && in.filter_option->count() ? (a.boundary.filter == Filter::linear ? "linear" : "nearest")
+                                                                 : "the scene's"},
+        {"max vertices", std::to_string(a.boundary.max_vertices)},
+        {"split disjoint parts", a.boundary.split_parts ? "yes" : "no"},
+        {"opaque method", a.opaque.method == OpaqueMethod::fast ? "fast" : a.opaque.method == OpaqueMethod::grow ? "grow" : "paper"},
+        {"max opaque polygons", std::to_string(a.opaque.max_polygons)},
+        {"min coverage", str(a.opaque.min_coverage)},
+        {"min opaque area", std::to_string(a.opaque.min_area)},
+        {"opaque pass", in.opaque ? "yes" : "no (--no-opaque)"},
+        {"graph", in.reconstruct.graph == GraphMode::polygons ? "polygons" : "boxes"},
+        {"sort", in.reconstruct.sort == SortMethod::batch ? "batch" : in.reconstruct.sort == SortMethod::paper ? "paper" : "none"},
+        {"cache", in.no_cache ? "off" : (in.cache_dir.empty() ? io::default_cache_dir() : in.cache_dir)},
+    };
+    if (in.prepare.load.has_viewport) {
+        const Viewport& v = in.prepare.load.viewport;
+        o.push_back({"viewport", str(v.x) + "," + str(v.y) + "," + std::to_string(v.width) + "," + std::to_string(v.height)});
+    }
+    return o;
+}
+
+report::SceneReport scene_report(const std::string& path, const io::PreparedScene& prepared, const RenderInput& input,
+                                 const render::RuntimeMeasurement* rt, const render::SceneMeasurement* m) {
+    report::SceneReport r;
+    const Scene& scene = prepared.scene;
+    r.path = path;
+    r.width = scene.viewport.width;
+    r.height = scene.viewport.height;
+    r.elements = scene.elements.size();
+    r.images = prepared.analyses.size();
+    const double pixels = double(r.width) * double(r.height);
+    if (rt) {
+        r.ideal_overdraw = rt->ideal_overdraw;
+        for (const render::RuntimeModeMeasurement& mm : rt->modes) {
+            r.rows.push_back({render::mode_name(mm.mode), mm.draw_calls, mm.triangles, pixels > 0 ? double(mm.fragments_shaded) / pixels : 0,
+                              mm.wall_ms, mm.cpu_ms, mm.diff.pixels_differ});
+            if (mm.mode == render::Mode::overpaint) r.overpaint = mm.frame;
+            if (mm.mode == render::Mode::optimized) r.optimized = mm.frame;
+        }
+    } else if (m) {
+        r.ideal_overdraw = m->ideal_overdraw;
+        for (const render::ModeMeasurement& mm : m->modes) {
+            r.rows.push_back({render::mode_name(mm.mode), mm.counts.draw_calls, mm.counts.triangles, mm.overdraw, mm.ms_median, -1,
+                              mm.diff.pixels_differ});
+            if (mm.mode == render::Mode::overpaint) r.overpaint = mm.frame;
+            if (mm.mode == render::Mode::optimized) r.optimized = mm.frame;
+        }
+    }
+    // Heatmaps by the CPU analyzers (they match GL_SAMPLES_PASSED exactly).
+    const std::vector<ImageView> views = image_views(prepared);
+    render::OverdrawMap ideal;
+    const double od_ideal = render::ideal_overdraw(scene, views, &ideal).overdraw();
+    r.covered = covered_share(ideal);
+    for (render::Mode mode : {render::Mode::overpaint, render::Mode::optimized}) {
+        SceneMeshes meshes;
+        if (render::build_meshes(mode, scene, prepared.element_analysis, reconstruct_options(input), &meshes) != ReconstructStatus::ok)
+            continue;
+        render::OverdrawMap map;
+        const double od = render::analyze_overdraw(meshes, &map).overdraw();
+        r.heatmaps.push_back({render::mode_name(mode), map.width, map.height, std::move(map.counts), od});
+    }
+    r.heatmaps.push_back({"ideal", ideal.width, ideal.height, std::move(ideal.counts), od_ideal});
+
+    // Per image: uses by the elements, most used first (ties in first-use order).
+    std::vector<std::int64_t> uses(prepared.analyses.size(), 0);
+    std::vector<int> image_of(prepared.analyses.size(), -1);
+    for (std::size_t e = 0; e < scene.elements.size(); ++e) {
+        const std::size_t k = std::size_t(prepared.element_analysis[e] - prepared.analyses.data());
+        if (k >= uses.size()) continue;
+        ++uses[k];
+        if (image_of[k] < 0) image_of[k] = scene.elements[e].image;
+    }
+    std::vector<std::size_t> order(uses.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return uses[a] > uses[b]; });
+    constexpr std::size_t kMaxRows = 100;
+    for (std::size_t n = 0; n < order.size() && n < kMaxRows; ++n) {
+        const std::size_t k = order[n];
+        const ImageAnalysis& a = prepared.analyses[k];
+        const int image = image_of[k];
+        if (image < 0) continue;
+        const SceneImage& si = scene.images[std::size_t(image)];
+        report::ImageRow row;
+        row.name = (si.id.empty() ? si.path : si.id);
+        if (a.rect.x != 0 || a.rect.y != 0 || a.rect.w != si.width || a.rect.h != si.height)
+            row.name += " [" + std::to_string(a.rect.x) + "," + std::to_string(a.rect.y) + "," + std::to_string(a.rect.w) + "," +
+                        std::to_string(a.rect.h) + "]";
+        row.rect = a.rect;
+        const report::PreviewFigures f = report::preview_figures({&a});
+        row.vertices = f.boundary_vertices;
+        row.excess_area_ratio = f.excess_area_ratio();
+        row.opaque_coverage = f.opaque_coverage();
+        row.opaque_polygons = f.opaque_polygons;
+        row.triangles = f.triangles;
+        row.uses = uses[k];
+        report::PreviewOptions options;
+        options.size = 160;
+        options.title = std::filesystem::path(si.path).filename().string();
+        report::Preview p = report::make_preview(views[std::size_t(image)], a.rect, {&a}, options);
+        row.preview = std::move(p.png);
+        r.images_table.push_back(std::move(row));
+    }
+    r.images_not_shown = order.size() > kMaxRows ? order.size() - kMaxRows : 0;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d images analyzed, %d from the analysis cache", prepared.analyzed, prepared.cache_hits);
+    r.analysis = buf;
+    return r;
 }
 
 } // namespace depthcull::cli

@@ -34,3 +34,29 @@ std::vector<ImageView> image_views(const io::PreparedScene& prepared);
 std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& input);
 
 } // namespace depthcull::cli
+
+#ifdef DEPTHCULL_HAVE_RENDER
+#include "depthcull/report.h"
+
+namespace depthcull::cli {
+
+// Share of viewport pixels where some element shows a non-transparent
+// texel (the ideal map's non-zero pixels): overdraw is fragments over all
+// viewport pixels, so this says how much of that denominator is empty.
+double covered_share(const render::OverdrawMap& ideal);
+
+// One scene's section of the HTML report from what bench measured (one of
+// rt / m, with frames kept): Table 2 rows, frames, heatmaps (CPU
+// analyzers), per-image table with previews.
+report::SceneReport scene_report(const std::string& path, const io::PreparedScene& prepared, const RenderInput& input,
+                                 const render::RuntimeMeasurement* rt, const render::SceneMeasurement* m);
+// The options section: analysis, reconstruction, frames, LP_NUM_THREADS.
+std::vector<std::pair<std::string, std::string>> report_options(const RenderInput& input, int frames, int warmup, const char* shader);
+
+// A scene's drawn extent must fit the frame: a scene with no viewport
+// whose elements span more than kMaxImageSide got a clamped viewport, and
+// rendering it would silently show only part of it.
+void check_frame_fits(const std::string& path, const io::PreparedScene& prepared, const RenderInput& input);
+
+} // namespace depthcull::cli
+#endif

@@ -121,6 +121,26 @@ struct AtlasPolygonStats {
 };
 std::string atlas_with_polygons(const std::string& path, const AnalyzeOptions& options, AtlasPolygonStats* stats = nullptr);
 
+// The same with the analysis cache and threads: frames are analyzed in
+// full (analyze_image, boundary and opaque polygons) in parallel through
+// analyze_cached, so `atlas` shares cache entries with `optimize`; the text
+// never depends on `threads`. `analysis`, when given, receives the atlas,
+// its page and each frame's analysis (for previews).
+struct AtlasPolygonOptions {
+    AnalyzeOptions analyze;
+    std::string cache_dir;   // empty: no cache
+    unsigned threads = 0;    // 0: all cores
+    std::function<void(std::size_t done, std::size_t total)> progress; // called from worker threads
+};
+struct AtlasAnalysis {
+    Atlas atlas;
+    Image page;
+    std::vector<ImageAnalysis> frames; // index = atlas.frames
+    int cache_hits = 0;
+};
+std::string atlas_with_polygons(const std::string& path, const AtlasPolygonOptions& options, AtlasPolygonStats* stats,
+                                AtlasAnalysis* analysis = nullptr);
+
 // Runs fn(i) for i in [0, n) on `threads` threads (0: all cores). Callers
 // store results by index, so output never depends on the thread count;
 // the error of the lowest failing index is rethrown, as a serial run would.
@@ -137,6 +157,9 @@ struct PrepareOptions {
     // analyze.boundary.filter / analyze.opaque.filter as given (a CLI
     // --filter override).
     bool filter_from_scene = true;
+    // Called after each distinct (image, rect) is analyzed or read from the
+    // cache, from worker threads (the callee synchronizes): progress bars.
+    std::function<void(std::size_t done, std::size_t total)> progress;
 };
 
 struct PreparedScene {
@@ -151,6 +174,13 @@ struct PreparedScene {
 // Loads a scene (any load_scene format) and its images, and analyzes every
 // distinct (image, rect) the elements use, through the cache when given.
 PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options);
+
+// One analysis through the cache prepare_scene uses (same key, same
+// entries; cache_dir empty: no cache). *hit tells whether it was read from
+// the cache. Callers analyzing images outside a scene (`analyze`, `atlas`)
+// use it so every command shares one cache.
+ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& cache_dir,
+                             bool* hit = nullptr);
 
 // Where analyses are cached by default: $XDG_CACHE_HOME/depthcull/analysis, else
 // ~/.cache/depthcull/analysis; empty when neither can be found.

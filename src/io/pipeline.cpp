@@ -52,6 +52,19 @@ void parallel_for(std::size_t n, unsigned threads, const std::function<void(std:
     if (error) std::rethrow_exception(error);
 }
 
+ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& cache_dir, bool* hit) {
+    if (hit) *hit = false;
+    if (cache_dir.empty()) return analyze_image(image, rect, options);
+    const CacheKey key = analysis_key(image, rect, options);
+    if (auto cached = cache_load(cache_dir, key, rect)) {
+        if (hit) *hit = true;
+        return std::move(*cached);
+    }
+    ImageAnalysis analysis = analyze_image(image, rect, options);
+    cache_store(cache_dir, key, analysis);
+    return analysis;
+}
+
 namespace {
 
 PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
@@ -103,21 +116,12 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     }
     out.analyses.resize(work.size());
     std::vector<std::uint8_t> hit(work.size(), 0);
+    std::atomic<std::size_t> done{0};
     parallel_for(work.size(), options.threads, [&](std::size_t k) {
-        ImageView view = out.images[work[k].first].view();
-        const Rect rect = work[k].second;
-        if (!options.cache_dir.empty()) {
-            CacheKey key = analysis_key(view, rect, analyze);
-            if (auto cached = cache_load(options.cache_dir, key, rect)) {
-                out.analyses[k] = std::move(*cached);
-                hit[k] = 1;
-                return;
-            }
-            out.analyses[k] = analyze_image(view, rect, analyze);
-            cache_store(options.cache_dir, key, out.analyses[k]);
-        } else {
-            out.analyses[k] = analyze_image(view, rect, analyze);
-        }
+        bool from_cache = false;
+        out.analyses[k] = analyze_cached(out.images[work[k].first].view(), work[k].second, analyze, options.cache_dir, &from_cache);
+        hit[k] = from_cache;
+        if (options.progress) options.progress(++done, work.size());
     });
     out.element_analysis.resize(scene.elements.size());
     for (std::size_t i = 0; i < scene.elements.size(); ++i) out.element_analysis[i] = &out.analyses[element_slot[i]];

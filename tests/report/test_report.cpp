@@ -1,0 +1,139 @@
+// depthcull::report: the font, previews, pictures and the HTML report.
+#include <gtest/gtest.h>
+
+#include "depthcull/analyze.h"
+#include "depthcull/report.h"
+
+namespace report = depthcull::report;
+using depthcull::Image;
+using depthcull::ImageAnalysis;
+using depthcull::Rect;
+
+namespace {
+
+Image square_sprite(int size, int inset) {
+    Image img;
+    img.width = img.height = size;
+    img.rgba.assign(std::size_t(size) * size * 4, 0);
+    for (int y = inset; y < size - inset; ++y)
+        for (int x = inset; x < size - inset; ++x) {
+            std::uint8_t* p = &img.rgba[(std::size_t(y) * size + x) * 4];
+            p[0] = 200, p[1] = 120, p[2] = 40, p[3] = 255;
+        }
+    return img;
+}
+
+const std::uint8_t* pixel(const Image& img, int x, int y) { return &img.rgba[(std::size_t(y) * img.width + x) * 4]; }
+
+} // namespace
+
+TEST(Report, Base64MatchesRfc4648Vectors) {
+    EXPECT_EQ(report::base64(""), "");
+    EXPECT_EQ(report::base64("f"), "Zg==");
+    EXPECT_EQ(report::base64("fo"), "Zm8=");
+    EXPECT_EQ(report::base64("foo"), "Zm9v");
+    EXPECT_EQ(report::base64("foobar"), "Zm9vYmFy");
+}
+
+TEST(Report, HtmlEscapeCoversMarkup) { EXPECT_EQ(report::html_escape("<a href=\"x\">&'"), "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"); }
+
+TEST(Report, TextDrawsGlyphPixelsInsideItsWidth) {
+    report::Canvas c(40, 12, {255, 255, 255, 255});
+    c.text(1, 1, "Hi", {0, 0, 0, 255});
+    int dark = 0, outside = 0;
+    const int w = report::text_width("Hi");
+    EXPECT_EQ(w, 11);
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 40; ++x)
+            if (pixel(c.image(), x, y)[0] == 0) {
+                ++dark;
+                if (x < 1 || x >= 1 + w || y < 1 || y >= 1 + report::kGlyphHeight) ++outside;
+            }
+    EXPECT_GT(dark, 10);
+    EXPECT_EQ(outside, 0);
+}
+
+TEST(Report, PreviewMagnifiesDrawsPolygonsAndCaption) {
+    Image sprite = square_sprite(32, 4);
+    ImageAnalysis a = depthcull::analyze_image(sprite.view(), sprite.view().bounds(), {});
+    report::PreviewOptions options;
+    options.title = "square.png";
+    report::Preview p = report::make_preview(sprite.view(), sprite.view().bounds(), {&a}, options);
+    EXPECT_EQ(p.magnification, 8); // 256 / 32
+    EXPECT_EQ(p.figures.boundary_polygons, 1);
+    EXPECT_EQ(p.figures.boundary_vertices, 4);
+    EXPECT_DOUBLE_EQ(p.figures.excess_area_ratio(), 1.0);
+    EXPECT_GT(p.figures.opaque_coverage(), 0.5);
+    EXPECT_GE(p.figures.opaque_polygons, 1);
+    ASSERT_GE(p.png.width, 256);
+    ASSERT_GT(p.png.height, 256 + 4 * 18); // sprite and four caption lines
+    // Transparent corner texel: the checkerboard (white or light grey).
+    const std::uint8_t* corner = pixel(p.png, 12 + 3, 12 + 3);
+    EXPECT_TRUE(corner[0] == corner[1] && corner[1] == corner[2] && corner[0] >= 200) << int(corner[0]);
+    // The boundary edge (texel x = 4 -> pixel 12 + 32) is drawn in the boundary colour.
+    const std::uint8_t* edge = pixel(p.png, 12 + 32, 12 + 128);
+    EXPECT_GT(edge[0], 180);
+    EXPECT_LT(edge[1], 60);
+    EXPECT_NE(p.svg.find("<svg"), std::string::npos);
+    EXPECT_NE(p.svg.find("id=\"boundary\""), std::string::npos);
+    EXPECT_NE(p.svg.find("points=\"4,4 "), std::string::npos);
+    EXPECT_NE(p.svg.find("id=\"grid\""), std::string::npos);
+    EXPECT_NE(p.svg.find("square.png"), std::string::npos);
+    EXPECT_NE(p.svg.find("excess area 1.000"), std::string::npos);
+    EXPECT_NE(p.svg.find("id=\"opaque\""), std::string::npos);
+}
+
+TEST(Report, LargePagesAreShrunkNotMagnified) {
+    Image page = square_sprite(4100, 10);
+    report::Preview p = report::make_preview(page.view(), page.view().bounds(), {}, {});
+    EXPECT_EQ(p.magnification, -2);
+    EXPECT_LT(p.png.width, 2100);
+}
+
+TEST(Report, HeatLegendLastBucketSaysOrMore) {
+    EXPECT_EQ(report::heat_label(0), "0");
+    EXPECT_EQ(report::heat_label(report::kHeatBuckets - 1), std::to_string(report::kHeatBuckets - 1) + " or more");
+    // Counts past the last bucket share its colour.
+    const report::Rgba a = report::heat_colour(report::kHeatBuckets - 1), b = report::heat_colour(1000);
+    EXPECT_TRUE(a.r == b.r && a.g == b.g && a.b == b.b);
+}
+
+TEST(Report, DifferenceImageMarksDifferingPixels) {
+    Image a = square_sprite(4, 1), b = a;
+    b.rgba[0] = 9;
+    std::int64_t differ = 0;
+    Image d = report::difference_image(a.view(), b.view(), &differ);
+    EXPECT_EQ(differ, 1);
+    EXPECT_EQ(pixel(d, 0, 0)[0], 255);
+    EXPECT_EQ(pixel(d, 0, 0)[1], 0);
+    EXPECT_EQ(pixel(d, 1, 1)[0], pixel(d, 1, 1)[1]);
+}
+
+TEST(Report, HtmlHasTablesImagesAndLegend) {
+    report::RunReport run;
+    run.command = "depthcull report <x>";
+    run.renderer = "test";
+    report::SceneReport s;
+    s.path = "meadow.json";
+    s.width = s.height = 4;
+    s.rows = {{"overpaint", 10, 20, 1.5, 0.1, 0.1, 0}, {"optimized", 2, 30, 1.1, 0.05, 0.05, 0}};
+    s.overpaint = s.optimized = square_sprite(4, 1);
+    s.heatmaps.push_back({"overpaint", 2, 2, {0, 1, 2, 30}, 8.25});
+    report::ImageRow row;
+    row.name = "tree.png";
+    row.preview = square_sprite(8, 2);
+    s.images_table.push_back(row);
+    run.scenes.push_back(s);
+    const std::string html = report::report_html(run);
+    EXPECT_NE(html.find("<table class=\"table2\">"), std::string::npos);
+    EXPECT_NE(html.find("<table class=\"images\">"), std::string::npos);
+    EXPECT_NE(html.find("8 or more"), std::string::npos);
+    EXPECT_NE(html.find("&lt;x&gt;"), std::string::npos);
+    EXPECT_NE(html.find("meshes only") == std::string::npos ? html.find("optimized") : 0, std::string::npos);
+    // Images embedded, nothing fetched: 2 frames, the difference, 1 heatmap, 1 preview.
+    std::size_t images = 0;
+    for (std::size_t at = 0; (at = html.find("src=\"data:image/png;base64,", at)) != std::string::npos; ++at) ++images;
+    EXPECT_EQ(images, 5u);
+    EXPECT_EQ(html.find("http://"), std::string::npos);
+    EXPECT_EQ(html.find("https://"), std::string::npos);
+}
