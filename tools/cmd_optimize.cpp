@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "depthcull/io.h"
+#include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
 #include "progress.h"
 
@@ -28,21 +29,51 @@ struct OptimizeArgs {
     CLI::Option* filter_option = nullptr;
 };
 
-std::string figures(const io::PreparedScene& p, const SceneMeshes& overpaint, const SceneMeshes& rects, const SceneMeshes& optimized) {
-    const SceneStats& o = overpaint.stats;
-    const SceneStats& r = rects.stats;
-    const SceneStats& s = optimized.stats;
-    char buf[1024];
-    std::snprintf(buf, sizeof buf,
-                  "%-13s %12s %12s %12s\n"
-                  "%-13s %12" PRId64 " %12" PRId64 " %12" PRId64 "\n"
-                  "%-13s %12" PRId64 " %12" PRId64 " %12" PRId64 "\n"
-                  "%-13s %12s %12s %12" PRId64 "\n"
+// The overdraw rows of --stats (depthcull/overdraw.h, no GL): fragments over
+// the scene's viewport for overpaint and the optimized meshes, and the ideal.
+struct OverdrawFigures {
+    OverdrawStats overpaint, optimized, ideal;
+};
+
+OverdrawFigures overdraw_figures(const io::PreparedScene& p, const SceneMeshes& optimized) {
+    OverdrawFigures f;
+    f.overpaint = analyze_overdraw(overpaint_meshes(p.scene));
+    f.optimized = analyze_overdraw(optimized);
+    std::vector<ImageView> views;
+    views.reserve(p.images.size());
+    for (const Image& image : p.images) views.push_back(image.view());
+    f.ideal = ideal_overdraw(p.scene, views);
+    return f;
+}
+
+std::string figures(const io::PreparedScene& p, const SceneStats& o, const SceneStats& r, const SceneStats& s,
+                    const OverdrawFigures* od) {
+    char buf[2048];
+    int n = std::snprintf(buf, sizeof buf,
+                          "%-20s %12s %12s %12s\n"
+                          "%-20s %12" PRId64 " %12" PRId64 " %12" PRId64 "\n"
+                          "%-20s %12" PRId64 " %12" PRId64 " %12" PRId64 "\n"
+                          "%-20s %12s %12s %12" PRId64 "\n",
+                          "", "overpaint", "meshes only", "optimized", "draw calls", o.draw_calls, r.draw_calls, s.draw_calls,
+                          "triangles", o.triangles, r.triangles, s.triangles, "depth levels", "-", "-", s.depth_levels);
+    if (od) {
+        // Meshes only draws overpaint's rects (the same float vertices and
+        // quads) in another order without a depth test, so it rasterizes
+        // and shades exactly what overpaint does.
+        n += std::snprintf(buf + n, sizeof buf - std::size_t(n),
+                           "%-20s %12" PRId64 " %12" PRId64 " %12" PRId64 "\n"
+                           "%-20s %12" PRId64 " %12" PRId64 " %12" PRId64 "\n"
+                           "%-20s %12.3f %12.3f %12.3f\n"
+                           "ideal overdraw %.3f (%" PRId64 " fragments) over %" PRId64 " viewport pixels\n",
+                           "fragments rasterized", od->overpaint.rasterized, od->overpaint.rasterized, od->optimized.rasterized,
+                           "fragments shaded", od->overpaint.shaded, od->overpaint.shaded, od->optimized.shaded, "overdraw",
+                           od->overpaint.overdraw(), od->overpaint.overdraw(), od->optimized.overdraw(), od->ideal.overdraw(),
+                           od->ideal.shaded, od->ideal.pixels);
+    }
+    std::snprintf(buf + n, sizeof buf - std::size_t(n),
                   "graph edges %" PRId64 ", depth buffer bits needed %" PRId64 "\n"
                   "images analyzed %d, from cache %d, analysis %.3f s, reconstruction %.3f s\n",
-                  "", "overpaint", "meshes only", "optimized", "draw calls", o.draw_calls, r.draw_calls, s.draw_calls, "triangles",
-                  o.triangles, r.triangles, s.triangles, "depth levels", "-", "-", s.depth_levels, s.graph_edges, s.depth_bits,
-                  p.analyzed, p.cache_hits, p.analysis_seconds, s.seconds);
+                  s.graph_edges, s.depth_bits, p.analyzed, p.cache_hits, p.analysis_seconds, s.seconds);
     return buf;
 }
 
@@ -92,16 +123,23 @@ void run_optimize(OptimizeArgs& args) {
         else io::write_meshes_json(args.output, prepared.scene, meshes, args.timing);
     }
 
-    SceneMeshes overpaint = overpaint_meshes(prepared.scene);
-    SceneMeshes rects;
-    if (rectangle_meshes(prepared.scene, options, &rects) != ReconstructStatus::ok) rects = overpaint;
-    std::string text = figures(prepared, overpaint, rects, meshes);
+    // Counted, not built: the other columns' meshes are never drawn here.
+    const SceneStats overpaint = overpaint_stats(prepared.scene);
+    SceneStats rects;
+    if (rectangle_stats(prepared.scene, options, &rects) != ReconstructStatus::ok) rects = overpaint;
     if (args.stats) {
+        // Overdraw needs the viewport's pixels: a viewport past what render
+        // draws (kMaxImageSide a side) is left out, as render refuses it.
+        const Viewport& vp = prepared.scene.viewport;
+        const bool overdraw = vp.width > 0 && vp.height > 0 && vp.width <= kMaxImageSide && vp.height <= kMaxImageSide;
+        OverdrawFigures od;
+        if (overdraw) od = overdraw_figures(prepared, meshes);
+        const std::string text = figures(prepared, overpaint, rects, meshes.stats, overdraw ? &od : nullptr);
         bool json_on_stdout = !hold_back && args.binary.empty() && (args.output.empty() || args.output == "-");
         std::fputs(text.c_str(), json_on_stdout ? stderr : stdout);
     } else if (!args.quiet) {
         std::fprintf(stderr, "depthcull: %s: draw calls %" PRId64 " -> %" PRId64 ", triangles %" PRId64 " -> %" PRId64 ", depth levels %" PRId64 "\n",
-                     args.scene.c_str(), overpaint.stats.draw_calls, meshes.stats.draw_calls, overpaint.stats.triangles,
+                     args.scene.c_str(), overpaint.draw_calls, meshes.stats.draw_calls, overpaint.triangles,
                      meshes.stats.triangles, meshes.stats.depth_levels);
     }
 }
@@ -128,7 +166,7 @@ void add_optimize_command(CLI::App& app) {
     args->filter_option = cmd->get_option("--filter");
     cmd->add_option("-j,--threads", args->prepare.threads, "Worker threads for the analysis (0: all cores); output never depends on it")
         ->capture_default_str();
-    cmd->add_flag("--stats", args->stats, "Print draw calls, triangles and depth levels: overpaint, meshes only, optimized");
+    cmd->add_flag("--stats", args->stats, "Print draw calls, triangles, depth levels, fragments and overdraw: overpaint, meshes only, optimized (no GL)");
     cmd->add_flag("!--no-timing", args->timing, "Write 0 for seconds, for byte-identical output across runs");
     add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] { run_optimize(*args); });

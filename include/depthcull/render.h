@@ -1,10 +1,8 @@
 // depthcull: drawing scenes and measuring them (paper 3, Table 2).
 //
-// Two halves. The analyzers (no GL, usable anywhere) count what a renderer
-// must shade: analyze_overdraw rasterizes a SceneMeshes on the CPU with the
-// depth test, like meshoptimizer's overdraw analyzer; ideal_overdraw counts,
-// per pixel, only the elements that must be shaded there at all. The GL
-// renderer draws a SceneMeshes headlessly (EGL, no window) and measures
+// The analyzers that count what a renderer must shade (analyze_overdraw,
+// ideal_overdraw) need no GL and live in the core (depthcull/overdraw.h).
+// The GL renderer draws a SceneMeshes headlessly (EGL, no window) and measures
 // draw calls, triangles, fragments passing the depth test (GL_SAMPLES_PASSED)
 // and time per frame.
 #pragma once
@@ -16,6 +14,7 @@
 #include <vector>
 
 #include "depthcull/image.h"
+#include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
 
 namespace depthcull::render {
@@ -26,36 +25,12 @@ struct Error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-// ---- Analyzers (CPU only)
-
-// Per-pixel fragment counts of one frame, row-major, row 0 at the top of
-// the viewport.
-struct OverdrawMap {
-    int width = 0, height = 0;
-    std::vector<std::uint32_t> counts;
-};
-
-// Best case: shaded == ideal_overdraw's shaded (every shaded fragment is
-// needed); overdraw() == 1.0 for a scene that covers every pixel once.
-struct OverdrawStats {
-    std::int64_t pixels = 0;  // viewport pixels
-    std::int64_t shaded = 0;  // fragments that passed the depth test
-    double overdraw() const { return pixels ? double(shaded) / double(pixels) : 0.0; }
-};
-
-// Rasterizes every triangle the way GL does (pixel centres, a tie-breaking
-// fill rule so shared edges shade once, vertices snapped to 1/256 pixel,
-// 24-bit depth, GL_GREATER with depth writes in Pass::opaque draws when
-// meshes.depth_test) and counts fragments that pass. Matches
-// GL_SAMPLES_PASSED exactly on llvmpipe (tested in tests/render).
-OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map = nullptr);
-
-// The lower limit: per pixel, walk the elements front to back and count
-// those whose sampled texel (nearest, at the pixel centre) is not
-// transparent, down to and including the first that is fully opaque there
-// (texel alpha 255 with Blend::alpha and colour alpha 1, or Blend::opaque).
-// images[i] holds Scene::images[i]'s texels.
-OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map = nullptr);
+// ---- Analyzers (CPU only): in the core now (depthcull/overdraw.h, beside
+// reconstruction); these names stay for the renderer's callers.
+using depthcull::OverdrawMap;
+using depthcull::OverdrawStats;
+using depthcull::analyze_overdraw;
+using depthcull::ideal_overdraw;
 
 // ---- Comparing frames
 

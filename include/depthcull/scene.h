@@ -237,6 +237,12 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
 // whole rect and no opaque polygons (no depth test).
 ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions& options, SceneMeshes* out);
 
+// The stats of rectangle_meshes and overpaint_meshes (coverage margin 0)
+// counted without building a vertex: draw calls, triangles, graph edges.
+// What `optimize` reports beside its own output.
+ReconstructStatus rectangle_stats(const Scene& scene, const ReconstructOptions& options, SceneStats* out);
+SceneStats overpaint_stats(const Scene& scene);
+
 // ---- The stages of reconstruction, exposed for tests, tools and engines.
 
 // Paper 2.3: the element graph. Element i is in front of element j < i

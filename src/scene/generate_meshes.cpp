@@ -220,41 +220,89 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     return ReconstructStatus::ok;
 }
 
+namespace {
+
+// Table 2 "Meshes only": every element draws its whole rect, blended, in
+// the sorted order. The plan rectangle_meshes builds and rectangle_stats counts.
+struct RectanglePlan {
+    ElementShapes shapes;
+    std::vector<std::int32_t> keys;
+    std::vector<std::uint32_t> order;
+    std::int64_t graph_edges = 0;
+};
+
+bool plan_rectangles(const Scene& scene, const ReconstructOptions& options, RectanglePlan& plan) {
+    const std::size_t n = scene.elements.size();
+    for (const Element& e : scene.elements)
+        if (!element_is_valid(scene, e)) return false;
+    plan.shapes.boundary.assign(n, Shape::rect);
+    plan.shapes.opaque.assign(n, Shape::none);
+    plan.shapes.blended.assign(n, 1);
+    if (options.cull_to_viewport) cull_to_viewport(scene, plan.shapes);
+    const std::vector<Shape>& rects = plan.shapes.boundary;
+    std::vector<const ImageAnalysis*> none(n, nullptr);
+    plan.keys = mesh_keys(scene);
+    std::vector<std::uint8_t> sorted(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (rects[i] == Shape::none) plan.keys[i] = -1;
+        sorted[i] = plan.keys[i] >= 0;
+    }
+    ElementGraph graph = build_graph(scene, none, rects, GraphMode::boxes, &sorted, options.graph_pair_budget);
+    plan.order = sort_order(graph, plan.keys, options.sort);
+    plan.graph_edges = std::int64_t(graph.edge_count());
+    return true;
+}
+
+} // namespace
+
 ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions& options, SceneMeshes* out) {
     const auto start = std::chrono::steady_clock::now();
     const std::size_t n = scene.elements.size();
-    if (!out) return ReconstructStatus::invalid_scene;
-    for (const Element& e : scene.elements)
-        if (!element_is_valid(scene, e)) return ReconstructStatus::invalid_scene;
-    // Every element draws its whole rect, blended, in the sorted order.
-    ElementShapes shapes;
-    shapes.boundary.assign(n, Shape::rect);
-    shapes.opaque.assign(n, Shape::none);
-    shapes.blended.assign(n, 1);
-    if (options.cull_to_viewport) cull_to_viewport(scene, shapes);
-    const std::vector<Shape>& rects = shapes.boundary;
-    std::vector<const ImageAnalysis*> none(n, nullptr);
-    std::vector<std::int32_t> keys = mesh_keys(scene);
-    std::vector<std::uint8_t> sorted(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        if (rects[i] == Shape::none) keys[i] = -1;
-        sorted[i] = keys[i] >= 0;
-    }
-    ElementGraph graph = build_graph(scene, none, rects, GraphMode::boxes, &sorted, options.graph_pair_budget);
-    std::vector<std::uint32_t> order = sort_order(graph, keys, options.sort);
-
+    RectanglePlan plan;
+    if (!out || !plan_rectangles(scene, options, plan)) return ReconstructStatus::invalid_scene;
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = false;
     MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin);
-    append_blend_draws(scene, order, nullptr, rects, none, keys, 0, builder, result.draws);
+    std::vector<const ImageAnalysis*> none(n, nullptr);
+    append_blend_draws(scene, plan.order, nullptr, plan.shapes.boundary, none, plan.keys, 0, builder, result.draws);
     append_element_maps(scene, result.element_maps);
     result.stats.elements = std::int64_t(n);
-    result.stats.graph_edges = std::int64_t(graph.edge_count());
+    result.stats.graph_edges = plan.graph_edges;
     finish_stats(result);
     result.stats.seconds = seconds_since(start);
     *out = std::move(result);
     return ReconstructStatus::ok;
+}
+
+ReconstructStatus rectangle_stats(const Scene& scene, const ReconstructOptions& options, SceneStats* out) {
+    if (!out) return ReconstructStatus::invalid_scene;
+    if (options.coverage_margin > 0) { // skirts: their triangles are counted by building them
+        SceneMeshes meshes;
+        const ReconstructStatus status = rectangle_meshes(scene, options, &meshes);
+        if (status == ReconstructStatus::ok) *out = meshes.stats;
+        return status;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    RectanglePlan plan;
+    if (!plan_rectangles(scene, options, plan)) return ReconstructStatus::invalid_scene;
+    SceneStats stats;
+    stats.elements = std::int64_t(scene.elements.size());
+    stats.graph_edges = plan.graph_edges;
+    stats.draw_calls = count_runs(plan.order, plan.keys);
+    for (std::uint32_t e : plan.order)
+        if (plan.keys[e] >= 0) stats.triangles += 2; // the rect's quad
+    stats.seconds = seconds_since(start);
+    *out = stats;
+    return ReconstructStatus::ok;
+}
+
+SceneStats overpaint_stats(const Scene& scene) {
+    SceneStats stats;
+    stats.elements = std::int64_t(scene.elements.size());
+    stats.draw_calls = stats.elements;    // one draw per element
+    stats.triangles = 2 * stats.elements; // its rect's quad
+    return stats;
 }
 
 } // namespace depthcull

@@ -1,13 +1,12 @@
-// The CPU analyzers: exact counts on tiny hand-built frames (no GL).
+// The overdraw analyzers (depthcull/overdraw.h): exact counts on tiny
+// hand-built frames, no GL.
 #include <gtest/gtest.h>
 
-#include "depthcull/render.h"
-#include "render_scenes.h"
+#include "depthcull/overdraw.h"
+#include "render/render_scenes.h"
 
 namespace depthcull {
 namespace {
-
-using render::OverdrawMap;
 
 SceneMeshes one_draw(Viewport vp, std::vector<Vec2> points, std::vector<std::uint32_t> indices, float z = 0,
                      Pass pass = Pass::blend, bool depth_test = false) {
@@ -27,11 +26,11 @@ TEST(AnalyzeOverdraw, SquareSplitOnItsDiagonalShadesEachPixelOnce) {
     // must give each of those to exactly one triangle.
     OverdrawMap map;
     auto m = one_draw({0, 0, 8, 8}, {{0, 0}, {8, 0}, {8, 8}, {0, 8}}, {0, 1, 2, 0, 2, 3});
-    EXPECT_EQ(render::analyze_overdraw(m, &map).shaded, 64);
+    EXPECT_EQ(analyze_overdraw(m, &map).shaded, 64);
     for (auto c : map.counts) EXPECT_EQ(c, 1u);
     // The other diagonal, and the opposite winding.
     m = one_draw({0, 0, 8, 8}, {{0, 0}, {8, 0}, {8, 8}, {0, 8}}, {0, 3, 1, 1, 3, 2});
-    EXPECT_EQ(render::analyze_overdraw(m).shaded, 64);
+    EXPECT_EQ(analyze_overdraw(m).shaded, 64);
 }
 
 TEST(AnalyzeOverdraw, FanThroughPixelCentresTilesOnce) {
@@ -41,7 +40,7 @@ TEST(AnalyzeOverdraw, FanThroughPixelCentresTilesOnce) {
     std::vector<std::uint32_t> idx;
     for (std::uint32_t i = 1; i <= 8; ++i) idx.insert(idx.end(), {0, i, i % 8 + 1});
     OverdrawMap map;
-    EXPECT_EQ(render::analyze_overdraw(one_draw({0, 0, 9, 9}, p, idx), &map).shaded, 81);
+    EXPECT_EQ(analyze_overdraw(one_draw({0, 0, 9, 9}, p, idx), &map).shaded, 81);
     for (auto c : map.counts) EXPECT_EQ(c, 1u);
 }
 
@@ -50,7 +49,7 @@ TEST(AnalyzeOverdraw, ViewportOffsetAndClipping) {
     // 2 columns x 3 rows remain.
     auto m = one_draw({12, 21, 5, 5}, {{10, 20}, {14, 20}, {14, 24}, {10, 24}}, {0, 1, 2, 0, 2, 3});
     OverdrawMap map;
-    EXPECT_EQ(render::analyze_overdraw(m, &map).shaded, 6);
+    EXPECT_EQ(analyze_overdraw(m, &map).shaded, 6);
     EXPECT_EQ(map.counts[0], 1u);
     EXPECT_EQ(map.counts[2], 0u);
 }
@@ -73,7 +72,7 @@ TEST(AnalyzeOverdraw, DepthTestCountsOnlyWhatPasses) {
     m.draws.push_back(quad(0, 0, 4, 4, 0.25f, Pass::opaque)); // 16 - 4
     m.draws.push_back(quad(0, 0, 4, 4, 0.5f, Pass::blend));   // passes where 0.25: 12
     m.draws.push_back(quad(0, 0, 4, 4, 0.5f, Pass::blend));   // no write: 12 again
-    EXPECT_EQ(render::analyze_overdraw(m).shaded, 4 + 12 + 12 + 12);
+    EXPECT_EQ(analyze_overdraw(m).shaded, 4 + 12 + 12 + 12);
 }
 
 TEST(IdealOverdraw, StopsAtTheFirstFullyOpaqueElement) {
@@ -86,7 +85,7 @@ TEST(IdealOverdraw, StopsAtTheFirstFullyOpaqueElement) {
     rs.add(glass, {1, 0, 0, 1, 1, 1});                                   // 3 non-transparent
     rs.add(solid, {1, 0, 0, 1, 2, 2}, Blend::alpha, {1, 1, 1, 0.5f});    // 4, not covering
     OverdrawMap map;
-    auto stats = render::ideal_overdraw(rs.scene, rs.views(), &map);
+    auto stats = ideal_overdraw(rs.scene, rs.views(), &map);
     // Pixel (1,1): glass + solid = 2 (background hidden). (2,2): half-solid,
     // glass(.)=transparent, solid -> 2. (2,1),(1,2): glass + solid = 2.
     // (3,3),(2,3),(3,2): half-solid + background = 2. Others: background 1.
@@ -96,81 +95,65 @@ TEST(IdealOverdraw, StopsAtTheFirstFullyOpaqueElement) {
     EXPECT_EQ(map.counts[0], 1u);
     EXPECT_EQ(stats.shaded, 9 * 1 + 7 * 2);
     // Overpaint shades every rect pixel: 16 + 4 + 4 + 4.
-    EXPECT_EQ(render::analyze_overdraw(overpaint_meshes(rs.scene)).shaded, 28);
+    EXPECT_EQ(analyze_overdraw(overpaint_meshes(rs.scene)).shaded, 28);
 }
 
 TEST(IdealOverdraw, IsALowerBoundOfTheHandOptimizedScene) {
     auto rs = test::mixed_scene();
-    auto ideal = render::ideal_overdraw(rs.scene, rs.views());
-    auto over = render::analyze_overdraw(overpaint_meshes(rs.scene));
-    auto opt = render::analyze_overdraw(test::hand_optimized(rs));
+    auto ideal = ideal_overdraw(rs.scene, rs.views());
+    auto over = analyze_overdraw(overpaint_meshes(rs.scene));
+    auto opt = analyze_overdraw(test::hand_optimized(rs));
     EXPECT_LT(opt.shaded, over.shaded);
     EXPECT_LE(ideal.shaded, opt.shaded);
     EXPECT_EQ(over.pixels, 64 * 48);
 }
 
-TEST(CompareImages, CountsPixelsAndLargestChannelDifference) {
-    Image a = test::ascii_image({"#+", ".#"}), b = a;
-    b.rgba[0] += 3;
-    b.rgba[4 * 3 + 3] -= 7;
-    auto d = render::compare_images(a.view(), b.view());
-    EXPECT_EQ(d.pixels_differ, 2);
-    EXPECT_EQ(d.max_channel_diff, 7);
-    EXPECT_TRUE(d.same_size);
-    EXPECT_FALSE(render::compare_images(a.view(), test::ascii_image({"#"}).view()).same_size);
+TEST(AnalyzeOverdraw, RasterizedCountsWhatTheDepthTestRejects) {
+    // A near opaque quad, then a far one under it: 4 + 16 covered, 4 + 12 shaded.
+    SceneMeshes m;
+    m.viewport = {0, 0, 4, 4};
+    m.depth_test = true;
+    auto quad = [](double x1, double y1, float z) {
+        Draw d;
+        d.pass = Pass::opaque;
+        for (Vec2 p : {Vec2{0, 0}, Vec2{x1, 0}, Vec2{x1, y1}, Vec2{0, y1}})
+            d.vertices.insert(d.vertices.end(), {float(p.x), float(p.y), z, 0, 0, 1, 1, 1, 1});
+        d.indices = {0, 1, 2, 0, 2, 3};
+        return d;
+    };
+    m.draws.push_back(quad(2, 2, 0.75f));
+    m.draws.push_back(quad(4, 4, 0.25f));
+    const OverdrawStats s = analyze_overdraw(m);
+    EXPECT_EQ(s.rasterized, 20);
+    EXPECT_EQ(s.shaded, 16);
+    m.depth_test = false;
+    EXPECT_EQ(analyze_overdraw(m).shaded, 20);
 }
 
-TEST(Heatmap, PanelsSideBySideAndDeterministic) {
+TEST(SummaryCounts, MatchTheMeshesTheyStandFor) {
     auto rs = test::mixed_scene();
-    OverdrawMap over, opt;
-    render::analyze_overdraw(overpaint_meshes(rs.scene), &over);
-    render::analyze_overdraw(test::hand_optimized(rs), &opt);
-    Image a = render::overdraw_heatmap({{"overpaint", &over}, {"optimized", &opt}});
-    Image b = render::overdraw_heatmap({{"overpaint", &over}, {"optimized", &opt}});
-    EXPECT_GE(a.width, 2 * 64);
-    EXPECT_GT(a.height, 48);
-    EXPECT_EQ(a.rgba, b.rgba);
-}
-
-} // namespace
-} // namespace depthcull
-
-namespace depthcull {
-namespace {
-
-TEST(ClassifyDifferences, SeparatesEdgePrecisionFromRealDifferences) {
-    // A quad whose right edge runs 0.005 px from the centres of column 4.
-    auto m = SceneMeshes{};
-    m.viewport = {0, 0, 8, 3};
-    Draw d;
-    for (Vec2 p : {Vec2{0, 0}, Vec2{4.505, 0}, Vec2{4.505, 3}, Vec2{0, 3}})
-        d.vertices.insert(d.vertices.end(), {float(p.x), float(p.y), 0, 0, 0, 1, 1, 1, 1});
-    d.indices = {0, 1, 2, 0, 2, 3};
-    m.draws.push_back(d);
-    Image a = test::ascii_image({"########", "########", "########"}), b = a;
-    b.rgba[(1 * 8 + 4) * 4] ^= 1; // on the edge
-    b.rgba[(1 * 8 + 2) * 4] ^= 1; // in the middle of the quad
-    auto causes = render::classify_differences(a.view(), m, b.view(), m);
-    EXPECT_EQ(causes.near_edges, 1);
-    EXPECT_EQ(causes.elsewhere, 1);
-    EXPECT_EQ(render::classify_differences(a.view(), m, a.view(), m).near_edges, 0);
-}
-
-TEST(ClassifyDifferences, TexelEdgesOfTheSceneExplainSamplingTies) {
-    // An element 0.002 px off the half-pixel grid: every pixel centre it
-    // covers is 0.002 px from a texel edge.
-    test::RenderScene rs;
-    rs.scene.viewport = {0, 0, 8, 3};
-    rs.add_image(test::ascii_image({"####", "####", "####"}), {});
-    rs.add(0, {1, 0, 0, 1, 0.502, 0});
-    SceneMeshes none;
-    none.viewport = rs.scene.viewport;
-    Image a = test::ascii_image({"########", "########", "########"}), b = a;
-    b.rgba[(1 * 8 + 2) * 4] ^= 1; // inside the element
-    b.rgba[(1 * 8 + 6) * 4] ^= 1; // outside it
-    auto causes = render::classify_differences(a.view(), none, b.view(), none, &rs.scene);
-    EXPECT_EQ(causes.near_edges, 1);
-    EXPECT_EQ(causes.elsewhere, 1);
+    const SceneMeshes over = overpaint_meshes(rs.scene);
+    const SceneStats counted = overpaint_stats(rs.scene);
+    EXPECT_EQ(counted.draw_calls, over.stats.draw_calls);
+    EXPECT_EQ(counted.triangles, over.stats.triangles);
+    for (SortMethod sort : {SortMethod::batch, SortMethod::paper, SortMethod::none}) {
+        for (bool cull : {false, true}) {
+            ReconstructOptions options;
+            options.sort = sort;
+            options.cull_to_viewport = cull;
+            SceneMeshes rects;
+            SceneStats stats;
+            ASSERT_EQ(rectangle_meshes(rs.scene, options, &rects), ReconstructStatus::ok);
+            ASSERT_EQ(rectangle_stats(rs.scene, options, &stats), ReconstructStatus::ok);
+            EXPECT_EQ(stats.draw_calls, rects.stats.draw_calls);
+            EXPECT_EQ(stats.triangles, rects.stats.triangles);
+            EXPECT_EQ(stats.graph_edges, rects.stats.graph_edges);
+            // Meshes only rasterizes what overpaint does (optimize --stats relies on it).
+            if (!cull) {
+                EXPECT_EQ(analyze_overdraw(rects).shaded, analyze_overdraw(over).shaded);
+            }
+        }
+    }
 }
 
 } // namespace

@@ -1,0 +1,49 @@
+// depthcull: the overdraw analyzers, beside reconstruction (paper 2.3)
+// whose effect they measure, as meshoptimizer keeps meshopt_analyzeOverdraw
+// beside meshopt_optimizeOverdraw. Geometry only: no GL, no I/O, so
+// `depthcull optimize --stats`, tests and a cost model use them anywhere.
+// Paper 3 measured overdraw by drawing untextured polygons with additive
+// blending; counting on the CPU gives the same figure without a GPU.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "depthcull/image.h"
+#include "depthcull/scene.h"
+
+namespace depthcull {
+
+// Per-pixel fragment counts of one frame, row-major, row 0 at the top of
+// the viewport.
+struct OverdrawMap {
+    int width = 0, height = 0;
+    std::vector<std::uint32_t> counts;
+};
+
+// Best case: shaded == ideal_overdraw's shaded (every shaded fragment is
+// needed); overdraw() == 1.0 for a scene that covers every pixel once;
+// rasterized == shaded when nothing is rejected by the depth test.
+struct OverdrawStats {
+    std::int64_t pixels = 0;     // viewport pixels
+    std::int64_t shaded = 0;     // fragments that passed the depth test
+    std::int64_t rasterized = 0; // fragments the triangles cover, before the depth test
+    double overdraw() const { return pixels ? double(shaded) / double(pixels) : 0.0; }
+};
+
+// Rasterizes every triangle the way GL does (pixel centres, a tie-breaking
+// fill rule so shared edges shade once, vertices snapped to 1/256 pixel,
+// 24-bit depth, GL_GREATER with depth writes in Pass::opaque draws when
+// meshes.depth_test) and counts fragments that pass. Matches
+// GL_SAMPLES_PASSED exactly on llvmpipe (tested in tests/render). `map`,
+// when given, gets the shaded count per pixel.
+OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map = nullptr);
+
+// The lower limit: per pixel, walk the elements front to back and count
+// those whose sampled texel (nearest, at the pixel centre) is not
+// transparent, down to and including the first that is fully opaque there
+// (texel alpha 255 with Blend::alpha and colour alpha 1, or Blend::opaque).
+// images[i] holds Scene::images[i]'s texels. rasterized == shaded.
+OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map = nullptr);
+
+} // namespace depthcull
