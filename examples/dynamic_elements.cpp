@@ -56,6 +56,8 @@ int main(int argc, char** argv) {
             SceneMeshes meshes;
             if (add_dynamic_elements(static_meshes, p.scene, moving, analyses, &meshes) != ReconstructStatus::ok)
                 throw io::Error("frame " + std::to_string(frame) + ": too many dynamic elements for the reserved depth range");
+            // `meshes` holds this frame's own draws; the frame is them around the static ones.
+            meshes = compose_frame(static_meshes, meshes);
             std::printf("frame %d: %zu moving sprites, %" PRId64 " draw calls, %" PRId64 " triangles, %" PRId64 " depth levels\n",
                         frame, moving.size(), meshes.stats.draw_calls, meshes.stats.triangles, meshes.stats.depth_levels);
             if (argc > 2) {

@@ -136,11 +136,8 @@ int main(int argc, char** argv) {
                     counts.draw_calls, counts.triangles, differ);
 
         // ---- The frame loop: sprites move, the static meshes stay uploaded.
-        // add_dynamic_elements over the static meshes without their draws
-        // yields only this frame's own draws, which draw() uploads into
-        // buffers reserved once.
-        SceneMeshes no_draws = static_meshes;
-        no_draws.draws.clear();
+        // add_dynamic_elements yields only this frame's own draws, which
+        // draw() uploads into buffers reserved once.
         renderer->reserve_dynamic(4096, 8192);
         const std::size_t sprites = std::min<std::size_t>(8, p.scene.elements.size());
         SceneMeshes dynamic;
@@ -155,7 +152,7 @@ int main(int argc, char** argv) {
                 moving.push_back(e);
                 analyses.push_back(p.element_analysis[source]);
             }
-            if (add_dynamic_elements(no_draws, p.scene, moving, analyses, &dynamic) != ReconstructStatus::ok)
+            if (add_dynamic_elements(static_meshes, p.scene, moving, analyses, &dynamic) != ReconstructStatus::ok)
                 throw io::Error("more moving sprites than reserved depth levels");
             if (renderer->draw(camera, dynamic.draws, clear, &counts) != runtime::Status::ok) throw io::Error(renderer->error());
             std::printf("frame %d: %zu moving sprites, %" PRId64 " draw calls\n", frame, moving.size(), counts.draw_calls);

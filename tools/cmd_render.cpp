@@ -73,7 +73,8 @@ void run_render(RenderArgs& args) {
 
     auto renderer = open_renderer(args.input);
     renderer->set_images(image_views(prepared), prepared.scene.filter);
-    renderer->set_meshes(meshes);
+    const std::vector<TexelMap> maps = element_maps(prepared.scene);
+    renderer->set_meshes(meshes, maps);
     const render::FrameCounts counts = renderer->draw_counted();
     const Image frame = renderer->read_pixels();
     if (!args.output.empty()) io::save_png(args.output, frame.view());
@@ -94,10 +95,10 @@ void run_render(RenderArgs& args) {
     // snapping cannot decide a pixel (render.h, kCoverageMargin).
     const SceneMeshes overpaint = meshes_for(render::Mode::overpaint, prepared, args, true);
     const SceneMeshes exact = meshes_for(args.mode, prepared, args, true);
-    renderer->set_meshes(overpaint);
+    renderer->set_meshes(overpaint, maps);
     renderer->draw();
     const Image reference = renderer->read_pixels();
-    renderer->set_meshes(exact);
+    renderer->set_meshes(exact, maps);
     renderer->draw();
     const Image compared = renderer->read_pixels();
     const render::ImageDiff diff = render::compare_images(reference.view(), compared.view());

@@ -215,8 +215,8 @@ struct LoadedMeshes {
     // id, path (resolved against the meshes file's directory, as
     // load_scene resolves a scene's paths), width, height.
     std::vector<SceneImage> images;
-    // Draw::image indexes `images`. Nothing in memory only
-    // (element_maps, vertex_elements) is filled: the formats do not carry it.
+    // Draw::image indexes `images`. Draw::element_spans stay empty: the
+    // formats do not carry them. depth_denominator comes from stats.depth_bits.
     SceneMeshes meshes;
 };
 

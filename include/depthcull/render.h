@@ -42,7 +42,7 @@ struct ImageDiff {
 ImageDiff compare_images(ImageView a, ImageView b);
 
 // Where frames of the same scene drawn from different meshes differ, as a
-// diagnostic. With nearest filtering and element maps (SceneMeshes::
+// diagnostic. With nearest filtering and element maps (element spans and
 // element_maps) reconstruction's output must not differ at all; without
 // them, or with bilinear filtering, rounding explains differences here.
 // Coverage: GL snaps vertices to 1/256 pixel, so two
@@ -114,8 +114,8 @@ public:
 
     // One texture per scene image, sampled with `filter`, clamped to edge.
     // Texel positions come from each element's window-to-texel map
-    // (SceneMeshes::element_maps; per triangle, from its vertices, for
-    // meshes without maps), not from float-interpolated u, v, so the texel
+    // (element_maps and Draw::element_spans given to set_meshes; per
+    // triangle, from its vertices, for meshes without them), not from float-interpolated u, v, so the texel
     // a pixel shows does not depend on how its element was triangulated;
     // with nearest filtering a
     // pixel centre exactly on a texel edge takes the texel on the side the
@@ -123,13 +123,16 @@ public:
     void set_images(const std::vector<ImageView>& images, Filter filter);
     // Uploads the meshes once (one vertex buffer, triangles unindexed since
     // each carries its texel map) and sizes the framebuffer to
-    // meshes.viewport. Draws name images by index.
-    void set_meshes(const SceneMeshes& meshes);
+    // meshes.viewport. Draws name images by index. element_maps: the
+    // texel_map of each element Draw::element_spans names (element_maps(
+    // scene), dynamic elements' appended); triangles of no span or an
+    // element past them take their map from their vertices' u, v.
+    void set_meshes(const SceneMeshes& meshes, const std::vector<TexelMap>& element_maps = {});
     // Several meshes at once (all with the same viewport size), so a
     // benchmark can alternate between them frame by frame: add_meshes
     // uploads and returns a slot, select_meshes makes it the one drawn.
     // set_meshes = forget all, add, select.
-    int add_meshes(const SceneMeshes& meshes);
+    int add_meshes(const SceneMeshes& meshes, const std::vector<TexelMap>& element_maps = {});
     void select_meshes(int slot);
 
     // Clears and draws one frame; does not wait for the GPU.

@@ -122,17 +122,25 @@ inline TexelMap texel_map(const Element& e) {
     return t;
 }
 
+// A run of a draw's vertices that one element drew: from first_vertex up
+// to the next span's first vertex (or the draw's end).
+struct ElementSpan {
+    std::uint32_t element = 0;      // index into Scene::elements (dynamic elements follow the static ones)
+    std::uint32_t first_vertex = 0;
+};
+
 struct Draw {
     int image = 0;            // index into Scene::images
     Pass pass = Pass::blend;
     Blend blend = Blend::alpha;
     std::vector<float> vertices;        // kVertexFloats per vertex
     std::vector<std::uint32_t> indices; // triangles
-    // Per vertex: which entry of SceneMeshes::element_maps its texels come
-    // from (one element per triangle). Empty when unknown (meshes read
-    // from a file): renderers then derive texel positions from the
-    // vertices' u, v. In memory only; the mesh file formats do not carry it.
-    std::vector<std::uint32_t> vertex_elements;
+    // Which element each run of vertices comes from (a triangle never
+    // mixes elements), in vertex order. Filled only when asked
+    // (ReconstructOptions::element_spans): a renderer that samples through
+    // each element's texel_map (render::GlRenderer, proving pixel identity)
+    // needs it, an engine does not. The mesh file formats do not carry it.
+    std::vector<ElementSpan> element_spans;
 
     std::size_t vertex_count() const { return vertices.size() / kVertexFloats; }
     std::size_t triangle_count() const { return indices.size() / 3; }
@@ -157,11 +165,15 @@ struct SceneMeshes {
     bool depth_test = false;  // false for overpaint and meshes-only output
     std::vector<Draw> draws;  // in the order to draw them
     SceneStats stats;
-    // texel_map of each element the draws name in vertex_elements: for
-    // reconstruction output indexed like Scene::elements (dynamic elements
-    // follow the static ones). In memory only, like vertex_elements.
-    std::vector<TexelMap> element_maps;
+    // D of depth_z: the z values are (2k+1)/D and (2k+2)/D. 0 when the
+    // meshes have no depth values (overpaint, meshes only). Reconstruction
+    // sets it, the mesh readers from stats.depth_bits (D = 2^(bits-2)).
+    std::int64_t depth_denominator = 0;
 };
+
+// texel_map of every element, indexed as ElementSpan::element names them
+// (for dynamic elements, append theirs after the scene's).
+std::vector<TexelMap> element_maps(const Scene& scene);
 
 // ---- Reconstruction (paper 2.3)
 
@@ -195,7 +207,7 @@ struct ReconstructOptions {
     // the blend pass (boundary polygons or rect) is grown, by a skirt of
     // extra triangles around each polygon (its own triangles stay as they
     // are); overpaint_meshes takes the same margin. For renderers that sample through
-    // SceneMeshes::element_maps and output alpha 0 for a texel position
+    // element_maps (Draw::element_spans) and output alpha 0 for a texel position
     // outside the element's rect (render::GlRenderer): GL snaps vertices
     // (llvmpipe to 1/256 pixel), so a pixel centre that close to a polygon
     // edge may be left out although its texel is inside; grown, every such
@@ -219,6 +231,9 @@ struct ReconstructOptions {
     // among their elements (correct, less batching), so a pile of sprites
     // costs linear time and memory. Edges <= graph_pair_budget + 2n.
     std::uint64_t graph_pair_budget = limits::kGraphPairBudget;
+    // Fill Draw::element_spans (for renderers that sample through texel
+    // maps); off for engines and files.
+    bool element_spans = false;
 };
 
 enum class ReconstructStatus {
@@ -313,17 +328,27 @@ std::vector<std::uint32_t> triangulate_polygon(const Polygon& polygon);
 // polygons are drawn after the static blend pass, consecutive elements that
 // share a mesh in one draw. R elements always fit (the depth mapping may
 // leave room for more); more than fit: too_many_depth_levels. `frame` gets
-// the dynamic opaque draws, then the static draws, then the dynamic blend
-// draws.
+// only the dynamic draws, opaque then blend (each draw's pass says where it
+// goes): the dynamic opaque draws come before the static draws (they are
+// nearest, so they reject the most), the blend draws after every static
+// one; no static draw is copied. frame->stats: static_meshes' with the
+// dynamic elements and levels added, draw calls and triangles of the
+// dynamic draws alone. With element_spans, spans name dynamic element i
+// as static_meshes.stats.elements + i.
 ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const Scene& scene,
                                        const std::vector<Element>& elements,
-                                       const std::vector<const ImageAnalysis*>& analyses, SceneMeshes* frame);
+                                       const std::vector<const ImageAnalysis*>& analyses, SceneMeshes* frame,
+                                       bool element_spans = false);
+// The whole frame as one SceneMeshes (dynamic opaque, static, dynamic
+// blend draws), for tests and renderers that take one list; copies.
+SceneMeshes compose_frame(const SceneMeshes& static_meshes, const SceneMeshes& dynamic);
 
 // Overpaint (the unoptimized method, Table 2 "Unoptimized"): one draw per
 // element, its whole rect as two triangles, in painter's order, no depth.
 // coverage_margin: as ReconstructOptions::coverage_margin, around every
 // rect but those of Blend::opaque elements (drawn with blending off, where
 // the renderer's rect test would not leave the pixel as it is).
-SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin = 0);
+// element_spans: as ReconstructOptions::element_spans.
+SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin = 0, bool element_spans = false);
 
 } // namespace depthcull

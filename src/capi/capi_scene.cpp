@@ -45,14 +45,6 @@ std::vector<const ImageAnalysis*> raw(const std::vector<std::shared_ptr<const Im
     return out;
 }
 
-// What a C caller sees of meshes: the verification data of the
-// instrumented renderer (texel maps per element) is dropped.
-void keep_drawable(SceneMeshes& m) {
-    m.element_maps.clear();
-    m.element_maps.shrink_to_fit();
-    for (Draw& d : m.draws) d.vertex_elements = {};
-}
-
 } // namespace
 
 extern "C" {
@@ -134,7 +126,6 @@ dc_status dc_reconstruct(const dc_scene* scene, const dc_reconstruct_options* op
         auto meshes = std::make_unique<dc_meshes>();
         if (dc_status s = capi::reconstruct_status("dc_reconstruct", reconstruct_scene(scene->scene, raw(scene->analyses), r, &meshes->loaded.meshes)))
             return s;
-        keep_drawable(meshes->loaded.meshes);
         meshes->loaded.images = scene->scene.images;
         *out = meshes.release();
         return DC_OK;
@@ -154,17 +145,11 @@ dc_status dc_add_dynamic_elements(const dc_meshes* static_meshes, const dc_scene
             dynamic[i] = to_element(elements[i]);
             dynamic_analyses[i] = analyses[i] ? analyses[i]->analysis.get() : nullptr;
         }
-        // The static meshes without their draws: the frame then holds only
-        // the dynamic draws, and no static vertex is copied per frame.
-        SceneMeshes header;
-        const SceneMeshes& m = static_meshes->loaded.meshes;
-        header.viewport = m.viewport;
-        header.depth_test = m.depth_test;
-        header.stats = m.stats;
+        // Only the dynamic draws: no static vertex is copied per frame.
         SceneMeshes result;
-        if (dc_status s = capi::reconstruct_status("dc_add_dynamic_elements", add_dynamic_elements(header, scene->scene, dynamic, dynamic_analyses, &result)))
+        if (dc_status s = capi::reconstruct_status("dc_add_dynamic_elements",
+                                                   add_dynamic_elements(static_meshes->loaded.meshes, scene->scene, dynamic, dynamic_analyses, &result)))
             return s;
-        keep_drawable(result);
         frame->loaded.meshes = std::move(result);
         frame->loaded.images = scene->scene.images;
         return DC_OK;

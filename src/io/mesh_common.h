@@ -25,6 +25,12 @@ const char* blend_name(Blend b);
 // base_dir is empty or the path is absolute or empty).
 std::string resolve_mesh_path(const std::string& base_dir, const std::string& path);
 
+// SceneMeshes::depth_denominator from the depth_bits a file states (the
+// writers write 2 + log2 D): 0 when it names no usable mapping.
+inline std::int64_t depth_denominator_from_bits(std::int64_t bits) {
+    return bits >= 2 && bits <= 62 ? std::int64_t(1) << (bits - 2) : 0;
+}
+
 // Why float k of a draw's vertex array cannot be drawn, or nullptr: every
 // value finite, z (the third of each vertex) in [0, 1] as the depth
 // mapping writes it.

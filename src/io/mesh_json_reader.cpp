@@ -195,6 +195,7 @@ LoadedMeshes parse_meshes_json(std::string_view text, const std::string& name, c
     Totals totals;
     for (std::size_t i = 0; i < draws.size(); ++i) out.meshes.draws.push_back(read_draw(ctx, draws[i], at("draws", i), ids, &totals));
     if (doc.contains("stats")) out.meshes.stats = read_stats(ctx, doc["stats"]);
+    out.meshes.depth_denominator = depth_denominator_from_bits(out.meshes.stats.depth_bits);
     return out;
 }
 

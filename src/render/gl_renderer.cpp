@@ -28,7 +28,7 @@ namespace {
 // in overpaint, its polygons when optimized) differs in the last bits, and
 // at every pixel centre that lies on a texel edge (any element placed on a
 // half pixel or scaled by 1/2) that picks a different texel. The map is the
-// element's own (SceneMeshes::element_maps, from its transform), rounded
+// element's own (element_maps(scene), from its transform), rounded
 // to float once, so every triangle of an element in every mode carries
 // bit-identical attributes and the shader computes the same texel position
 // at each pixel: the texel a pixel shows does not depend on how its element
@@ -399,7 +399,7 @@ using GlTexelMap = std::array<float, 10>;
 // to: no rect test for them.
 constexpr float kNoRect = 1e30f;
 
-// An element's exact map (SceneMeshes::element_maps, screen pixels) moved
+// An element's exact map (element_maps(scene), screen pixels) moved
 // to window coordinates and rounded to float once, so every triangle of the
 // element, in every mode, hands the shader bit-identical attributes and the
 // shader computes the same texel position at each pixel.
@@ -473,13 +473,26 @@ void append_triangle(const Draw& d, const std::uint32_t (&corner)[3], const GlTe
 
 } // namespace
 
-void GlRenderer::set_meshes(const SceneMeshes& meshes) {
+void GlRenderer::set_meshes(const SceneMeshes& meshes, const std::vector<TexelMap>& maps) {
     impl_->make_current();
     impl_->clear_sets();
-    select_meshes(add_meshes(meshes));
+    select_meshes(add_meshes(meshes, maps));
 }
 
-int GlRenderer::add_meshes(const SceneMeshes& meshes) {
+namespace {
+
+// Per vertex, the element its span names (~0u where none does).
+void vertex_elements(const Draw& d, std::vector<std::uint32_t>& out) {
+    out.assign(d.vertex_count(), ~0u);
+    for (std::size_t k = 0; k < d.element_spans.size(); ++k) {
+        const std::size_t end = k + 1 < d.element_spans.size() ? d.element_spans[k + 1].first_vertex : out.size();
+        for (std::size_t v = d.element_spans[k].first_vertex; v < std::min(end, out.size()); ++v) out[v] = d.element_spans[k].element;
+    }
+}
+
+} // namespace
+
+int GlRenderer::add_meshes(const SceneMeshes& meshes, const std::vector<TexelMap>& maps) {
     impl_->make_current();
     Impl& r = *impl_;
     Gl& gl = r.gl;
@@ -488,15 +501,16 @@ int GlRenderer::add_meshes(const SceneMeshes& meshes) {
     m.depth_test = meshes.depth_test;
     std::vector<float> vertices;
     std::vector<GlTexelMap> element_maps;
-    element_maps.reserve(meshes.element_maps.size());
-    for (const TexelMap& t : meshes.element_maps) element_maps.push_back(element_gl_map(t, m.viewport));
+    element_maps.reserve(maps.size());
+    for (const TexelMap& t : maps) element_maps.push_back(element_gl_map(t, m.viewport));
+    std::vector<std::uint32_t> elements;
     for (const Draw& d : meshes.draws) {
         if (d.image < 0 || std::size_t(d.image) >= r.textures.size())
             throw Error("draw names image " + std::to_string(d.image) + " but " + std::to_string(r.textures.size()) +
                         " images are loaded");
         const auto [image_w, image_h] = r.texture_sizes[std::size_t(d.image)];
         const std::size_t first = vertices.size() / kGlVertexFloats;
-        const bool has_elements = d.vertex_elements.size() == d.vertex_count();
+        vertex_elements(d, elements);
         for (std::size_t t = 0; t + 3 <= d.indices.size(); t += 3) {
             const std::uint32_t corner[3] = {d.indices[t], d.indices[t + 1], d.indices[t + 2]};
             for (std::uint32_t i : corner)
@@ -504,8 +518,8 @@ int GlRenderer::add_meshes(const SceneMeshes& meshes) {
             GlTexelMap map;
             // The element's own map when the triangle names one (all three
             // corners alike); else the triangle's.
-            const std::uint32_t element = has_elements ? d.vertex_elements[corner[0]] : ~0u;
-            if (element < element_maps.size() && d.vertex_elements[corner[1]] == element && d.vertex_elements[corner[2]] == element) {
+            const std::uint32_t element = elements[corner[0]];
+            if (element < element_maps.size() && elements[corner[1]] == element && elements[corner[2]] == element) {
                 if (degenerate(d, corner)) continue;
                 map = element_maps[element];
             } else if (!triangle_gl_map(d, corner, m.viewport, image_w, image_h, map)) {

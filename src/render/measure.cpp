@@ -19,14 +19,17 @@ const char* mode_name(Mode mode) {
 
 ReconstructStatus build_meshes(Mode mode, const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
                                const ReconstructOptions& options, SceneMeshes* out) {
+    // With element spans: GlRenderer samples each element through its own map.
+    ReconstructOptions spanned = options;
+    spanned.element_spans = true;
     switch (mode) {
     case Mode::overpaint:
-        *out = overpaint_meshes(scene, options.coverage_margin);
+        *out = overpaint_meshes(scene, options.coverage_margin, true);
         return ReconstructStatus::ok;
     case Mode::meshes:
-        return rectangle_meshes(scene, options, out);
+        return rectangle_meshes(scene, spanned, out);
     case Mode::optimized:
-        return reconstruct_scene(scene, analyses, options, out);
+        return reconstruct_scene(scene, analyses, spanned, out);
     }
     return ReconstructStatus::invalid_scene;
 }
@@ -73,14 +76,15 @@ SceneMeasurement measure_scene(GlRenderer& renderer, const Scene& scene, const s
     std::vector<SceneMeshes> meshes(order.size()), exact(order.size());
     std::vector<int> slots, exact_slots;
     const ReconstructOptions exact_options = exact_coverage(options.reconstruct);
+    const std::vector<TexelMap> maps = element_maps(scene);
     for (std::size_t i = 0; i < order.size(); ++i) {
         for (bool skirted : {false, true}) {
             SceneMeshes& m = skirted ? exact[i] : meshes[i];
             ReconstructStatus status = build_meshes(order[i], scene, analyses, skirted ? exact_options : options.reconstruct, &m);
             if (status != ReconstructStatus::ok)
                 throw Error(std::string(mode_name(order[i])) + " meshes: " + status_text(status));
-            if (i == 0 && !skirted) renderer.set_meshes(m);
-            (skirted ? exact_slots : slots).push_back(i == 0 && !skirted ? 0 : renderer.add_meshes(m));
+            if (i == 0 && !skirted) renderer.set_meshes(m, maps);
+            (skirted ? exact_slots : slots).push_back(i == 0 && !skirted ? 0 : renderer.add_meshes(m, maps));
         }
     }
 

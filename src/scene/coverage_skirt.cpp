@@ -72,11 +72,11 @@ void MeshBuilder::add_skirts(Draw& d, std::uint32_t element, const std::vector<P
         }
     }
 
+    note_element(d, element);
     auto add_vertex = [&](Screen s) {
         const double u = map.u0 + map.ux * s.x + map.uy * s.y, v = map.v0 + map.vx * s.x + map.vy * s.y;
         d.vertices.insert(d.vertices.end(),
                           {float(s.x), float(s.y), z, float(u * iw), float(v * ih), e.color[0], e.color[1], e.color[2], e.color[3]});
-        d.vertex_elements.push_back(first_map_ + element);
         return std::uint32_t(d.vertex_count() - 1);
     };
     for (std::size_t k = 0; k < screen.size(); ++k) {

@@ -14,10 +14,11 @@ using namespace detail;
 
 ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const Scene& scene,
                                        const std::vector<Element>& elements,
-                                       const std::vector<const ImageAnalysis*>& analyses, SceneMeshes* frame) {
-    if (!frame || analyses.size() != elements.size() || static_meshes.stats.depth_bits < 2)
+                                       const std::vector<const ImageAnalysis*>& analyses, SceneMeshes* frame,
+                                       bool element_spans) {
+    const std::int64_t denominator = static_meshes.depth_denominator;
+    if (!frame || analyses.size() != elements.size() || denominator < 2 || static_meshes.stats.elements < 0)
         return ReconstructStatus::invalid_scene;
-    const std::int64_t denominator = std::int64_t(1) << (static_meshes.stats.depth_bits - 2);
     const std::int64_t first_level = static_meshes.stats.depth_levels;
     // Levels k with (2k+2)/D <= 1 are usable.
     if (first_level + std::int64_t(elements.size()) > denominator / 2 - 1) return ReconstructStatus::too_many_depth_levels;
@@ -44,24 +45,20 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
     SceneMeshes out;
     out.viewport = static_meshes.viewport;
     out.depth_test = static_meshes.depth_test;
-    // Dynamic elements' maps follow the static ones, so the static draws'
-    // vertex_elements stay valid as they are.
-    out.element_maps = static_meshes.element_maps;
-    const auto first_map = std::uint32_t(out.element_maps.size());
-    append_element_maps(dynamic, out.element_maps);
-    MeshBuilder builder(dynamic, first_map);
+    out.depth_denominator = denominator;
+    // Dynamic elements follow the static ones in element spans, so the
+    // static draws' spans stay valid as they are.
+    const auto first_element = std::uint32_t(static_meshes.stats.elements);
+    MeshBuilder builder(dynamic, first_element, 0, kTexelMargin, element_spans);
     std::vector<std::uint32_t> all(elements.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
     // Dynamic opaque draws first: they are nearest, so they reject the most.
     append_opaque_draws(dynamic, all, levels, shapes, analyses, keys, denominator, builder, out.draws);
-    out.draws.insert(out.draws.end(), static_meshes.draws.begin(), static_meshes.draws.end());
     const std::vector<int> canon = canonical_images(dynamic);
     std::int32_t last = -1;
     bool first_blend = true;
     for (std::uint32_t e : order) {
         const Element& el = elements[e];
-        // Never merge into the last static draw: dynamic elements must come
-        // after every static one.
         if (first_blend || keys[e] != last) {
             Draw d;
             d.image = canon[std::size_t(el.image)];
@@ -82,6 +79,14 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
     finish_stats(out);
     *frame = std::move(out);
     return ReconstructStatus::ok;
+}
+
+SceneMeshes compose_frame(const SceneMeshes& static_meshes, const SceneMeshes& dynamic) {
+    SceneMeshes frame = dynamic;
+    auto blend = std::find_if(frame.draws.begin(), frame.draws.end(), [](const Draw& d) { return d.pass != Pass::opaque; });
+    frame.draws.insert(blend, static_meshes.draws.begin(), static_meshes.draws.end());
+    finish_stats(frame);
+    return frame;
 }
 
 } // namespace depthcull

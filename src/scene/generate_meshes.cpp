@@ -18,6 +18,7 @@ namespace depthcull::detail {
 void MeshBuilder::add_polygon(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z) {
     const Element& e = scene_.elements[element];
     const SceneImage& img = scene_.images[std::size_t(e.image)];
+    note_element(d, element);
     const std::uint32_t base = std::uint32_t(d.vertex_count());
     const double iw = 1.0 / img.width, ih = 1.0 / img.height;
     for (const Vec2& v : p) {
@@ -25,7 +26,6 @@ void MeshBuilder::add_polygon(Draw& d, std::uint32_t element, const Polygon& p, 
         d.vertices.insert(d.vertices.end(), {float(s.x), float(s.y), z, float(v.x * iw), float(v.y * ih), e.color[0], e.color[1],
                                              e.color[2], e.color[3]});
     }
-    d.vertex_elements.resize(d.vertex_count(), first_map_ + element);
     for (std::uint32_t t : triangles) d.indices.push_back(base + t);
 }
 
@@ -117,11 +117,6 @@ void append_opaque_draws(const Scene& scene, const std::vector<std::uint32_t>& e
     }
 }
 
-void append_element_maps(const Scene& scene, std::vector<TexelMap>& maps) {
-    maps.reserve(maps.size() + scene.elements.size());
-    for (const Element& e : scene.elements) maps.push_back(texel_map(e));
-}
-
 void finish_stats(SceneMeshes& out) {
     out.stats.draw_calls = std::int64_t(out.draws.size());
     out.stats.triangles = 0;
@@ -201,12 +196,12 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = options.opaque_polygons;
-    MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin);
+    MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin, options.element_spans);
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);
     append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
     append_blend_draws(scene, order, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
-    append_element_maps(scene, result.element_maps);
+    result.depth_denominator = denominator;
 
     result.stats.elements = std::int64_t(n);
     result.stats.depth_levels = depth_levels;
@@ -263,10 +258,9 @@ ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions&
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = false;
-    MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin);
+    MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin, options.element_spans);
     std::vector<const ImageAnalysis*> none(n, nullptr);
     append_blend_draws(scene, plan.order, nullptr, plan.shapes.boundary, none, plan.keys, 0, builder, result.draws);
-    append_element_maps(scene, result.element_maps);
     result.stats.elements = std::int64_t(n);
     result.stats.graph_edges = plan.graph_edges;
     finish_stats(result);
@@ -295,6 +289,13 @@ ReconstructStatus rectangle_stats(const Scene& scene, const ReconstructOptions& 
     stats.seconds = seconds_since(start);
     *out = stats;
     return ReconstructStatus::ok;
+}
+
+std::vector<TexelMap> element_maps(const Scene& scene) {
+    std::vector<TexelMap> maps;
+    maps.reserve(scene.elements.size());
+    for (const Element& e : scene.elements) maps.push_back(texel_map(e));
+    return maps;
 }
 
 SceneStats overpaint_stats(const Scene& scene) {

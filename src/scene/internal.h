@@ -64,13 +64,20 @@ namespace depthcull::detail {
 // Appends elements' polygons to draws (paper 2.3.3 AddPolygon), caching
 // the triangulation of each analysis polygon: elements sharing an image
 // rect share the texel-space triangulation, and an affine transform keeps
-// it valid. `element` indexes scene.elements; its vertices name element
-// map first_map + element (Draw::vertex_elements).
+// it valid. `element` indexes scene.elements; with element_spans its
+// vertices are named first_map + element (Draw::element_spans).
 class MeshBuilder {
 public:
     explicit MeshBuilder(const Scene& scene, std::uint32_t first_map = 0, double coverage_margin = 0,
-                         double texel_margin = kTexelMargin)
-        : scene_(scene), first_map_(first_map), margin_(coverage_margin), texel_margin_(texel_margin) {}
+                         double texel_margin = kTexelMargin, bool element_spans = false)
+        : scene_(scene), first_map_(first_map), margin_(coverage_margin), texel_margin_(texel_margin), spans_(element_spans) {}
+    // Called before `element` appends vertices to d: starts a span when asked for.
+    void note_element(Draw& d, std::uint32_t element) const {
+        if (!spans_) return;
+        const std::uint32_t id = first_map_ + element;
+        if (d.element_spans.empty() || d.element_spans.back().element != id)
+            d.element_spans.push_back({id, std::uint32_t(d.vertex_count())});
+    }
     void add_boundary(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
 
@@ -90,6 +97,7 @@ private:
     std::uint32_t first_map_;
     double margin_;
     double texel_margin_;
+    bool spans_;
     std::vector<std::uint32_t> fan_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };
@@ -103,8 +111,5 @@ void append_opaque_draws(const Scene& scene, const std::vector<std::uint32_t>& e
                          std::vector<Draw>& draws);
 
 void finish_stats(SceneMeshes& out);
-
-// texel_map of every element of `scene`, appended to `maps` in order.
-void append_element_maps(const Scene& scene, std::vector<TexelMap>& maps);
 
 } // namespace depthcull::detail

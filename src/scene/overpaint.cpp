@@ -7,8 +7,8 @@
 
 namespace depthcull {
 
-SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin) {
-    detail::MeshBuilder skirts(scene, 0, coverage_margin);
+SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin, bool element_spans) {
+    detail::MeshBuilder skirts(scene, 0, coverage_margin, kTexelMargin, element_spans);
     SceneMeshes out;
     out.viewport = scene.viewport;
     out.depth_test = false;
@@ -27,12 +27,11 @@ SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin) {
                                float((e.rect.y + c.y) / img.height), e.color[0], e.color[1], e.color[2], e.color[3]});
         }
         d.indices = {0, 1, 2, 0, 2, 3};
-        d.vertex_elements.assign(4, std::uint32_t(out.draws.size()));
+        if (element_spans) d.element_spans.push_back({std::uint32_t(out.draws.size()), 0});
         if (coverage_margin > 0 && e.blend != Blend::opaque)
             skirts.add_skirts(d, std::uint32_t(out.draws.size()), {detail::rect_polygon(e.rect)}, 0.0f);
         out.draws.push_back(std::move(d));
     }
-    detail::append_element_maps(scene, out.element_maps);
     out.stats.elements = std::int64_t(scene.elements.size());
     detail::finish_stats(out);
     out.stats.depth_levels = 0;

@@ -51,7 +51,7 @@ inline std::array<double, 6> rotation(double degrees, double tx, double ty, doub
 }
 
 // A quad over texel rect `r` of element `element` (whose rect starts at
-// its e.rect), sampling through element map `element`.
+// its e.rect), sampling through element map `element` (an element span).
 inline void add_quad(Draw& d, const Scene& scene, std::size_t element, Rect r, float z) {
     const Element& e = scene.elements[element];
     const SceneImage& img = scene.images[std::size_t(e.image)];
@@ -66,14 +66,13 @@ inline void add_quad(Draw& d, const Scene& scene, std::size_t element, Rect r, f
                                              e.color[0], e.color[1], e.color[2], e.color[3]});
     }
     for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) d.indices.push_back(base + i);
-    d.vertex_elements.resize(d.vertex_count(), std::uint32_t(element));
+    d.element_spans.push_back({std::uint32_t(element), base});
 }
 
-// Meshes as read from a file: no element maps, so renderers fall back to
+// Meshes as read from a file: no element spans, so renderers fall back to
 // per-triangle texel maps.
 inline SceneMeshes without_element_maps(SceneMeshes m) {
-    m.element_maps.clear();
-    for (Draw& d : m.draws) d.vertex_elements.clear();
+    for (Draw& d : m.draws) d.element_spans.clear();
     return m;
 }
 
@@ -106,7 +105,6 @@ inline SceneMeshes hand_optimized(const RenderScene& rs) {
         add_quad(d, s, i, e.rect, depth(2 * i + 1));
         out.draws.push_back(std::move(d));
     }
-    for (const Element& e : s.elements) out.element_maps.push_back(texel_map(e));
     return out;
 }
 

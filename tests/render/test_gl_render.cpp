@@ -25,8 +25,10 @@ render::GlRenderer* shared_renderer(std::string* why) {
     if (!r && why_no_gl.rfind("no OpenGL context", 0) == 0) GTEST_SKIP() << why_no_gl;                                   \
     if (!r) FAIL() << why_no_gl
 
-Image draw(render::GlRenderer& r, const SceneMeshes& meshes, render::FrameCounts* counts = nullptr) {
-    r.set_meshes(meshes);
+// maps: element_maps of the scene the meshes' element spans name.
+Image draw(render::GlRenderer& r, const SceneMeshes& meshes, render::FrameCounts* counts = nullptr,
+           const std::vector<TexelMap>& maps = {}) {
+    r.set_meshes(meshes, maps);
     render::FrameCounts c = r.draw_counted();
     if (counts) *counts = c;
     return r.read_pixels();
@@ -36,8 +38,8 @@ TEST(GlRender, OptimizedEqualsOverpaintPixelForPixel) {
     REQUIRE_GL(r);
     auto rs = test::mixed_scene();
     r->set_images(rs.views(), Filter::nearest);
-    Image over = draw(*r, overpaint_meshes(rs.scene));
-    Image opt = draw(*r, test::hand_optimized(rs));
+    Image over = draw(*r, overpaint_meshes(rs.scene, 0, true), nullptr, element_maps(rs.scene));
+    Image opt = draw(*r, test::hand_optimized(rs), nullptr, element_maps(rs.scene));
     auto diff = render::compare_images(over.view(), opt.view());
     EXPECT_EQ(diff.pixels_differ, 0) << "max channel difference " << diff.max_channel_diff;
     // The scene really draws something everywhere the background is.
@@ -53,9 +55,9 @@ TEST(GlRender, MeshesWithoutElementMapsDrawLikeOverpaint) {
     REQUIRE_GL(r);
     auto rs = test::mixed_scene();
     r->set_images(rs.views(), Filter::nearest);
-    Image over = draw(*r, overpaint_meshes(rs.scene));
-    Image bare_over = draw(*r, test::without_element_maps(overpaint_meshes(rs.scene)));
-    Image bare_opt = draw(*r, test::without_element_maps(test::hand_optimized(rs)));
+    Image over = draw(*r, overpaint_meshes(rs.scene, 0, true), nullptr, element_maps(rs.scene));
+    Image bare_over = draw(*r, test::without_element_maps(overpaint_meshes(rs.scene, 0, true)), nullptr, element_maps(rs.scene));
+    Image bare_opt = draw(*r, test::without_element_maps(test::hand_optimized(rs)), nullptr, element_maps(rs.scene));
     EXPECT_EQ(render::compare_images(over.view(), bare_over.view()).pixels_differ, 0);
     EXPECT_EQ(render::compare_images(over.view(), bare_opt.view()).pixels_differ, 0);
 }
@@ -64,8 +66,8 @@ TEST(GlRender, LinearFilteringDifferenceIsReported) {
     REQUIRE_GL(r);
     auto rs = test::mixed_scene();
     r->set_images(rs.views(), Filter::linear);
-    Image over = draw(*r, overpaint_meshes(rs.scene));
-    Image opt = draw(*r, test::hand_optimized(rs));
+    Image over = draw(*r, overpaint_meshes(rs.scene, 0, true), nullptr, element_maps(rs.scene));
+    Image opt = draw(*r, test::hand_optimized(rs), nullptr, element_maps(rs.scene));
     auto diff = render::compare_images(over.view(), opt.view());
     // The hand-made opaque quads cover the opaque core up to its edge, where
     // bilinear filtering already mixes in translucent texels: differences
@@ -80,9 +82,9 @@ TEST(GlRender, SamplesPassedMatchesTheCpuAnalyzer) {
     REQUIRE_GL(r);
     auto rs = test::mixed_scene();
     r->set_images(rs.views(), Filter::nearest);
-    for (const SceneMeshes& m : {overpaint_meshes(rs.scene), test::hand_optimized(rs)}) {
+    for (const SceneMeshes& m : {overpaint_meshes(rs.scene, 0, true), test::hand_optimized(rs)}) {
         render::FrameCounts counts;
-        draw(*r, m, &counts);
+        draw(*r, m, &counts, element_maps(rs.scene));
         auto cpu = render::analyze_overdraw(m);
         EXPECT_EQ(counts.samples_passed, cpu.shaded) << (m.depth_test ? "optimized" : "overpaint");
         EXPECT_EQ(counts.draw_calls, std::int64_t(m.draws.size()));
@@ -110,7 +112,7 @@ TEST(GlRender, FillRuleMatchesTheCpuAnalyzerOnAwkwardTriangles) {
         for (std::uint32_t i = 0; i + 2 < 300; i += 3) d.indices.insert(d.indices.end(), {i, i + 1, i + 2});
         m.draws.push_back(d);
         render::FrameCounts counts;
-        draw(*r, m, &counts);
+        draw(*r, m, &counts, element_maps(rs.scene));
         EXPECT_EQ(counts.samples_passed, render::analyze_overdraw(m).shaded) << "grid 1/" << grid;
     }
 }
@@ -133,7 +135,7 @@ TEST(GlRender, BlendModesWriteWhatSceneHSays) {
     rs.add(img, {1, 0, 0, 1, 2, 0}, Blend::multiply);
     rs.add(img, {1, 0, 0, 1, 3, 0}, Blend::opaque);
     r->set_images(rs.views(), Filter::nearest);
-    Image f = draw(*r, overpaint_meshes(rs.scene));
+    Image f = draw(*r, overpaint_meshes(rs.scene, 0, true), nullptr, element_maps(rs.scene));
     auto px = [&](int x, int c) { return int(f.rgba[std::size_t(x) * 4 + std::size_t(c)]); };
     const double a = 128 / 255.0;
     EXPECT_NEAR(px(0, 0), 200 * a + 100 * (1 - a), 1);                // alpha
@@ -147,11 +149,13 @@ TEST(GlRender, MeshesOnlyAndReconstructionDrawLikeOverpaint) {
     REQUIRE_GL(r);
     auto rs = test::mixed_scene();
     r->set_images(rs.views(), Filter::nearest);
-    Image over = draw(*r, overpaint_meshes(rs.scene));
+    Image over = draw(*r, overpaint_meshes(rs.scene, 0, true), nullptr, element_maps(rs.scene));
 
     SceneMeshes meshes;
-    ASSERT_EQ(rectangle_meshes(rs.scene, {}, &meshes), ReconstructStatus::ok);
-    auto d1 = render::compare_images(over.view(), draw(*r, meshes).view());
+    ReconstructOptions spanned;
+    spanned.element_spans = true;
+    ASSERT_EQ(rectangle_meshes(rs.scene, spanned, &meshes), ReconstructStatus::ok);
+    auto d1 = render::compare_images(over.view(), draw(*r, meshes, nullptr, element_maps(rs.scene)).view());
     EXPECT_EQ(d1.pixels_differ, 0) << "meshes only, max channel difference " << d1.max_channel_diff;
 
     // The real paper 2.3 output over the real per-image analysis.
@@ -163,8 +167,8 @@ TEST(GlRender, MeshesOnlyAndReconstructionDrawLikeOverpaint) {
         per_element.push_back(&analyses.back());
     }
     SceneMeshes optimized;
-    ASSERT_EQ(reconstruct_scene(rs.scene, per_element, {}, &optimized), ReconstructStatus::ok);
-    auto d2 = render::compare_images(over.view(), draw(*r, optimized).view());
+    ASSERT_EQ(reconstruct_scene(rs.scene, per_element, spanned, &optimized), ReconstructStatus::ok);
+    auto d2 = render::compare_images(over.view(), draw(*r, optimized, nullptr, element_maps(rs.scene)).view());
     EXPECT_EQ(d2.pixels_differ, 0) << "reconstruct_scene, max channel difference " << d2.max_channel_diff;
 }
 
@@ -178,10 +182,10 @@ TEST(GlRender, MeshSlotsDrawWhatSetMeshesDraws) {
     REQUIRE_GL(r);
     auto rs = test::mixed_scene();
     r->set_images(rs.views(), Filter::nearest);
-    const SceneMeshes over = overpaint_meshes(rs.scene), opt = test::hand_optimized(rs);
-    const Image over_frame = draw(*r, over), opt_frame = draw(*r, opt);
-    r->set_meshes(over);
-    const int slot = r->add_meshes(opt);
+    const SceneMeshes over = overpaint_meshes(rs.scene, 0, true), opt = test::hand_optimized(rs);
+    const Image over_frame = draw(*r, over, nullptr, element_maps(rs.scene)), opt_frame = draw(*r, opt, nullptr, element_maps(rs.scene));
+    r->set_meshes(over, element_maps(rs.scene));
+    const int slot = r->add_meshes(opt, element_maps(rs.scene));
     for (int round = 0; round < 2; ++round) {
         r->select_meshes(0);
         r->draw();
@@ -241,11 +245,11 @@ TEST(GlRender, EglPlatformsDrawTheSameFrame) {
             continue;
         }
         r->set_images(rs.views(), Filter::nearest);
-        frames.push_back(draw(*r, overpaint_meshes(rs.scene)));
+        frames.push_back(draw(*r, overpaint_meshes(rs.scene, 0, true), nullptr, element_maps(rs.scene)));
     }
     // The shared renderer still works after other contexts came and went.
     shared->set_images(rs.views(), Filter::nearest);
-    const Image reference = draw(*shared, overpaint_meshes(rs.scene));
+    const Image reference = draw(*shared, overpaint_meshes(rs.scene, 0, true), nullptr, element_maps(rs.scene));
     for (const Image& f : frames) EXPECT_EQ(f.rgba, reference.rgba);
 }
 

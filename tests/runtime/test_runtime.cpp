@@ -79,14 +79,11 @@ TEST_P(Runtime, AFrameWithDynamicElementsAllocatesNothing) {
     SceneMeshes static_meshes;
     ASSERT_EQ(reconstruct_scene(p.scene, p.element_analysis, options, &static_meshes), ReconstructStatus::ok);
     ASSERT_EQ(h->renderer->set_meshes(static_meshes), runtime::Status::ok);
-    // Only the dynamic draws: add_dynamic_elements over the static meshes
-    // without their draws.
-    SceneMeshes no_draws = static_meshes;
-    no_draws.draws.clear();
+    // add_dynamic_elements gives only the dynamic draws.
     std::vector<Element> moving(p.scene.elements.end() - 8, p.scene.elements.end());
     std::vector<const ImageAnalysis*> analyses(p.element_analysis.end() - 8, p.element_analysis.end());
     SceneMeshes dynamic;
-    ASSERT_EQ(add_dynamic_elements(no_draws, p.scene, moving, analyses, &dynamic), ReconstructStatus::ok);
+    ASSERT_EQ(add_dynamic_elements(static_meshes, p.scene, moving, analyses, &dynamic), ReconstructStatus::ok);
     ASSERT_FALSE(dynamic.draws.empty());
     std::size_t vertices = 0, indices = 0;
     for (const Draw& d : dynamic.draws) vertices += d.vertex_count(), indices += d.indices.size();

@@ -151,14 +151,15 @@ TEST(ElementGraph, ChainLinksTheElementsTheSortSeesDirectly) {
     b.add(solid, o, 4, 0, Blend::opaque);
     ReconstructOptions opt;
     opt.graph_pair_budget = 0;
+    opt.element_spans = true;
     SceneMeshes m;
     ASSERT_EQ(reconstruct_scene(b.scene, b.analyses, opt, &m), ReconstructStatus::ok);
     EXPECT_LE(m.stats.graph_edges, 2 * 6);
     std::vector<std::uint32_t> blend_order; // elements of the blend draws, in drawing order
     for (const Draw& d : m.draws)
         if (d.pass == Pass::blend)
-            for (std::uint32_t e : d.vertex_elements)
-                if (blend_order.empty() || blend_order.back() != e) blend_order.push_back(e);
+            for (const ElementSpan& span : d.element_spans)
+                if (blend_order.empty() || blend_order.back() != span.element) blend_order.push_back(span.element);
     EXPECT_EQ(blend_order, (std::vector<std::uint32_t>{0, 2, 4}));
 }
 

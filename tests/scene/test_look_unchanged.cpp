@@ -231,28 +231,37 @@ TEST(LookUnchanged, DynamicElementsDrawOnTop) {
         SceneMeshes base, frame;
         ASSERT_EQ(reconstruct_scene(stat.scene, stat.element_analysis, o, &base), ReconstructStatus::ok);
         ASSERT_EQ(add_dynamic_elements(base, stat.scene, moving, moving_analysis, &frame), ReconstructStatus::ok);
-        expect_same_frame(render(overpaint_meshes(r.scene), r.images), render(frame, r.images), seed, "dynamic");
+        expect_same_frame(render(overpaint_meshes(r.scene), r.images), render(compose_frame(base, frame), r.images), seed, "dynamic");
     }
 }
 
-// Every vertex names the element map it samples through, and that map
-// takes the vertex's screen position to its u, v: ids stay right however
-// elements merge into draws, in every kind of output, skirts included.
-void expect_consistent_maps(const SceneMeshes& m, const std::vector<Image>& images, const char* what) {
+// Every vertex lies in a span naming the element map it samples through,
+// and that map takes the vertex's screen position to its u, v: ids stay
+// right however elements merge into draws, in every kind of output, skirts
+// included.
+void expect_consistent_maps(const SceneMeshes& m, const std::vector<TexelMap>& maps, const std::vector<Image>& images,
+                            const char* what) {
     for (const Draw& d : m.draws) {
-        ASSERT_EQ(d.vertex_elements.size(), d.vertex_count()) << what;
+        ASSERT_FALSE(d.element_spans.empty()) << what;
+        ASSERT_EQ(d.element_spans[0].first_vertex, 0u) << what;
+        std::vector<std::uint32_t> vertex_elements(d.vertex_count());
+        for (std::size_t k = 0; k < d.element_spans.size(); ++k) {
+            const std::size_t end = k + 1 < d.element_spans.size() ? d.element_spans[k + 1].first_vertex : d.vertex_count();
+            ASSERT_LE(d.element_spans[k].first_vertex, end) << what;
+            for (std::size_t v = d.element_spans[k].first_vertex; v < end; ++v) vertex_elements[v] = d.element_spans[k].element;
+        }
         const Image& img = images[std::size_t(d.image)];
         for (std::size_t i = 0; i < d.vertex_count(); ++i) {
-            const std::uint32_t id = d.vertex_elements[i];
-            ASSERT_LT(id, m.element_maps.size()) << what;
-            const TexelMap& t = m.element_maps[id];
+            const std::uint32_t id = vertex_elements[i];
+            ASSERT_LT(id, maps.size()) << what;
+            const TexelMap& t = maps[id];
             const float* v = &d.vertices[i * kVertexFloats];
             EXPECT_NEAR(t.u0 + t.ux * v[0] + t.uy * v[1], double(v[3]) * img.width, 1e-3) << what << ", vertex " << i;
             EXPECT_NEAR(t.v0 + t.vx * v[0] + t.vy * v[1], double(v[4]) * img.height, 1e-3) << what << ", vertex " << i;
         }
         for (std::size_t t = 0; t + 3 <= d.indices.size(); t += 3) {
-            EXPECT_EQ(d.vertex_elements[d.indices[t]], d.vertex_elements[d.indices[t + 1]]) << what;
-            EXPECT_EQ(d.vertex_elements[d.indices[t]], d.vertex_elements[d.indices[t + 2]]) << what;
+            EXPECT_EQ(vertex_elements[d.indices[t]], vertex_elements[d.indices[t + 1]]) << what;
+            EXPECT_EQ(vertex_elements[d.indices[t]], vertex_elements[d.indices[t + 2]]) << what;
         }
     }
 }
@@ -260,18 +269,23 @@ void expect_consistent_maps(const SceneMeshes& m, const std::vector<Image>& imag
 TEST(LookUnchanged, EveryVertexNamesItsElementMap) {
     for (std::uint64_t seed = 200; seed < 210; ++seed) {
         RandomScene r = random_scene(seed, 30);
-        ASSERT_EQ(overpaint_meshes(r.scene).element_maps.size(), r.scene.elements.size());
-        expect_consistent_maps(overpaint_meshes(r.scene), r.images, "overpaint");
-        expect_consistent_maps(overpaint_meshes(r.scene, 1.0 / 64), r.images, "overpaint with skirts");
+        const std::vector<TexelMap> maps = element_maps(r.scene);
+        ASSERT_EQ(maps.size(), r.scene.elements.size());
+        expect_consistent_maps(overpaint_meshes(r.scene, 0, true), maps, r.images, "overpaint");
+        expect_consistent_maps(overpaint_meshes(r.scene, 1.0 / 64, true), maps, r.images, "overpaint with skirts");
+        for (const Draw& d : overpaint_meshes(r.scene).draws) EXPECT_TRUE(d.element_spans.empty()) << "not asked for";
         for (double margin : {0.0, 1.0 / 64}) {
             ReconstructOptions o;
             o.coverage_margin = margin;
+            o.element_spans = true;
             SceneMeshes m;
             ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m), ReconstructStatus::ok);
-            EXPECT_EQ(m.element_maps.size(), r.scene.elements.size());
-            expect_consistent_maps(m, r.images, "reconstruct_scene");
+            expect_consistent_maps(m, maps, r.images, "reconstruct_scene");
             ASSERT_EQ(rectangle_meshes(r.scene, o, &m), ReconstructStatus::ok);
-            expect_consistent_maps(m, r.images, "rectangle_meshes");
+            expect_consistent_maps(m, maps, r.images, "rectangle_meshes");
+            o.element_spans = false;
+            ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m), ReconstructStatus::ok);
+            for (const Draw& d : m.draws) EXPECT_TRUE(d.element_spans.empty()) << "not asked for";
         }
         // Dynamic elements' maps follow the static ones.
         RandomScene stat = r;
@@ -281,11 +295,11 @@ TEST(LookUnchanged, EveryVertexNamesItsElementMap) {
         std::vector<const ImageAnalysis*> moving_analysis(r.element_analysis.begin() + 22, r.element_analysis.end());
         ReconstructOptions o;
         o.reserved_dynamic_levels = 8;
+        o.element_spans = true;
         SceneMeshes base, frame;
         ASSERT_EQ(reconstruct_scene(stat.scene, stat.element_analysis, o, &base), ReconstructStatus::ok);
-        ASSERT_EQ(add_dynamic_elements(base, stat.scene, moving, moving_analysis, &frame), ReconstructStatus::ok);
-        ASSERT_EQ(frame.element_maps.size(), r.scene.elements.size());
-        expect_consistent_maps(frame, r.images, "dynamic");
+        ASSERT_EQ(add_dynamic_elements(base, stat.scene, moving, moving_analysis, &frame, true), ReconstructStatus::ok);
+        expect_consistent_maps(compose_frame(base, frame), maps, r.images, "dynamic");
     }
 }
 

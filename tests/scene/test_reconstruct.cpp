@@ -229,11 +229,15 @@ TEST(DynamicElements, TakeLevelsAboveTheStaticSceneInDrawingOrder) {
     moving[1].image = c;
     std::vector<const ImageAnalysis*> an{b.full(a), b.full(c), b.full(a)};
     ASSERT_EQ(add_dynamic_elements(base, b.scene, moving, an, &frame), ReconstructStatus::ok);
-    // Static: 1 opaque + 1 blend draw; dynamic: a | c | a in the blend pass.
-    ASSERT_EQ(frame.draws.size(), base.draws.size() + 3);
+    // Only the dynamic draws, a | c | a in the blend pass; the static ones
+    // (1 opaque + 1 blend) are not copied.
+    EXPECT_EQ(base.depth_denominator, d);
+    ASSERT_EQ(frame.draws.size(), 3u);
     EXPECT_EQ(frame.stats.depth_levels, 5);
+    EXPECT_EQ(frame.stats.draw_calls, 3);
     EXPECT_EQ(frame.draws.back().vertices[2], depth_z(4, false, d));
-    EXPECT_EQ(frame.draws[frame.draws.size() - 3].vertices[2], depth_z(2, false, d));
+    EXPECT_EQ(frame.draws[0].vertices[2], depth_z(2, false, d));
+    EXPECT_EQ(compose_frame(base, frame).draws.size(), base.draws.size() + 3);
     // Beyond what the depth mapping has room for.
     std::vector<Element> crowd(300, b.scene.elements[0]);
     std::vector<const ImageAnalysis*> crowd_an(300, b.full(a));
