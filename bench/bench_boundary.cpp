@@ -68,14 +68,13 @@ void BM_Ours(benchmark::State& state, Filter filter, bool split) {
     const auto& sprites = corpus();
     if (sprites.empty()) return state.SkipWithError("pingus-data corpus missing: run scripts/fetch-corpus");
     BoundaryOptions o;
-    o.filter = filter;
     o.split_parts = split;
     Totals t;
     for (auto _ : state) {
         t = {};
         const auto start = std::chrono::steady_clock::now();
         for (const Sprite& s : sprites) {
-            auto polys = generate_boundary_polygons(s.image.view(), s.image.view().bounds(), o);
+            auto polys = generate_boundary_polygons(s.image.view(), s.image.view().bounds(), o, filter);
             t.area += total_area(polys);
             t.texels += double(s.texels);
             t.polygons += double(polys.size());
@@ -86,7 +85,7 @@ void BM_Ours(benchmark::State& state, Filter filter, bool split) {
     for (const Sprite& s : sprites) // the guarantee, checked exactly; outside the timed loop
         t.uncontained += double(count_uncontained_texels(
             s.image.view(), s.image.view().bounds(),
-            generate_boundary_polygons(s.image.view(), s.image.view().bounds(), o), filter));
+            generate_boundary_polygons(s.image.view(), s.image.view().bounds(), o, filter), filter));
     report(state, t, sprites.size());
 }
 

@@ -107,7 +107,7 @@ void run_set(benchmark::State& state, const std::vector<const Image*>& images, O
             for (int run = 0; run < kRuns && (run < 2 || spent < 0.010); ++run) {
                 stats = {};
                 const double start = thread_seconds();
-                polygons = generate_opaque_polygons(image->view(), image->view().bounds(), options, &stats);
+                polygons = generate_opaque_polygons(image->view(), image->view().bounds(), options, Filter::nearest, &stats);
                 const double t = thread_seconds() - start;
                 best = std::min(best, t), spent += t;
             }

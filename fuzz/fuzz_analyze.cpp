@@ -11,7 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // First byte picks options, the rest is the PNG.
     depthcull::AnalyzeOptions options;
     options.boundary.max_vertices = 3 + data[0] % 14;
-    options.boundary.filter = (data[0] & 0x80) ? depthcull::Filter::linear : depthcull::Filter::nearest;
+    options.filter = (data[0] & 0x80) ? depthcull::Filter::linear : depthcull::Filter::nearest;
     options.opaque.method = (data[0] & 0x40) ? depthcull::OpaqueMethod::paper : (data[0] & 0x80) ? depthcull::OpaqueMethod::grow : depthcull::OpaqueMethod::fast;
     depthcull::Image image;
     try {
@@ -24,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     depthcull::ImageAnalysis a = depthcull::analyze_image(image.view(), rect, options);
     for (const auto& p : a.boundary)
         if (int(p.size()) > options.boundary.max_vertices || !depthcull::is_simple(p)) std::abort();
-    if (depthcull::count_uncontained_texels(image.view(), rect, a.boundary, options.boundary.filter) != 0) std::abort();
-    if (depthcull::count_opaque_violations(image.view(), rect, a.opaque, options.boundary.filter) != 0) std::abort();
+    if (depthcull::count_uncontained_texels(image.view(), rect, a.boundary, options.filter) != 0) std::abort();
+    if (depthcull::count_opaque_violations(image.view(), rect, a.opaque, options.filter) != 0) std::abort();
     return 0;
 }

@@ -44,8 +44,8 @@ void write_output(const std::string& path, const std::string& text);
 // --filter, --opaque, --max-opaque, --min-coverage, --min-opaque-area,
 // --no-split.
 void add_analysis_options(CLI::App& command, AnalyzeOptions& options);
-// Only the boundary-polygon ones: --max-vertices, --filter, --no-split.
-void add_boundary_options(CLI::App& command, BoundaryOptions& options);
+// Only the boundary-polygon ones: --max-vertices, --filter (into `filter`), --no-split.
+void add_boundary_options(CLI::App& command, BoundaryOptions& options, Filter& filter);
 
 // The element order and overlap test shared by optimize, render and bench:
 // --graph, --sort.

@@ -140,8 +140,8 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
         io::write_file_atomic(preview_base + ".svg", preview.svg);
     }
     if (args.check) {
-        r.uncontained = count_uncontained_texels(image.view(), rect, r.analysis.boundary, args.options.boundary.filter);
-        r.violations = count_opaque_violations(image.view(), rect, r.analysis.opaque, args.options.boundary.filter);
+        r.uncontained = count_uncontained_texels(image.view(), rect, r.analysis.boundary, args.options.filter);
+        r.violations = count_opaque_violations(image.view(), rect, r.analysis.opaque, args.options.filter);
     }
     return r;
 }
@@ -244,7 +244,7 @@ void run_analyze(const AnalyzeArgs& args) {
                 boundary_polygons += std::int64_t(r.analysis.boundary.size());
                 opaque_polygons += std::int64_t(r.analysis.opaque.size());
             }
-            const bool linear = args.options.boundary.filter == Filter::linear;
+            const bool linear = args.options.filter == Filter::linear;
             std::fprintf(stderr,
                          "depthcull: check passed: %zu images: all %" PRId64 " non-transparent texels%s lie inside the %" PRId64
                          " boundary polygons, and the %" PRId64 " opaque polygons touch no texel that is not fully opaque%s\n",
@@ -271,7 +271,6 @@ void run_analyze(const AnalyzeArgs& args) {
 }
 
 void set_cache(AnalyzeArgs& args) {
-    args.options.opaque.filter = args.options.boundary.filter; // as optimize: same key, same entries
     if (args.no_cache) args.cache_dir.clear();
     else if (args.cache_dir.empty()) args.cache_dir = io::default_cache_dir();
 }

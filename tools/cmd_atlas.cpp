@@ -68,7 +68,6 @@ void run_atlas(AtlasArgs& args) {
     check_distinct_files({args.input, io::load_texturepacker(args.input).image_path}, {args.output});
     io::AtlasPolygonOptions options;
     options.analyze = args.analyze;
-    options.analyze.opaque.filter = options.analyze.boundary.filter; // as optimize: same key, same entries
     if (!args.no_cache) options.cache_dir = args.cache_dir.empty() ? io::default_cache_dir() : args.cache_dir;
     options.threads = args.threads;
     io::AtlasPolygonStats stats;

@@ -79,8 +79,9 @@ std::string figures(const io::PreparedScene& p, const SceneStats& o, const Scene
 
 void run_optimize(OptimizeArgs& args) {
     io::PrepareOptions prepare = args.prepare;
-    prepare.analyze.opaque.filter = prepare.analyze.boundary.filter;
-    prepare.filter_from_scene = args.filter_option->count() == 0;
+    if (args.filter_option->count()) prepare.filter_override = prepare.analyze.filter;
+    // No opaque pass: skip the opaque search rather than compute and drop it.
+    if (!args.opaque) prepare.analyze.opaque.max_polygons = 0;
     if (!args.no_cache) prepare.cache_dir = args.cache_dir.empty() ? io::default_cache_dir() : args.cache_dir;
     check_distinct_files({args.scene}, {args.output, args.binary});
     io::PreparedScene prepared;

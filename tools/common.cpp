@@ -48,18 +48,18 @@ std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene
     return inputs;
 }
 
-void add_boundary_options(CLI::App& cmd, BoundaryOptions& o) {
+void add_boundary_options(CLI::App& cmd, BoundaryOptions& o, Filter& filter) {
     cmd.add_option("--max-vertices", o.max_vertices, "Most vertices per boundary polygon (paper: MAX_BOUNDARY_VERTICES)")
         ->check(CLI::Range(kMinBoundaryVertices, 1000))
         ->capture_default_str();
-    cmd.add_option("--filter", o.filter, "Texture filtering the polygons must be correct for")
+    cmd.add_option("--filter", filter, "Texture filtering the polygons must be correct for (given: it wins over a scene's own)")
         ->transform(choice<Filter>({{"nearest", Filter::nearest}, {"linear", Filter::linear}}))
         ->default_str("nearest");
     cmd.add_flag("!--no-split", o.split_parts, "One boundary polygon per image, even for disjoint parts");
 }
 
 void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
-    add_boundary_options(cmd, o.boundary);
+    add_boundary_options(cmd, o.boundary, o.filter);
     cmd.add_option("--opaque", o.opaque.method, "Opaque polygon algorithm: fast (default: grown convex polygons, never below the paper), grow (the growth alone, "
                    "fastest) or paper (paper 2.2, the reference)")
         ->transform(choice<OpaqueMethod>({

@@ -30,13 +30,9 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
 
 io::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& in) {
     io::PrepareOptions prepare = in.prepare;
-    prepare.analyze.opaque.filter = prepare.analyze.boundary.filter;
-    prepare.filter_from_scene = !in.filter_option || in.filter_option->count() == 0;
+    if (in.filter_option && in.filter_option->count()) prepare.filter_override = prepare.analyze.filter;
     if (!in.no_cache) prepare.cache_dir = in.cache_dir.empty() ? io::default_cache_dir() : in.cache_dir;
-    io::PreparedScene prepared = io::prepare_scene(scene, prepare);
-    // --filter given: draw with the filtering the polygons were made for.
-    if (!prepare.filter_from_scene) prepared.scene.filter = prepare.analyze.boundary.filter;
-    return prepared;
+    return io::prepare_scene(scene, prepare);
 }
 
 ReconstructOptions reconstruct_options(const RenderInput& in) {
@@ -96,7 +92,7 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
         {"shader", shader},
         {"frames", std::to_string(frames) + " timed (median), " + std::to_string(warmup) + " warm-up, glFinish each"},
         {"LP_NUM_THREADS", lp ? lp : "(unset)"},
-        {"filter", in.filter_option && in.filter_option->count() ? (a.boundary.filter == Filter::linear ? "linear" : "nearest")
+        {"filter", in.filter_option && in.filter_option->count() ? (a.filter == Filter::linear ? "linear" : "nearest")
                                                                  : "the scene's"},
         {"max vertices", std::to_string(a.boundary.max_vertices)},
         {"split disjoint parts", a.boundary.split_parts ? "yes" : "no"},

@@ -31,7 +31,6 @@ inline constexpr int kAnalysisVersion = 3;
 // Paper 2.1. MAX_BOUNDARY_VERTICES = 10.
 struct BoundaryOptions {
     int max_vertices = 10;        // per polygon; values below kMinBoundaryVertices act as it
-    Filter filter = Filter::nearest;
     bool split_parts = true;      // beyond the paper (section 4, caveat 1)
 };
 
@@ -53,12 +52,15 @@ struct OpaqueOptions {
     // the half-texel push). The growth also asks min_area / 2 of each vertex
     // it adds. docs/opaque.md relates it to the cost of a polygon.
     int min_area = 64;
-    Filter filter = Filter::nearest;
 };
 
 struct AnalyzeOptions {
     BoundaryOptions boundary;
     OpaqueOptions opaque;
+    // The one home of the texture filter an analysis is made for: both
+    // stages get it. In a scene pipeline it is the scene's (Scene::filter,
+    // which a command line's --filter overrides: io::PrepareOptions).
+    Filter filter = Filter::nearest;
 };
 
 // The analyzer's figures for one image (or sub-rectangle). Best cases:
@@ -94,7 +96,8 @@ struct ImageAnalysis {
 // non-transparent texel square (grown by half a texel with Filter::linear)
 // lies inside one of the returned polygons; each polygon is simple and has
 // at most options.max_vertices vertices.
-std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, const BoundaryOptions& options);
+std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, const BoundaryOptions& options,
+                                                Filter filter = Filter::nearest);
 
 // Most vertices of an opaque polygon (the paper's are quads; ours grow up
 // to this many, 6 triangles).
@@ -104,7 +107,8 @@ inline constexpr int kMaxOpaqueVertices = 8;
 // clockwise, at most kMaxOpaqueVertices vertices, and no polygon overlaps with positive area or touches with an
 // edge any non-opaque texel square (kept half a texel away with
 // Filter::linear).
-std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options);
+std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options,
+                                              Filter filter = Filter::nearest);
 
 // How hard the opaque search worked (beyond the paper; for benchmarks and
 // diagnostics). The paper's search is exponential in the branching of the
@@ -123,7 +127,7 @@ inline constexpr std::int64_t kPaperOpaqueWorkBudget = std::int64_t(4) << 30;
 inline constexpr std::int64_t kFastOpaqueWorkBudget = std::int64_t(1) << 26;
 
 // generate_opaque_polygons that also reports the search effort.
-std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options,
+std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options, Filter filter,
                                               OpaqueSearchStats* stats);
 
 // Both stages plus the stats.

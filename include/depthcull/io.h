@@ -8,6 +8,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -153,10 +154,12 @@ struct PrepareOptions {
     AnalyzeOptions analyze;
     std::string cache_dir;   // empty: no cache
     unsigned threads = 0;    // 0: all cores; output never depends on it
-    // Analyze for the scene's own Filter (Scene::filter); false keeps
-    // analyze.boundary.filter / analyze.opaque.filter as given (a CLI
-    // --filter override).
-    bool filter_from_scene = true;
+    // The texture filter, and who wins: this override when set (a command
+    // line's --filter), else the scene's own (Scene::filter). prepare_scene
+    // writes the winner into PreparedScene::scene.filter, analyzes for it
+    // (analyze.filter is not read) and reconstruction then reads it there:
+    // one value from file to meshes.
+    std::optional<Filter> filter_override;
     // Called after each distinct (image, rect) is analyzed or read from the
     // cache, from worker threads (the callee synchronizes): progress bars.
     std::function<void(std::size_t done, std::size_t total)> progress;

@@ -163,6 +163,10 @@ struct SceneStats {
 struct SceneMeshes {
     Viewport viewport;
     bool depth_test = false;  // false for overpaint and meshes-only output
+    // The texture filter the meshes are correct for (Scene::filter, which
+    // the analysis was made for): their guarantee holds only when drawn
+    // with it, so the mesh files carry it.
+    Filter filter = Filter::nearest;
     std::vector<Draw> draws;  // in the order to draw them
     SceneStats stats;
     // D of depth_z: the z values are (2k+1)/D and (2k+2)/D. 0 when the

@@ -42,10 +42,8 @@ ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& op
     result.rect = rect;
     if (rect.empty() || !image.contains(rect)) return result;
 
-    result.boundary = generate_boundary_polygons(image, rect, options.boundary);
-    OpaqueOptions opaque = options.opaque;
-    opaque.filter = options.boundary.filter; // one sampling mode per analysis
-    result.opaque = generate_opaque_polygons(image, rect, opaque);
+    result.boundary = generate_boundary_polygons(image, rect, options.boundary, options.filter);
+    result.opaque = generate_opaque_polygons(image, rect, options.opaque, options.filter);
 
     TexelCounts counts = count_texels(image, rect);
     ImageStats& s = result.stats;

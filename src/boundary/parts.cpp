@@ -148,11 +148,11 @@ IPolygon fit(const CellGrid& grid, const Bounds& bounds, int max_vertices) {
 
 } // namespace boundary
 
-std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, const BoundaryOptions& options) {
+std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, const BoundaryOptions& options, Filter filter) {
     using namespace boundary;
     using boundary::is_simple;
     if (rect.empty() || !image.contains(rect)) return {};
-    const CellGrid grid = make_cell_grid(image, rect, options.filter);
+    const CellGrid grid = make_cell_grid(image, rect, filter);
     if (grid.empty()) return {};
     // Four is the least budget that always fits: content in all four
     // corners of its rect leaves no containing triangle inside the rect.
@@ -161,7 +161,7 @@ std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, cons
 
     std::vector<IPolygon> result{fit(grid, whole, max_vertices)};
     if (options.split_parts) {
-        const std::int64_t scale2 = std::int64_t(grid_scale(options.filter)) * grid_scale(options.filter);
+        const std::int64_t scale2 = std::int64_t(grid_scale(filter)) * grid_scale(filter);
         std::vector<Part> parts = find_parts(grid, kMinPartTexels * scale2);
         if (parts.size() > 1) {
             std::vector<IPolygon> split;
@@ -176,7 +176,7 @@ std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, cons
         }
     }
 
-    const double scale = grid_scale(options.filter);
+    const double scale = grid_scale(filter);
     std::vector<Polygon> out;
     for (const IPolygon& p : result) {
         Polygon q;

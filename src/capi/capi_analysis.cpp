@@ -67,7 +67,7 @@ void dc_analyze_options_default(dc_analyze_options* options) {
     if (!options) return;
     const AnalyzeOptions d;
     options->max_boundary_vertices = d.boundary.max_vertices;
-    options->filter = d.boundary.filter == Filter::linear ? DC_FILTER_LINEAR : DC_FILTER_NEAREST;
+    options->filter = d.filter == Filter::linear ? DC_FILTER_LINEAR : DC_FILTER_NEAREST;
     options->split_parts = d.boundary.split_parts;
     options->opaque_method = d.opaque.method == OpaqueMethod::paper ? DC_OPAQUE_PAPER : d.opaque.method == OpaqueMethod::grow ? DC_OPAQUE_GROW : DC_OPAQUE_FAST;
     options->max_opaque_polygons = d.opaque.max_polygons;
@@ -94,13 +94,12 @@ AnalyzeOptions to_options(const dc_analyze_options& o) {
     AnalyzeOptions a;
     const Filter filter = o.filter == DC_FILTER_LINEAR ? Filter::linear : Filter::nearest;
     a.boundary.max_vertices = o.max_boundary_vertices;
-    a.boundary.filter = filter;
+    a.filter = filter;
     a.boundary.split_parts = o.split_parts != 0;
     a.opaque.method = o.opaque_method == DC_OPAQUE_PAPER ? OpaqueMethod::paper : o.opaque_method == DC_OPAQUE_GROW ? OpaqueMethod::grow : OpaqueMethod::fast;
     a.opaque.max_polygons = o.max_opaque_polygons;
     a.opaque.min_coverage = o.min_opaque_coverage;
     a.opaque.min_area = o.min_opaque_area;
-    a.opaque.filter = filter;
     return a;
 }
 

@@ -34,9 +34,10 @@ std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneM
     o.bytes.append("DCMESH\0\0", 8);
     o.put(std::uint32_t(1)); // format version
     // Bit 1: image entries carry a colour key (set only when one has one,
-    // so files without keys stay as version 1 wrote them).
+    // so files without keys stay as version 1 wrote them). Bit 2: made for
+    // linear filtering (clear: nearest, as version 1 files were).
     const bool keys = std::any_of(images.begin(), images.end(), [](const SceneImage& img) { return img.has_trans; });
-    o.put(std::uint32_t((meshes.depth_test ? 1 : 0) | (keys ? 2 : 0)));
+    o.put(std::uint32_t((meshes.depth_test ? 1 : 0) | (keys ? 2 : 0) | (meshes.filter == Filter::linear ? 4 : 0)));
     o.put(meshes.viewport.x);
     o.put(meshes.viewport.y);
     o.put(std::int32_t(meshes.viewport.width));

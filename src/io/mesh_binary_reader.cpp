@@ -76,9 +76,11 @@ void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std:
     const auto version = in.get<std::uint32_t>("the header");
     if (version != 1) in.fail(8, "format version " + std::to_string(version) + " is not supported (expected 1)");
     const auto flags = in.get<std::uint32_t>("the header");
-    if (flags & ~3u) in.fail(12, "unknown flags " + std::to_string(flags) + " (bit 0 depth_test and bit 1 colour keys are defined)");
+    if (flags & ~7u)
+        in.fail(12, "unknown flags " + std::to_string(flags) + " (bit 0 depth_test, bit 1 colour keys and bit 2 linear filtering are defined)");
     SceneMeshes& m = out.meshes;
     m.depth_test = flags & 1;
+    m.filter = flags & 4 ? Filter::linear : Filter::nearest;
     *colour_keys = flags & 2;
     m.viewport.x = in.finite_double("viewport x");
     m.viewport.y = in.finite_double("viewport y");

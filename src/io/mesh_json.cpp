@@ -51,6 +51,8 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
     append_int(s, meshes.viewport.height);
     s += "},\n \"depth_test\": ";
     s += meshes.depth_test ? "true" : "false";
+    s += ",\n \"filter\": ";
+    s += meshes.filter == Filter::linear ? "\"linear\"" : "\"nearest\"";
     s += ",\n \"images\": [";
     for (std::size_t i = 0; i < images.size(); ++i) {
         const SceneImage& img = images[i];

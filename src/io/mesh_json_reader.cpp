@@ -182,6 +182,11 @@ LoadedMeshes parse_meshes_json(std::string_view text, const std::string& name, c
     const json& depth_test = field(ctx, doc, "", "depth_test");
     if (!depth_test.is_boolean()) ctx.fail("depth_test", "must be true or false");
     out.meshes.depth_test = depth_test.get<bool>();
+    if (doc.contains("filter")) { // absent in files written before it was: nearest
+        const json& filter = doc["filter"];
+        if (filter != "nearest" && filter != "linear") ctx.fail("filter", "must be \"nearest\" or \"linear\"");
+        out.meshes.filter = filter == "linear" ? Filter::linear : Filter::nearest;
+    }
 
     const json& images = array(ctx, field(ctx, doc, "", "images"), "images", kMaxMeshImages);
     std::map<std::string, int> ids; // a draw names the first entry with its id

@@ -73,11 +73,9 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     out.scene = load_scene(path, options.load);
     Scene& scene = out.scene;
 
+    if (options.filter_override) scene.filter = *options.filter_override;
     AnalyzeOptions analyze = options.analyze;
-    if (options.filter_from_scene) {
-        analyze.boundary.filter = scene.filter;
-        analyze.opaque.filter = scene.filter;
-    }
+    analyze.filter = scene.filter;
 
     // Decode each (file, colour key) once; image entries naming the same
     // file with the same key share it.

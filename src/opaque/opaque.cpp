@@ -8,13 +8,13 @@
 
 namespace depthcull {
 
-std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options,
+std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options, Filter filter,
                                               OpaqueSearchStats* stats) {
     using namespace opaque_detail;
     std::vector<Polygon> result;
     if (stats) *stats = {};
     if (rect.empty() || !image.contains(rect) || options.max_polygons <= 0) return result;
-    Mask safe = safe_mask(image, rect, options.filter);
+    Mask safe = safe_mask(image, rect, filter);
     SearchCounters counters;
     std::vector<HalfPolygon> polygons;
     switch (options.method) {
@@ -27,8 +27,8 @@ std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const 
     return result;
 }
 
-std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options) {
-    return generate_opaque_polygons(image, rect, options, nullptr);
+std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options, Filter filter) {
+    return generate_opaque_polygons(image, rect, options, filter, nullptr);
 }
 
 } // namespace depthcull

@@ -45,6 +45,7 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
     SceneMeshes out;
     out.viewport = static_meshes.viewport;
     out.depth_test = static_meshes.depth_test;
+    out.filter = static_meshes.filter;
     out.depth_denominator = denominator;
     // Dynamic elements follow the static ones in element spans, so the
     // static draws' spans stay valid as they are.

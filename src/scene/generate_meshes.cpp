@@ -196,6 +196,7 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = options.opaque_polygons;
+    result.filter = scene.filter;
     MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin, options.element_spans);
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);
@@ -258,6 +259,7 @@ ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions&
     SceneMeshes result;
     result.viewport = scene.viewport;
     result.depth_test = false;
+    result.filter = scene.filter;
     MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin, options.element_spans);
     std::vector<const ImageAnalysis*> none(n, nullptr);
     append_blend_draws(scene, plan.order, nullptr, plan.shapes.boundary, none, plan.keys, 0, builder, result.draws);

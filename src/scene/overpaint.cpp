@@ -12,6 +12,7 @@ SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin, bool el
     SceneMeshes out;
     out.viewport = scene.viewport;
     out.depth_test = false;
+    out.filter = scene.filter;
     out.draws.reserve(scene.elements.size());
     for (const Element& e : scene.elements) {
         const SceneImage& img = scene.images[std::size_t(e.image)];

@@ -52,7 +52,7 @@ bool polygons_disjoint(const Polygon& a, const Polygon& b) {
 } // namespace
 
 std::string boundary_guarantee_failure(ImageView image, Rect rect, const std::vector<Polygon>& polygons,
-                                       const BoundaryOptions& options) {
+                                       const FilteredBoundary& options) {
     const int max_vertices = std::max(4, options.max_vertices);
     for (std::size_t k = 0; k < polygons.size(); ++k) {
         const Polygon& p = polygons[k];

@@ -31,9 +31,9 @@ void check_corpus(Filter filter, std::size_t stride) {
             continue; // the io stage's tests cover unreadable files
         }
         if (std::int64_t(img.width) * img.height > kMaxTexels) continue;
-        BoundaryOptions o;
+        test::FilteredBoundary o;
         o.filter = filter;
-        auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+        auto polys = test::boundary_polygons(img.view(), img.view().bounds(), o);
         std::string failure = test::boundary_guarantee_failure(img.view(), img.view().bounds(), polys, o);
         ASSERT_EQ(failure, "") << path;
         boundary += total_area(polys);

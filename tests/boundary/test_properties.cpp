@@ -36,8 +36,8 @@ Image transpose(const Image& in) {
     return out;
 }
 
-BoundaryOptions gen_options() {
-    BoundaryOptions o;
+test::FilteredBoundary gen_options() {
+    test::FilteredBoundary o;
     o.max_vertices = *rc::gen::inRange(4, 17);
     o.filter = *rc::gen::element(Filter::nearest, Filter::linear);
     o.split_parts = *rc::gen::arbitrary<bool>();
@@ -75,8 +75,8 @@ int islands(const Image& img) {
 
 RC_GTEST_PROP(BoundaryProperties, GuaranteesHoldOnWholeImages, ()) {
     Image img = *test::gen_shape(40);
-    BoundaryOptions o = gen_options();
-    auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+    test::FilteredBoundary o = gen_options();
+    auto polys = test::boundary_polygons(img.view(), img.view().bounds(), o);
     RC_ASSERT(test::boundary_guarantee_failure(img.view(), img.view().bounds(), polys, o) == "");
 }
 
@@ -85,8 +85,8 @@ RC_GTEST_PROP(BoundaryProperties, GuaranteesHoldOnSubRects, ()) {
     int x = *rc::gen::inRange(0, img.width), y = *rc::gen::inRange(0, img.height);
     int w = *rc::gen::inRange(1, img.width - x + 1), h = *rc::gen::inRange(1, img.height - y + 1);
     Rect r{x, y, w, h};
-    BoundaryOptions o = gen_options();
-    auto polys = generate_boundary_polygons(img.view(), r, o);
+    test::FilteredBoundary o = gen_options();
+    auto polys = test::boundary_polygons(img.view(), r, o);
     RC_ASSERT(test::boundary_guarantee_failure(img.view(), r, polys, o) == "");
 }
 
@@ -94,19 +94,19 @@ RC_GTEST_PROP(BoundaryProperties, BudgetsBelowFourActAsFour, ()) {
     // A budget of 3 cannot always be met inside the rect (content in all
     // four corners), so kMinBoundaryVertices is 4 and smaller budgets act as it.
     Image img = *test::gen_shape(24);
-    BoundaryOptions o;
+    test::FilteredBoundary o;
     o.max_vertices = 3;
-    auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+    auto polys = test::boundary_polygons(img.view(), img.view().bounds(), o);
     RC_ASSERT(test::boundary_guarantee_failure(img.view(), img.view().bounds(), polys, o) == "");
     for (const auto& p : polys) RC_ASSERT(p.size() <= 4u);
 }
 
 RC_GTEST_PROP(BoundaryProperties, MirrorAndTransposeKeepGuaranteesAndArea, ()) {
     Image img = *test::gen_shape(32);
-    BoundaryOptions o = gen_options();
-    double base = total_area(generate_boundary_polygons(img.view(), img.view().bounds(), o));
+    test::FilteredBoundary o = gen_options();
+    double base = total_area(test::boundary_polygons(img.view(), img.view().bounds(), o));
     for (const Image& t : {mirror_x(img), transpose(img)}) {
-        auto polys = generate_boundary_polygons(t.view(), t.view().bounds(), o);
+        auto polys = test::boundary_polygons(t.view(), t.view().bounds(), o);
         RC_ASSERT(test::boundary_guarantee_failure(t.view(), t.view().bounds(), polys, o) == "");
         // The search is greedy and direction-dependent, so the areas differ,
         // but a mirrored sprite must not fit much worse than the original.
@@ -131,13 +131,13 @@ RC_GTEST_PROP(BoundaryProperties, DuplicatedSpriteSplitsIntoTwoCopies, ()) {
                 two.rgba[(std::size_t(y) * two.width + x) * 4 + c] = v;
                 two.rgba[(std::size_t(y) * two.width + x + one.width + 3) * 4 + c] = v;
             }
-    BoundaryOptions o;
-    double single = total_area(generate_boundary_polygons(one.view(), one.view().bounds(), o));
-    auto polys = generate_boundary_polygons(two.view(), two.view().bounds(), o);
+    test::FilteredBoundary o;
+    double single = total_area(test::boundary_polygons(one.view(), one.view().bounds(), o));
+    auto polys = test::boundary_polygons(two.view(), two.view().bounds(), o);
     RC_ASSERT(test::boundary_guarantee_failure(two.view(), two.view().bounds(), polys, o) == "");
-    BoundaryOptions no_split = o;
+    test::FilteredBoundary no_split = o;
     no_split.split_parts = false;
-    double unsplit = total_area(generate_boundary_polygons(two.view(), two.view().bounds(), no_split));
+    double unsplit = total_area(test::boundary_polygons(two.view(), two.view().bounds(), no_split));
     RC_ASSERT(total_area(polys) <= unsplit);
     // Specks (islands under 16 texels) join their nearest part, possibly
     // across the gap; with one island per copy a split that saves over 5%

@@ -8,22 +8,22 @@ using depthcull::test::ascii_image;
 
 TEST(Boundary, FullyTransparentGivesNoPolygon) {
     Image img = ascii_image({"...", "...", "..."});
-    EXPECT_TRUE(generate_boundary_polygons(img.view(), img.view().bounds(), {}).empty());
-    BoundaryOptions linear;
+    EXPECT_TRUE(test::boundary_polygons(img.view(), img.view().bounds(), {}).empty());
+    test::FilteredBoundary linear;
     linear.filter = Filter::linear;
-    EXPECT_TRUE(generate_boundary_polygons(img.view(), img.view().bounds(), linear).empty());
-    EXPECT_TRUE(generate_boundary_polygons(img.view(), Rect{1, 1, 0, 0}, {}).empty());
+    EXPECT_TRUE(test::boundary_polygons(img.view(), img.view().bounds(), linear).empty());
+    EXPECT_TRUE(test::boundary_polygons(img.view(), Rect{1, 1, 0, 0}, {}).empty());
 }
 
 TEST(Boundary, OnePixelImage) {
     Image img = ascii_image({"#"});
-    auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), {});
+    auto polys = test::boundary_polygons(img.view(), img.view().bounds(), {});
     ASSERT_EQ(polys.size(), 1u);
     EXPECT_EQ(polys[0], (Polygon{{0, 0}, {1, 0}, {1, 1}, {0, 1}}));
     // Linear: the grown square clipped to the 1x1 rect is the same square.
-    BoundaryOptions linear;
+    test::FilteredBoundary linear;
     linear.filter = Filter::linear;
-    polys = generate_boundary_polygons(img.view(), img.view().bounds(), linear);
+    polys = test::boundary_polygons(img.view(), img.view().bounds(), linear);
     ASSERT_EQ(polys.size(), 1u);
     EXPECT_EQ(area(polys[0]), 1.0);
     test::expect_boundary_guarantees(img.view(), img.view().bounds(), polys, linear);
@@ -31,12 +31,12 @@ TEST(Boundary, OnePixelImage) {
 
 TEST(Boundary, OnePixelInsideLargerImage) {
     Image img = ascii_image({".....", ".....", "..+..", ".....", "....."});
-    auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), {});
+    auto polys = test::boundary_polygons(img.view(), img.view().bounds(), {});
     ASSERT_EQ(polys.size(), 1u);
     EXPECT_EQ(polys[0], (Polygon{{2, 2}, {3, 2}, {3, 3}, {2, 3}}));
-    BoundaryOptions linear;
+    test::FilteredBoundary linear;
     linear.filter = Filter::linear;
-    polys = generate_boundary_polygons(img.view(), img.view().bounds(), linear);
+    polys = test::boundary_polygons(img.view(), img.view().bounds(), linear);
     ASSERT_EQ(polys.size(), 1u);
     EXPECT_EQ(polys[0], (Polygon{{1.5, 1.5}, {3.5, 1.5}, {3.5, 3.5}, {1.5, 3.5}}));
 }
@@ -50,7 +50,7 @@ TEST(Boundary, PaperLShapeFitsExactly) {
         "######",
         "######",
     });
-    auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), {});
+    auto polys = test::boundary_polygons(img.view(), img.view().bounds(), {});
     ASSERT_EQ(polys.size(), 1u);
     EXPECT_EQ(area(polys[0]), 18.0); // the texel count: a perfect fit
     EXPECT_EQ(polys[0].size(), 6u);
@@ -68,7 +68,7 @@ TEST(Boundary, DiagonalStaircase) {
         "#######.",
         "########",
     });
-    auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), {});
+    auto polys = test::boundary_polygons(img.view(), img.view().bounds(), {});
     ASSERT_EQ(polys.size(), 1u);
     // The staircase's outer hull is the triangle (0,0) (8,7)... cut to the
     // grid: a triangle plus the stair tips, far below the box's 64.
@@ -88,9 +88,9 @@ TEST(Boundary, ContentTouchingEveryEdgeStaysInRect) {
         "...##...",
     });
     for (Filter f : {Filter::nearest, Filter::linear}) {
-        BoundaryOptions o;
+        test::FilteredBoundary o;
         o.filter = f;
-        auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+        auto polys = test::boundary_polygons(img.view(), img.view().bounds(), o);
         ASSERT_EQ(polys.size(), 1u);
         test::expect_boundary_guarantees(img.view(), img.view().bounds(), polys, o);
         EXPECT_LT(area(polys[0]), 56.0 * 0.85); // corners cut off the 8x7 rect
@@ -107,7 +107,7 @@ TEST(Boundary, CircleIsFittedTightly) {
     Image img = ascii_image(rows);
     std::int64_t texels = 0;
     for (auto& r : rows) texels += std::count(r.begin(), r.end(), '#');
-    auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), {});
+    auto polys = test::boundary_polygons(img.view(), img.view().bounds(), {});
     ASSERT_EQ(polys.size(), 1u);
     EXPECT_LE(polys[0].size(), 10u);
     test::expect_boundary_guarantees(img.view(), img.view().bounds(), polys, {});
@@ -127,9 +127,9 @@ TEST(Boundary, RingKeepsItsHoleInside) {
     }
     Image img = ascii_image(rows);
     for (Filter f : {Filter::nearest, Filter::linear}) {
-        BoundaryOptions o;
+        test::FilteredBoundary o;
         o.filter = f;
-        auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+        auto polys = test::boundary_polygons(img.view(), img.view().bounds(), o);
         ASSERT_EQ(polys.size(), 1u); // one island: a simple polygon cannot exclude the hole
         test::expect_boundary_guarantees(img.view(), img.view().bounds(), polys, o);
     }
@@ -148,13 +148,13 @@ TEST(Boundary, TwoIslandsGetTwoPolygons) {
     }
     Image img = ascii_image(rows);
     for (Filter f : {Filter::nearest, Filter::linear}) {
-        BoundaryOptions o;
+        test::FilteredBoundary o;
         o.filter = f;
-        auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+        auto polys = test::boundary_polygons(img.view(), img.view().bounds(), o);
         ASSERT_EQ(polys.size(), 2u);
         test::expect_boundary_guarantees(img.view(), img.view().bounds(), polys, o);
         o.split_parts = false;
-        auto one = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+        auto one = test::boundary_polygons(img.view(), img.view().bounds(), o);
         ASSERT_EQ(one.size(), 1u);
         test::expect_boundary_guarantees(img.view(), img.view().bounds(), one, o);
         EXPECT_LT(total_area(polys), 0.7 * total_area(one));
@@ -170,12 +170,12 @@ TEST(Boundary, SubRectUsesFullImageCoordinates) {
         "########",
     });
     Rect r{2, 1, 4, 3};
-    auto polys = generate_boundary_polygons(img.view(), r, {});
+    auto polys = test::boundary_polygons(img.view(), r, {});
     ASSERT_EQ(polys.size(), 1u);
     EXPECT_EQ(polys[0], (Polygon{{3, 2}, {4, 2}, {4, 3}, {3, 3}}));
-    BoundaryOptions linear;
+    test::FilteredBoundary linear;
     linear.filter = Filter::linear;
-    polys = generate_boundary_polygons(img.view(), r, linear);
+    polys = test::boundary_polygons(img.view(), r, linear);
     test::expect_boundary_guarantees(img.view(), r, polys, linear);
     EXPECT_EQ(polys[0], (Polygon{{2.5, 1.5}, {4.5, 1.5}, {4.5, 3.5}, {2.5, 3.5}}));
 }
@@ -190,9 +190,9 @@ TEST(Boundary, MaxVerticesIsRespected) {
     Image img = ascii_image(rows);
     double previous = 1e9;
     for (int m : {4, 5, 6, 8, 10, 16}) {
-        BoundaryOptions o;
+        test::FilteredBoundary o;
         o.max_vertices = m;
-        auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+        auto polys = test::boundary_polygons(img.view(), img.view().bounds(), o);
         ASSERT_EQ(polys.size(), 1u);
         EXPECT_LE(int(polys[0].size()), m);
         test::expect_boundary_guarantees(img.view(), img.view().bounds(), polys, o);
@@ -211,9 +211,9 @@ TEST(Boundary, ManyIslandsGiveFewPolygons) {
                 for (int x = 0; x < 4; ++x) rows[std::size_t(gy * 10 + 3 + y)][std::size_t(gx * 10 + 3 + x)] = '#';
     Image img = ascii_image(rows);
     for (Filter f : {Filter::nearest, Filter::linear}) {
-        BoundaryOptions o;
+        test::FilteredBoundary o;
         o.filter = f;
-        auto polys = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+        auto polys = test::boundary_polygons(img.view(), img.view().bounds(), o);
         EXPECT_GE(polys.size(), 1u);
         EXPECT_LE(polys.size(), 4u);
         test::expect_boundary_guarantees(img.view(), img.view().bounds(), polys, o);
@@ -222,8 +222,8 @@ TEST(Boundary, ManyIslandsGiveFewPolygons) {
 
 TEST(Boundary, DeterministicOutput) {
     Image img = ascii_image({"..##....#", ".####..##", "######.##", ".####....", "..#......"});
-    BoundaryOptions o;
-    auto a = generate_boundary_polygons(img.view(), img.view().bounds(), o);
-    auto b = generate_boundary_polygons(img.view(), img.view().bounds(), o);
+    test::FilteredBoundary o;
+    auto a = test::boundary_polygons(img.view(), img.view().bounds(), o);
+    auto b = test::boundary_polygons(img.view(), img.view().bounds(), o);
     EXPECT_EQ(a, b);
 }

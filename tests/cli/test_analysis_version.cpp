@@ -44,7 +44,7 @@ TEST(AnalysisVersion, GoldenDigestOfTheExampleArt) {
         for (Filter filter : {Filter::nearest, Filter::linear})
             for (OpaqueMethod method : {OpaqueMethod::fast, OpaqueMethod::paper, OpaqueMethod::grow}) {
                 AnalyzeOptions o;
-                o.boundary.filter = filter;
+                o.filter = filter;
                 o.opaque.method = method;
                 ImageAnalysis a = analyze_image(img.view(), img.view().bounds(), o);
                 h = digest_polygons(digest_polygons(h, a.boundary), a.opaque);

@@ -28,7 +28,7 @@ TEST(Cache, KeyDependsOnTexelsSizeAndOptionsNotPosition) {
     EXPECT_NE(a.hex(), analysis_key(img.view(), {0, 1, 2, 2}, o).hex()); // different texels
     EXPECT_NE(a.hex(), analysis_key(img.view(), {0, 0, 2, 1}, o).hex()); // different size
     AnalyzeOptions linear = o;
-    linear.boundary.filter = Filter::linear;
+    linear.filter = Filter::linear;
     EXPECT_NE(a.hex(), analysis_key(img.view(), {0, 0, 2, 2}, linear).hex());
     AnalyzeOptions fewer = o;
     fewer.boundary.max_vertices = 8;

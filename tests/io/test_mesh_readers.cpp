@@ -41,6 +41,8 @@ void expect_same_meshes(const SceneMeshes& a, const SceneMeshes& b) {
     EXPECT_EQ(a.viewport.width, b.viewport.width);
     EXPECT_EQ(a.viewport.height, b.viewport.height);
     EXPECT_EQ(a.depth_test, b.depth_test);
+    EXPECT_EQ(a.filter, b.filter);
+    EXPECT_EQ(a.depth_denominator, b.depth_denominator);
     ASSERT_EQ(a.draws.size(), b.draws.size());
     for (std::size_t i = 0; i < a.draws.size(); ++i) {
         EXPECT_EQ(a.draws[i].image, b.draws[i].image) << i;
@@ -122,6 +124,30 @@ TEST(MeshReaders, FromMemoryKeepsPathsAsWritten) {
 
 // A colour key (Tiled's trans) is part of the image: both forms carry it,
 // and files without keys are what they were before keys existed.
+// The filter the meshes are made for travels in both forms: JSON "filter",
+// binary flags bit 2 (clear for nearest, so those files are as before).
+TEST(MeshReaders, FilterRoundTripsInBothForms) {
+    SceneDir dir("mesh_read_filter");
+    Optimized o = optimized_scene(dir);
+    EXPECT_EQ(o.meshes.filter, Filter::nearest);
+    std::uint32_t flags = 0;
+    std::memcpy(&flags, io::meshes_to_binary(o.prepared.scene, o.meshes, "").data() + 12, 4);
+    EXPECT_EQ(flags & 4u, 0u);
+    EXPECT_NE(io::meshes_to_json(o.prepared.scene, o.meshes, "").find("\"filter\": \"nearest\""), std::string::npos);
+    o.meshes.filter = Filter::linear;
+    const std::string text = io::meshes_to_json(o.prepared.scene, o.meshes, "");
+    EXPECT_NE(text.find("\"filter\": \"linear\""), std::string::npos);
+    expect_same_meshes(o.meshes, io::meshes_from_json(text, "memory").meshes);
+    const std::string bytes = io::meshes_to_binary(o.prepared.scene, o.meshes, "");
+    std::memcpy(&flags, bytes.data() + 12, 4);
+    EXPECT_EQ(flags & 4u, 4u);
+    expect_same_meshes(o.meshes, io::meshes_from_binary(bytes, "memory").meshes);
+    // Files written before the field: nearest.
+    std::string old = text;
+    old.erase(old.find(",\n \"filter\": \"linear\""), std::string(",\n \"filter\": \"linear\"").size());
+    EXPECT_EQ(io::meshes_from_json(old, "memory").meshes.filter, Filter::nearest);
+}
+
 TEST(MeshReaders, ColourKeysRoundTripInBothForms) {
     SceneDir dir("mesh_read_keys");
     Optimized o = optimized_scene(dir);
@@ -204,6 +230,7 @@ TEST(MeshReaders, JsonErrorsNameThePath) {
         {replaced(s, "\"image\": \"a\"", "\"image\": \"b\""), "m.json: draws[0].image: unknown image id \"b\""},
         {replaced(s, "\"width\": 4", "\"width\": 99999"), "m.json: images[0].width: must be an integer in 0..16384"},
         {replaced(s, "\"depth_test\": true", "\"depth_test\": 1"), "m.json: depth_test: must be true or false"},
+        {replaced(s, "\"depth_test\": true", "\"depth_test\": true, \"filter\": \"cubic\""), "m.json: filter: must be \"nearest\" or \"linear\""},
         {replaced(s, "\"viewport\"", "\"view\""), "m.json: top level: missing \"viewport\""},
         {replaced(s, "\"seconds\": 0", "\"seconds\": -1"), "m.json: stats.seconds: must not be negative"},
         {replaced(s, "\"triangles\": 1", "\"triangles\": 1.5"), "m.json: stats.triangles: must be an integer"},
@@ -242,7 +269,7 @@ TEST(MeshReaders, BinaryErrorsNameTheByte) {
     const std::pair<std::string, std::string> cases[] = {
         {"DCMESH", "m.bin: byte 0: not a depthcull binary meshes file"},
         {patched(b, 8, std::uint32_t(2)), "m.bin: byte 8: format version 2 is not supported"},
-        {patched(b, 12, std::uint32_t(5)), "m.bin: byte 12: unknown flags 5"},
+        {patched(b, 12, std::uint32_t(9)), "m.bin: byte 12: unknown flags 9"},
         {patched(b, 16, std::numeric_limits<double>::quiet_NaN()), "m.bin: byte 16: viewport x is not a finite number"},
         {patched(b, counts, std::uint32_t(1 << 16)), "m.bin: byte 40: 65536 images and 1 draws do not fit in the"},
         {patched(b, counts, std::uint32_t(1 << 20)), "m.bin: byte 40: more than 65536 images"},

@@ -39,7 +39,7 @@ TEST(OpaqueCorpus, FastCoversAtLeastThePaperOnPingus) {
         OpaqueOptions o;
         o.method = OpaqueMethod::paper;
         OpaqueSearchStats paper_stats;
-        auto paper = generate_opaque_polygons(image.view(), all, o, &paper_stats);
+        auto paper = generate_opaque_polygons(image.view(), all, o, Filter::nearest, &paper_stats);
         o.method = OpaqueMethod::fast;
         auto fast = generate_opaque_polygons(image.view(), all, o);
         std::int64_t p = count_covered_opaque_texels(image.view(), all, paper);
@@ -80,9 +80,7 @@ TEST(OpaqueCorpus, LinearFilterGuaranteeOnPingus) {
             continue;
         }
         if (std::int64_t(image.width) * image.height > 256 * 256) continue;
-        OpaqueOptions o;
-        o.filter = Filter::linear;
-        auto fast = generate_opaque_polygons(image.view(), image.view().bounds(), o);
+        auto fast = generate_opaque_polygons(image.view(), image.view().bounds(), {}, Filter::linear);
         EXPECT_EQ(count_opaque_violations(image.view(), image.view().bounds(), fast, Filter::linear), 0) << files[i];
         ++checked;
     }

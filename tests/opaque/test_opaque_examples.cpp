@@ -30,8 +30,7 @@ Result run(const std::vector<std::string>& art, OpaqueMethod method, int min_are
     OpaqueOptions o;
     o.method = method;
     o.min_area = min_area;
-    o.filter = filter;
-    auto polygons = generate_opaque_polygons(image.view(), image.view().bounds(), o);
+    auto polygons = generate_opaque_polygons(image.view(), image.view().bounds(), o, filter);
     return {str(polygons), count_covered_opaque_texels(image.view(), image.view().bounds(), polygons),
             count_opaque_violations(image.view(), image.view().bounds(), polygons, filter)};
 }

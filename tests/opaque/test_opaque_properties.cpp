@@ -15,8 +15,13 @@
 namespace depthcull {
 namespace {
 
-void check_guarantee(const Image& image, Rect rect, const OpaqueOptions& o) {
-    auto polygons = generate_opaque_polygons(image.view(), rect, o);
+// Options and the filter they are searched for (AnalyzeOptions::filter).
+struct FilteredOptions : OpaqueOptions {
+    Filter filter = Filter::nearest;
+};
+
+void check_guarantee(const Image& image, Rect rect, const FilteredOptions& o) {
+    auto polygons = generate_opaque_polygons(image.view(), rect, o, o.filter);
     RC_ASSERT(int(polygons.size()) <= std::max(0, o.max_polygons));
     RC_TAG(polygons.empty() ? "no polygon" : "polygons");
     RC_ASSERT(count_opaque_violations(image.view(), rect, polygons, o.filter) == 0);
@@ -33,8 +38,8 @@ void check_guarantee(const Image& image, Rect rect, const OpaqueOptions& o) {
     }
 }
 
-OpaqueOptions options(OpaqueMethod method, Filter filter, int min_area, int max_polygons) {
-    OpaqueOptions o;
+FilteredOptions options(OpaqueMethod method, Filter filter, int min_area, int max_polygons) {
+    FilteredOptions o;
     o.method = method;
     o.filter = filter;
     o.min_area = min_area;

@@ -85,7 +85,7 @@ void check(unsigned seed, Filter filter) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     auto rs = random_scene(seed, filter);
     AnalyzeOptions analyze;
-    analyze.boundary.filter = analyze.opaque.filter = filter;
+    analyze.filter = filter;
     std::vector<ImageAnalysis> analyses;
     analyses.reserve(rs.scene.elements.size());
     std::vector<const ImageAnalysis*> per_element;
