@@ -16,6 +16,15 @@ struct Vec2 {
     friend bool operator==(const Vec2&, const Vec2&) = default;
 };
 
+// Exact integer division rounding toward minus / plus infinity (d != 0):
+// the grid arithmetic of both analysis stages (one definition for both).
+inline std::int64_t floor_div(std::int64_t n, std::int64_t d) {
+    if (d < 0) n = -n, d = -d;
+    const std::int64_t q = n / d;
+    return (n % d != 0 && n < 0) ? q - 1 : q;
+}
+inline std::int64_t ceil_div(std::int64_t n, std::int64_t d) { return -floor_div(-n, d); }
+
 inline Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
 inline Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
 inline Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }

@@ -32,8 +32,6 @@ inline Pt operator+(Pt a, Pt b) { return {a.x + b.x, a.y + b.y}; }
 // of a directed edge a -> b of a clockwise polygon).
 inline std::int64_t orient(Pt a, Pt b, Pt c) { return cross(b - a, c - a); }
 
-std::int64_t floor_div(std::int64_t n, std::int64_t d); // d != 0
-std::int64_t ceil_div(std::int64_t n, std::int64_t d);
 
 // Twice the signed area; positive for clockwise (y down).
 std::int64_t twice_area(const IPolygon& p);

@@ -12,13 +12,6 @@
 
 namespace depthcull::boundary {
 
-std::int64_t floor_div(std::int64_t n, std::int64_t d) {
-    if (d < 0) n = -n, d = -d;
-    std::int64_t q = n / d;
-    return (n % d != 0 && n < 0) ? q - 1 : q;
-}
-
-std::int64_t ceil_div(std::int64_t n, std::int64_t d) { return -floor_div(-n, d); }
 
 CellGrid::CellGrid(int width, int height, std::vector<std::vector<Run>> rows) : width_(width), height_(height) {
     row_start_.reserve(std::size_t(height) + 1);

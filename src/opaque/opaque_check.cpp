@@ -137,8 +137,8 @@ std::int64_t count_opaque_violations(ImageView image, Rect rect, const std::vect
             y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
         }
         // Every texel within half a texel of the polygon's box.
-        const i64 tx0 = opaque_detail::floor_div(x0, kScale) - 1, tx1 = opaque_detail::ceil_div(x1, kScale);
-        const i64 ty0 = opaque_detail::floor_div(y0, kScale) - 1, ty1 = opaque_detail::ceil_div(y1, kScale);
+        const i64 tx0 = floor_div(x0, kScale) - 1, tx1 = ceil_div(x1, kScale);
+        const i64 ty0 = floor_div(y0, kScale) - 1, ty1 = ceil_div(y1, kScale);
         for (i64 y = ty0; y <= ty1; ++y)
             for (i64 x = tx0; x <= tx1; ++x) {
                 if (opaque_in_rect(image, rect, int(x), int(y))) continue;

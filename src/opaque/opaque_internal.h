@@ -16,12 +16,6 @@ namespace depthcull::opaque_detail {
 
 using i64 = std::int64_t;
 
-inline i64 floor_div(i64 n, i64 d) { // d > 0
-    return n >= 0 ? n / d : -((-n + d - 1) / d);
-}
-inline i64 ceil_div(i64 n, i64 d) { // d > 0
-    return -floor_div(-n, d);
-}
 
 // floor((a j + b) / m) for j = 0, 1, 2, ... without a division per step
 // (m > 0): the sides of a quad, row by row.

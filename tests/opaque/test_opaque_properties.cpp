@@ -142,7 +142,7 @@ TEST(OpaqueArithmetic, FloorSumMatchesTheLoop) {
     for (int k = 0; k < 2000; ++k) {
         std::int64_t n = rng() % 60, m = 1 + rng() % 40, a = std::int64_t(rng() % 200) - 100,
                      b = std::int64_t(rng() % 200) - 100, sum = 0;
-        for (std::int64_t i = 0; i < n; ++i) sum += opaque_detail::floor_div(a * i + b, m);
+        for (std::int64_t i = 0; i < n; ++i) sum += floor_div(a * i + b, m);
         ASSERT_EQ(opaque_detail::floor_sum(n, m, a, b), sum) << n << " " << m << " " << a << " " << b;
     }
 }
