@@ -13,6 +13,7 @@
 #include <filesystem>
 
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "depthcull/scene.h"
 
 using namespace depthcull;
@@ -23,15 +24,15 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        io::PrepareOptions prepare;
-        io::PreparedScene p = io::prepare_scene(argv[1], prepare);
+        pipeline::PrepareOptions prepare;
+        pipeline::PreparedScene p = pipeline::prepare_scene(argv[1], prepare);
         if (p.scene.elements.empty()) throw io::Error(std::string(argv[1]) + ": scene has no elements");
 
         // Static part: reconstructed once, with room for 256 moving sprites.
         ReconstructOptions options;
         options.reserved_dynamic_levels = 256;
         SceneMeshes static_meshes;
-        if (reconstruct_scene(p.scene, p.element_analysis, options, &static_meshes) != ReconstructStatus::ok)
+        if (reconstruct_scene(p.scene, p.analysis, options, &static_meshes) != ReconstructStatus::ok)
             throw io::Error(std::string(argv[1]) + ": reconstruction failed");
         std::printf("static: %" PRId64 " elements, %" PRId64 " draw calls, %" PRId64 " depth levels\n",
                     static_meshes.stats.elements, static_meshes.stats.draw_calls, static_meshes.stats.depth_levels);
@@ -51,7 +52,7 @@ int main(int argc, char** argv) {
                 double angle = 0.4 * frame + 6.2831853 * double(k) / double(sprites);
                 e.transform = {1, 0, 0, 1, cx + 150 * std::cos(angle), cy + 100 * std::sin(angle)};
                 moving.push_back(e);
-                analyses.push_back(p.element_analysis[source]);
+                analyses.push_back(p.analysis.of(source));
             }
             SceneMeshes meshes;
             if (add_dynamic_elements(static_meshes, p.scene, moving, analyses, &meshes) != ReconstructStatus::ok)

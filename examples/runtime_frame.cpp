@@ -19,6 +19,7 @@
 #include <cstring>
 
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "depthcull/runtime.h"
 #include "depthcull/scene.h"
 
@@ -93,12 +94,12 @@ int main(int argc, char** argv) {
         // ---- Asset build side (usually `depthcull optimize` at build time):
         // the scene, its images, their analysis, the static meshes with
         // room for 64 moving sprites in front.
-        io::PreparedScene p = io::prepare_scene(argv[1], {});
+        pipeline::PreparedScene p = pipeline::prepare_scene(argv[1], {});
         const Viewport& view = p.scene.viewport;
         ReconstructOptions options;
         options.reserved_dynamic_levels = 64;
         SceneMeshes static_meshes;
-        if (reconstruct_scene(p.scene, p.element_analysis, options, &static_meshes) != ReconstructStatus::ok)
+        if (reconstruct_scene(p.scene, p.analysis, options, &static_meshes) != ReconstructStatus::ok)
             throw io::Error(std::string(argv[1]) + ": reconstruction failed");
 
         // ---- Engine start-up: context, then the runtime renderer.
@@ -150,7 +151,7 @@ int main(int argc, char** argv) {
                 const double angle = 0.4 * frame + 6.2831853 * double(k) / double(sprites);
                 e.transform = {1, 0, 0, 1, view.x + view.width / 2.0 + 120 * std::cos(angle), view.y + view.height / 2.0 + 80 * std::sin(angle)};
                 moving.push_back(e);
-                analyses.push_back(p.element_analysis[source]);
+                analyses.push_back(p.analysis.of(source));
             }
             if (add_dynamic_elements(static_meshes, p.scene, moving, analyses, &dynamic) != ReconstructStatus::ok)
                 throw io::Error("more moving sprites than reserved depth levels");

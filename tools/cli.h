@@ -13,6 +13,7 @@
 
 #include "depthcull/analyze.h"
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "depthcull/scene.h"
 
 namespace depthcull::cli {
@@ -78,6 +79,15 @@ CLI::Validator finite_number();
 void check_distinct_files(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
 // A scene's files: the scene and its images.
 std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene);
+
+// The analysis cache, one rule for every command: --cache DIR and
+// --no-cache, and the directory they select ("" for none).
+struct CacheChoice {
+    std::string dir;
+    bool off = false;
+    std::string directory() const; // "" when off, else dir or pipeline::default_cache_dir()
+};
+void add_cache_options(CLI::App& command, CacheChoice& cache);
 
 // --viewport x,y,w,h: the camera rectangle in world units (for Tiled maps
 // and scenes alike); sets options.has_viewport.

@@ -13,6 +13,7 @@
 
 #include "cli.h"
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "depthcull/report.h"
 #include "progress.h"
 
@@ -38,8 +39,8 @@ struct AnalyzeArgs {
     bool timing = true;
     unsigned threads = 0;
     std::string preview_dir;
-    std::string cache_dir;
-    bool no_cache = false;
+    CacheChoice cache;
+    std::string cache_dir; // resolved from `cache`
     bool quiet = false;
 };
 
@@ -131,7 +132,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
     Result r;
     r.width = image.width;
     r.height = image.height;
-    r.analysis = io::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit);
+    r.analysis = pipeline::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit);
     if (!preview_base.empty()) {
         report::PreviewOptions options;
         options.title = fs::path(in.path).filename().string();
@@ -223,7 +224,7 @@ void run_analyze(const AnalyzeArgs& args) {
     std::vector<Result> results(inputs.size());
     {
         Progress progress("analyze", "images", inputs.size(), args.quiet);
-        io::parallel_for(inputs.size(), args.threads, [&](std::size_t i) {
+        pipeline::parallel_for(inputs.size(), args.threads, [&](std::size_t i) {
             results[i] = analyze_input(inputs[i], args, previews[i]);
             progress.add();
         });
@@ -271,8 +272,7 @@ void run_analyze(const AnalyzeArgs& args) {
 }
 
 void set_cache(AnalyzeArgs& args) {
-    if (args.no_cache) args.cache_dir.clear();
-    else if (args.cache_dir.empty()) args.cache_dir = io::default_cache_dir();
+    args.cache_dir = args.cache.directory();
 }
 
 } // namespace
@@ -291,8 +291,7 @@ void add_analyze_command(CLI::App& app) {
                     "Write a PNG and an SVG per image here: texels magnified on a checkerboard, boundary and opaque polygons, "
                     "triangles, figures")
         ->type_name("DIR");
-    cmd->add_option("--cache", args->cache_dir, "Analysis cache directory, shared with optimize (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
-    cmd->add_flag("--no-cache", args->no_cache, "Analyze every image, read and write no cache");
+    add_cache_options(*cmd, args->cache);
     add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] {
         set_cache(*args);

@@ -21,8 +21,7 @@ struct AtlasArgs {
     std::string output;
     AnalyzeOptions analyze;
     std::string preview_dir;
-    std::string cache_dir;
-    bool no_cache = false;
+    CacheChoice cache;
     bool quiet = false;
     unsigned threads = 0;
 };
@@ -35,7 +34,7 @@ std::string safe_name(std::string name) {
 
 // The page with every frame's polygons, and one preview per frame in
 // DIR/frames/ (frame names made file-safe, numbered to stay distinct).
-void write_previews(const AtlasArgs& args, const io::AtlasAnalysis& a, bool quiet) {
+void write_previews(const AtlasArgs& args, const pipeline::AtlasAnalysis& a, bool quiet) {
     std::error_code ec;
     const fs::path dir(args.preview_dir), frames_dir = dir / "frames";
     fs::create_directories(frames_dir, ec);
@@ -51,7 +50,7 @@ void write_previews(const AtlasArgs& args, const io::AtlasAnalysis& a, bool quie
     io::save_png(page_base + ".png", page.png.view());
     io::write_file_atomic(page_base + ".svg", page.svg);
     Progress progress("atlas", "previews", a.frames.size(), quiet);
-    io::parallel_for(a.frames.size(), args.threads, [&](std::size_t i) {
+    pipeline::parallel_for(a.frames.size(), args.threads, [&](std::size_t i) {
         report::PreviewOptions options;
         options.title = a.atlas.frames[i].name;
         char number[16];
@@ -66,17 +65,17 @@ void write_previews(const AtlasArgs& args, const io::AtlasAnalysis& a, bool quie
 
 void run_atlas(AtlasArgs& args) {
     check_distinct_files({args.input, io::load_texturepacker(args.input).image_path}, {args.output});
-    io::AtlasPolygonOptions options;
+    pipeline::AtlasPolygonOptions options;
     options.analyze = args.analyze;
-    if (!args.no_cache) options.cache_dir = args.cache_dir.empty() ? io::default_cache_dir() : args.cache_dir;
+    options.cache_dir = args.cache.directory();
     options.threads = args.threads;
     io::AtlasPolygonStats stats;
-    io::AtlasAnalysis analysis;
+    pipeline::AtlasAnalysis analysis;
     std::string text;
     {
         Progress progress("atlas", "frames", 0, args.quiet);
         options.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
-        text = io::atlas_with_polygons(args.input, options, &stats, &analysis);
+        text = pipeline::atlas_with_polygons(args.input, options, &stats, &analysis);
     }
     write_output(args.output, text);
     if (!args.preview_dir.empty()) write_previews(args, analysis, args.quiet);
@@ -103,8 +102,7 @@ void add_atlas_command(CLI::App& app) {
     cmd->add_option("--preview", args->preview_dir,
                     "Write PNG and SVG previews here: the page with every frame's polygons, and each frame in frames/")
         ->type_name("DIR");
-    cmd->add_option("--cache", args->cache_dir, "Analysis cache directory, shared with optimize (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
-    cmd->add_flag("--no-cache", args->no_cache, "Analyze every frame, read and write no cache");
+    add_cache_options(*cmd, args->cache);
     cmd->add_option("-j,--threads", args->threads, "Worker threads (0: all cores); output never depends on it")->capture_default_str();
     add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] { run_atlas(*args); });

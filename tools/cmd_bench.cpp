@@ -207,7 +207,7 @@ void run_bench(BenchArgs& args) {
     Progress progress(command, "scenes", args.scenes.size(), args.quiet);
     for (const std::string& path : args.scenes) {
         progress.stage(path + ": analyzing");
-        io::PreparedScene prepared = prepare_for_render(path, args.input);
+        pipeline::PreparedScene prepared = prepare_for_render(path, args.input);
         check_frame_fits(path, prepared, args.input);
         check_distinct_files(scene_inputs(path, prepared.scene), {args.output, args.report});
         progress.stage(path + ": drawing");
@@ -222,9 +222,9 @@ void run_bench(BenchArgs& args) {
         r.elements = prepared.scene.elements.size();
         try {
             if (renderer)
-                r.m = render::measure_scene(*renderer, prepared.scene, image_views(prepared), prepared.element_analysis, options);
+                r.m = render::measure_scene(*renderer, prepared.scene, image_views(prepared), prepared.analysis, options);
             else
-                r.rt = render::measure_runtime(*host, prepared.scene, image_views(prepared), prepared.element_analysis, options);
+                r.rt = render::measure_runtime(*host, prepared.scene, image_views(prepared), prepared.analysis, options);
         } catch (const render::Error& e) {
             throw CliError(path + ": " + e.what());
         }

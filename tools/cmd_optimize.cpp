@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
 #include "progress.h"
@@ -18,9 +19,8 @@ struct OptimizeArgs {
     std::string scene;
     std::string output;
     std::string binary;
-    std::string cache_dir;
-    bool no_cache = false;
-    io::PrepareOptions prepare;
+    CacheChoice cache;
+    pipeline::PrepareOptions prepare;
     ReconstructOptions reconstruct;
     bool opaque = true;
     bool stats = false;
@@ -35,7 +35,7 @@ struct OverdrawFigures {
     OverdrawStats overpaint, optimized, ideal;
 };
 
-OverdrawFigures overdraw_figures(const io::PreparedScene& p, const SceneMeshes& optimized) {
+OverdrawFigures overdraw_figures(const pipeline::PreparedScene& p, const SceneMeshes& optimized) {
     OverdrawFigures f;
     f.overpaint = analyze_overdraw(overpaint_meshes(p.scene));
     f.optimized = analyze_overdraw(optimized);
@@ -46,7 +46,7 @@ OverdrawFigures overdraw_figures(const io::PreparedScene& p, const SceneMeshes& 
     return f;
 }
 
-std::string figures(const io::PreparedScene& p, const SceneStats& o, const SceneStats& r, const SceneStats& s,
+std::string figures(const pipeline::PreparedScene& p, const SceneStats& o, const SceneStats& r, const SceneStats& s,
                     const OverdrawFigures* od) {
     char buf[2048];
     int n = std::snprintf(buf, sizeof buf,
@@ -78,17 +78,17 @@ std::string figures(const io::PreparedScene& p, const SceneStats& o, const Scene
 }
 
 void run_optimize(OptimizeArgs& args) {
-    io::PrepareOptions prepare = args.prepare;
+    pipeline::PrepareOptions prepare = args.prepare;
     if (args.filter_option->count()) prepare.filter_override = prepare.analyze.filter;
     // No opaque pass: skip the opaque search rather than compute and drop it.
     if (!args.opaque) prepare.analyze.opaque.max_polygons = 0;
-    if (!args.no_cache) prepare.cache_dir = args.cache_dir.empty() ? io::default_cache_dir() : args.cache_dir;
+    prepare.cache_dir = args.cache.directory();
     check_distinct_files({args.scene}, {args.output, args.binary});
-    io::PreparedScene prepared;
+    pipeline::PreparedScene prepared;
     {
         Progress progress("optimize", "images analyzed", 0, args.quiet);
         prepare.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
-        prepared = io::prepare_scene(args.scene, prepare);
+        prepared = pipeline::prepare_scene(args.scene, prepare);
     }
     check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.binary});
 
@@ -98,7 +98,7 @@ void run_optimize(OptimizeArgs& args) {
     ReconstructOptions options = args.reconstruct;
     options.opaque_polygons = args.opaque;
     SceneMeshes meshes;
-    switch (reconstruct_scene(prepared.scene, prepared.element_analysis, options, &meshes)) {
+    switch (reconstruct_scene(prepared.scene, prepared.analysis, options, &meshes)) {
     case ReconstructStatus::ok: break;
     case ReconstructStatus::invalid_scene: throw CliError(args.scene + ": invalid scene for reconstruction");
     case ReconstructStatus::too_many_depth_levels:
@@ -153,8 +153,7 @@ void add_optimize_command(CLI::App& app) {
     cmd->add_option("scene", args->scene, "Scene: .json (our format) or .tmx / .tmx.gz (Tiled)")->required();
     cmd->add_option("-o,--output", args->output, "Meshes JSON (docs/mesh-format.md); '-' or nothing: stdout");
     cmd->add_option("--binary", args->binary, "Also (or only) write the binary meshes form here");
-    cmd->add_option("--cache", args->cache_dir, "Analysis cache directory (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
-    cmd->add_flag("--no-cache", args->no_cache, "Analyze every image, read and write no cache");
+    add_cache_options(*cmd, args->cache);
     add_reconstruct_options(*cmd, args->reconstruct);
     cmd->add_flag("!--no-opaque", args->opaque, "No opaque pass: boundary polygons only");
     cmd->add_flag("--cull", args->reconstruct.cull_to_viewport,

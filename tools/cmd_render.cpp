@@ -32,11 +32,11 @@ std::string title(const char* name, double overdraw) {
 }
 
 // exact: with coverage skirts (render::exact_coverage), for comparing frames.
-SceneMeshes meshes_for(render::Mode mode, const io::PreparedScene& prepared, const RenderArgs& args, bool exact = false) {
+SceneMeshes meshes_for(render::Mode mode, const pipeline::PreparedScene& prepared, const RenderArgs& args, bool exact = false) {
     SceneMeshes meshes;
     ReconstructOptions options = reconstruct_options(args.input);
     if (exact) options = render::exact_coverage(options);
-    switch (render::build_meshes(mode, prepared.scene, prepared.element_analysis, options, &meshes)) {
+    switch (render::build_meshes(mode, prepared.scene, prepared.analysis, options, &meshes)) {
     case ReconstructStatus::ok: return meshes;
     case ReconstructStatus::invalid_scene: throw CliError(args.scene + ": invalid scene for reconstruction");
     case ReconstructStatus::too_many_depth_levels:
@@ -47,7 +47,7 @@ SceneMeshes meshes_for(render::Mode mode, const io::PreparedScene& prepared, con
 
 // Overpaint | the mode drawn (optimized when that is overpaint) | ideal,
 // all counted by the CPU analyzer, which needs no GL.
-void write_heatmap(const io::PreparedScene& prepared, const SceneMeshes& drawn, const RenderArgs& args) {
+void write_heatmap(const pipeline::PreparedScene& prepared, const SceneMeshes& drawn, const RenderArgs& args) {
     render::OverdrawMap over, other, ideal;
     const double od_over = render::analyze_overdraw(overpaint_meshes(prepared.scene), &over).overdraw();
     render::Mode other_mode = args.mode == render::Mode::overpaint ? render::Mode::optimized : args.mode;
@@ -64,7 +64,7 @@ void run_render(RenderArgs& args) {
     if (args.output.empty() && args.heatmap.empty() && !args.compare)
         throw UsageError("render: nothing to do: give -o FRAME.png, --heatmap HEAT.png or --compare");
     check_distinct_files({args.scene}, {args.output, args.heatmap});
-    io::PreparedScene prepared = prepare_for_render(args.scene, args.input);
+    pipeline::PreparedScene prepared = prepare_for_render(args.scene, args.input);
     check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.heatmap});
     check_frame_fits(args.scene, prepared, args.input);
     const SceneMeshes meshes = meshes_for(args.mode, prepared, args);

@@ -88,6 +88,18 @@ void add_reconstruct_options(CLI::App& cmd, ReconstructOptions& o) {
         ->default_str("batch");
 }
 
+std::string CacheChoice::directory() const {
+    if (off) return {};
+    return dir.empty() ? pipeline::default_cache_dir() : dir;
+}
+
+void add_cache_options(CLI::App& cmd, CacheChoice& cache) {
+    cmd.add_option("--cache", cache.dir,
+                   "Analysis cache directory, shared by every command (default: $XDG_CACHE_HOME/depthcull/analysis or "
+                   "~/.cache/depthcull/analysis)");
+    cmd.add_flag("--no-cache", cache.off, "Analyze every image, read and write no cache");
+}
+
 void add_viewport_option(CLI::App& cmd, io::LoadOptions& options) {
     cmd.add_option_function<std::string>(
            "--viewport",

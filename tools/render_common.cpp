@@ -12,8 +12,7 @@
 namespace depthcull::cli {
 
 void add_render_input_options(CLI::App& cmd, RenderInput& in) {
-    cmd.add_option("--cache", in.cache_dir, "Analysis cache directory (default: $XDG_CACHE_HOME/depthcull or ~/.cache/depthcull/analysis)");
-    cmd.add_flag("--no-cache", in.no_cache, "Analyze every image, read and write no cache");
+    add_cache_options(cmd, in.cache);
     add_reconstruct_options(cmd, in.reconstruct);
     cmd.add_flag("!--no-opaque", in.opaque, "Optimized without the opaque pass: boundary polygons only");
     add_viewport_option(cmd, in.prepare.load);
@@ -28,11 +27,11 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
         ->default_str("auto");
 }
 
-io::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& in) {
-    io::PrepareOptions prepare = in.prepare;
+pipeline::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& in) {
+    pipeline::PrepareOptions prepare = in.prepare;
     if (in.filter_option && in.filter_option->count()) prepare.filter_override = prepare.analyze.filter;
-    if (!in.no_cache) prepare.cache_dir = in.cache_dir.empty() ? io::default_cache_dir() : in.cache_dir;
-    return io::prepare_scene(scene, prepare);
+    prepare.cache_dir = in.cache.directory();
+    return pipeline::prepare_scene(scene, prepare);
 }
 
 ReconstructOptions reconstruct_options(const RenderInput& in) {
@@ -41,7 +40,7 @@ ReconstructOptions reconstruct_options(const RenderInput& in) {
     return options;
 }
 
-std::vector<ImageView> image_views(const io::PreparedScene& prepared) {
+std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared) {
     std::vector<ImageView> views;
     views.reserve(prepared.images.size());
     for (const Image& image : prepared.images) views.push_back(image.view());
@@ -62,7 +61,7 @@ double covered_share(const render::OverdrawMap& ideal) {
     return double(covered) / double(ideal.counts.size());
 }
 
-void check_frame_fits(const std::string& path, const io::PreparedScene& prepared, const RenderInput& input) {
+void check_frame_fits(const std::string& path, const pipeline::PreparedScene& prepared, const RenderInput& input) {
     if (input.prepare.load.has_viewport || prepared.scene.elements.empty()) return;
     const Viewport& vp = prepared.scene.viewport;
     if (vp.width < kMaxImageSide && vp.height < kMaxImageSide) return;
@@ -103,7 +102,7 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
         {"opaque pass", in.opaque ? "yes" : "no (--no-opaque)"},
         {"graph", in.reconstruct.graph == GraphMode::polygons ? "polygons" : "boxes"},
         {"sort", in.reconstruct.sort == SortMethod::batch ? "batch" : in.reconstruct.sort == SortMethod::paper ? "paper" : "none"},
-        {"cache", in.no_cache ? "off" : (in.cache_dir.empty() ? io::default_cache_dir() : in.cache_dir)},
+        {"cache", in.cache.off ? "off" : in.cache.directory()},
     };
     if (in.prepare.load.has_viewport) {
         const Viewport& v = in.prepare.load.viewport;
@@ -112,7 +111,7 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
     return o;
 }
 
-report::SceneReport scene_report(const std::string& path, const io::PreparedScene& prepared, const RenderInput& input,
+report::SceneReport scene_report(const std::string& path, const pipeline::PreparedScene& prepared, const RenderInput& input,
                                  const render::RuntimeMeasurement* rt, const render::SceneMeasurement* m) {
     report::SceneReport r;
     const Scene& scene = prepared.scene;
@@ -120,7 +119,7 @@ report::SceneReport scene_report(const std::string& path, const io::PreparedScen
     r.width = scene.viewport.width;
     r.height = scene.viewport.height;
     r.elements = scene.elements.size();
-    r.images = prepared.analyses.size();
+    r.images = prepared.analysis.images.size();
     const double pixels = double(r.width) * double(r.height);
     if (rt) {
         r.ideal_overdraw = rt->ideal_overdraw;
@@ -146,7 +145,7 @@ report::SceneReport scene_report(const std::string& path, const io::PreparedScen
     r.covered = covered_share(ideal);
     for (render::Mode mode : {render::Mode::overpaint, render::Mode::optimized}) {
         SceneMeshes meshes;
-        if (render::build_meshes(mode, scene, prepared.element_analysis, reconstruct_options(input), &meshes) != ReconstructStatus::ok)
+        if (render::build_meshes(mode, scene, prepared.analysis, reconstruct_options(input), &meshes) != ReconstructStatus::ok)
             continue;
         render::OverdrawMap map;
         const double od = render::analyze_overdraw(meshes, &map).overdraw();
@@ -155,10 +154,10 @@ report::SceneReport scene_report(const std::string& path, const io::PreparedScen
     r.heatmaps.push_back({"ideal", ideal.width, ideal.height, std::move(ideal.counts), od_ideal});
 
     // Per image: uses by the elements, most used first (ties in first-use order).
-    std::vector<std::int64_t> uses(prepared.analyses.size(), 0);
-    std::vector<int> image_of(prepared.analyses.size(), -1);
-    for (std::size_t e = 0; e < scene.elements.size(); ++e) {
-        const std::size_t k = std::size_t(prepared.element_analysis[e] - prepared.analyses.data());
+    std::vector<std::int64_t> uses(prepared.analysis.images.size(), 0);
+    std::vector<int> image_of(prepared.analysis.images.size(), -1);
+    for (std::size_t e = 0; e < scene.elements.size() && e < prepared.analysis.of_element.size(); ++e) {
+        const std::size_t k = prepared.analysis.of_element[e];
         if (k >= uses.size()) continue;
         ++uses[k];
         if (image_of[k] < 0) image_of[k] = scene.elements[e].image;
@@ -169,7 +168,7 @@ report::SceneReport scene_report(const std::string& path, const io::PreparedScen
     constexpr std::size_t kMaxRows = 100;
     for (std::size_t n = 0; n < order.size() && n < kMaxRows; ++n) {
         const std::size_t k = order[n];
-        const ImageAnalysis& a = prepared.analyses[k];
+        const ImageAnalysis& a = prepared.analysis.images[k];
         const int image = image_of[k];
         if (image < 0) continue;
         const SceneImage& si = scene.images[std::size_t(image)];

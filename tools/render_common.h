@@ -8,14 +8,14 @@
 
 #include "cli.h"
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "depthcull/render.h"
 
 namespace depthcull::cli {
 
 struct RenderInput {
-    io::PrepareOptions prepare;
-    std::string cache_dir;
-    bool no_cache = false;
+    pipeline::PrepareOptions prepare;
+    CacheChoice cache;
     ReconstructOptions reconstruct;
     bool opaque = true;
     render::GlPlatform platform = render::GlPlatform::automatic;
@@ -26,9 +26,9 @@ struct RenderInput {
 // analysis options, -j, --gl.
 void add_render_input_options(CLI::App& command, RenderInput& input);
 
-io::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& input);
+pipeline::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& input);
 ReconstructOptions reconstruct_options(const RenderInput& input);
-std::vector<ImageView> image_views(const io::PreparedScene& prepared);
+std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared);
 
 // Throws CliError("no OpenGL context: ...") when none can be made.
 std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& input);
@@ -48,7 +48,7 @@ double covered_share(const render::OverdrawMap& ideal);
 // One scene's section of the HTML report from what bench measured (one of
 // rt / m, with frames kept): Table 2 rows, frames, heatmaps (CPU
 // analyzers), per-image table with previews.
-report::SceneReport scene_report(const std::string& path, const io::PreparedScene& prepared, const RenderInput& input,
+report::SceneReport scene_report(const std::string& path, const pipeline::PreparedScene& prepared, const RenderInput& input,
                                  const render::RuntimeMeasurement* rt, const render::SceneMeasurement* m);
 // The options section: analysis, reconstruction, frames, LP_NUM_THREADS.
 std::vector<std::pair<std::string, std::string>> report_options(const RenderInput& input, int frames, int warmup, const char* shader);
@@ -56,7 +56,7 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
 // A scene's drawn extent must fit the frame: a scene with no viewport
 // whose elements span more than kMaxImageSide got a clamped viewport, and
 // rendering it would silently show only part of it.
-void check_frame_fits(const std::string& path, const io::PreparedScene& prepared, const RenderInput& input);
+void check_frame_fits(const std::string& path, const pipeline::PreparedScene& prepared, const RenderInput& input);
 
 } // namespace depthcull::cli
 #endif

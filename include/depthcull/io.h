@@ -107,8 +107,9 @@ struct FramePlacement {
 FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>& sprite_transform);
 
 // Polygon export: the atlas JSON at `path` written back with TexturePacker's
-// polygon fields added to every frame, from analyze_image's boundary
-// polygons of the frame's texels: "vertices" (untrimmed sprite
+// polygon fields added to every frame, from the boundary polygons of each
+// frame's analysis (frames[i] for atlas.frames[i]; the pipeline's
+// pipeline::atlas_with_polygons computes them): "vertices" (untrimmed sprite
 // coordinates, as TexturePacker writes them), "verticesUV" (page texels)
 // and "triangles" (index triples into both, by ear clipping). Every other
 // field is kept as read, in its order; fully transparent frames get empty
@@ -120,74 +121,8 @@ struct AtlasPolygonStats {
     double frame_area = 0;   // summed frame rects (what quads would draw)
     double polygon_area = 0; // summed boundary polygon areas
 };
-std::string atlas_with_polygons(const std::string& path, const AnalyzeOptions& options, AtlasPolygonStats* stats = nullptr);
-
-// The same with the analysis cache and threads: frames are analyzed in
-// full (analyze_image, boundary and opaque polygons) in parallel through
-// analyze_cached, so `atlas` shares cache entries with `optimize`; the text
-// never depends on `threads`. `analysis`, when given, receives the atlas,
-// its page and each frame's analysis (for previews).
-struct AtlasPolygonOptions {
-    AnalyzeOptions analyze;
-    std::string cache_dir;   // empty: no cache
-    unsigned threads = 0;    // 0: all cores
-    std::function<void(std::size_t done, std::size_t total)> progress; // called from worker threads
-};
-struct AtlasAnalysis {
-    Atlas atlas;
-    Image page;
-    std::vector<ImageAnalysis> frames; // index = atlas.frames
-    int cache_hits = 0;
-};
-std::string atlas_with_polygons(const std::string& path, const AtlasPolygonOptions& options, AtlasPolygonStats* stats,
-                                AtlasAnalysis* analysis = nullptr);
-
-// Runs fn(i) for i in [0, n) on `threads` threads (0: all cores). Callers
-// store results by index, so output never depends on the thread count;
-// the error of the lowest failing index is rethrown, as a serial run would.
-void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn);
-
-// ---- The pipeline shared by optimize, render and bench
-
-struct PrepareOptions {
-    LoadOptions load;
-    AnalyzeOptions analyze;
-    std::string cache_dir;   // empty: no cache
-    unsigned threads = 0;    // 0: all cores; output never depends on it
-    // The texture filter, and who wins: this override when set (a command
-    // line's --filter), else the scene's own (Scene::filter). prepare_scene
-    // writes the winner into PreparedScene::scene.filter, analyzes for it
-    // (analyze.filter is not read) and reconstruction then reads it there:
-    // one value from file to meshes.
-    std::optional<Filter> filter_override;
-    // Called after each distinct (image, rect) is analyzed or read from the
-    // cache, from worker threads (the callee synchronizes): progress bars.
-    std::function<void(std::size_t done, std::size_t total)> progress;
-};
-
-struct PreparedScene {
-    Scene scene;
-    std::vector<Image> images;                       // decoded, index = Scene::images
-    std::vector<ImageAnalysis> analyses;             // one per distinct (image, rect)
-    std::vector<const ImageAnalysis*> element_analysis; // per element, into `analyses`
-    int analyzed = 0, cache_hits = 0;
-    double analysis_seconds = 0;
-};
-
-// Loads a scene (any load_scene format) and its images, and analyzes every
-// distinct (image, rect) the elements use, through the cache when given.
-PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options);
-
-// One analysis through the cache prepare_scene uses (same key, same
-// entries; cache_dir empty: no cache). *hit tells whether it was read from
-// the cache. Callers analyzing images outside a scene (`analyze`, `atlas`)
-// use it so every command shares one cache.
-ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& cache_dir,
-                             bool* hit = nullptr);
-
-// Where analyses are cached by default: $XDG_CACHE_HOME/depthcull/analysis, else
-// ~/.cache/depthcull/analysis; empty when neither can be found.
-std::string default_cache_dir();
+std::string atlas_polygons_json(const std::string& path, const Atlas& atlas, const std::vector<ImageAnalysis>& frames,
+                                AtlasPolygonStats* stats = nullptr);
 
 // ---- Optimized meshes out (docs/mesh-format.md)
 

@@ -202,11 +202,11 @@ enum class Mode {
 };
 const char* mode_name(Mode mode); // "overpaint", "meshes", "optimized"
 
-// The meshes a mode draws. analyses: per element, as reconstruct_scene
+// The meshes a mode draws. analysis: the scene's, as reconstruct_scene
 // takes them (only `optimized` reads them). options.coverage_margin
 // applies to every mode (overpaint too).
-ReconstructStatus build_meshes(Mode mode, const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
-                               const ReconstructOptions& options, SceneMeshes* out);
+ReconstructStatus build_meshes(Mode mode, const Scene& scene, const SceneAnalysis& analysis, const ReconstructOptions& options,
+                               SceneMeshes* out);
 
 // The margin frames are compared with (ReconstructOptions::
 // coverage_margin): 8x llvmpipe's 1/512 pixel snapping error and far above
@@ -252,7 +252,7 @@ struct MeasureOptions {
 // only when asked for). images[i] holds Scene::images[i]. Throws Error
 // when a mode's meshes cannot be built.
 SceneMeasurement measure_scene(GlRenderer& renderer, const Scene& scene, const std::vector<ImageView>& images,
-                               const std::vector<const ImageAnalysis*>& analyses, const MeasureOptions& options);
+                               const SceneAnalysis& analysis, const MeasureOptions& options);
 
 // ---- Frames as an engine draws them: depthcull::runtime (the plain sprite
 // shader, no per-element maps or rect tests), hosted in a GlHost. What
@@ -291,6 +291,6 @@ struct RuntimeMeasurement {
 // (nearest or linear as scene.filter says), overpaint first as the
 // reference; modes take turns frame by frame when timing. Throws Error.
 RuntimeMeasurement measure_runtime(GlHost& host, const Scene& scene, const std::vector<ImageView>& images,
-                                   const std::vector<const ImageAnalysis*>& analyses, const MeasureOptions& options);
+                                   const SceneAnalysis& analysis, const MeasureOptions& options);
 
 } // namespace depthcull::render

@@ -246,9 +246,33 @@ enum class ReconstructStatus {
     too_many_depth_levels, // more depth levels than a 24-bit depth buffer resolves
 };
 
+// The per-image analyses of a scene's elements, as a value: each distinct
+// (image file, rect) analyzed once, elements naming theirs by index, so a
+// copy is whole (no pointers into itself). What the pipeline
+// (depthcull/pipeline.h) produces and reconstruction reads.
+struct SceneAnalysis {
+    std::vector<ImageAnalysis> images;     // one per distinct (image file, rect)
+    std::vector<std::uint32_t> of_element; // per element: index into images
+    // Element i's analysis; nullptr past either vector.
+    const ImageAnalysis* of(std::size_t element) const {
+        return element < of_element.size() && of_element[element] < images.size() ? &images[of_element[element]] : nullptr;
+    }
+    // of() for every element: the per-element form the functions below
+    // also take (valid while this value lives unchanged).
+    std::vector<const ImageAnalysis*> per_element() const {
+        std::vector<const ImageAnalysis*> out(of_element.size());
+        for (std::size_t i = 0; i < out.size(); ++i) out[i] = of(i);
+        return out;
+    }
+};
+
 // Paper 2.3. analyses[i] is the per-image analysis of elements[i]'s rect
 // (elements sharing an image rect may share one ImageAnalysis). On success
-// `out` holds the draws in drawing order.
+// `out` holds the draws in drawing order. The per-element form serves
+// callers that own each element's analysis themselves (the C API,
+// dynamic elements).
+ReconstructStatus reconstruct_scene(const Scene& scene, const SceneAnalysis& analysis, const ReconstructOptions& options,
+                                    SceneMeshes* out);
 ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
                                     const ReconstructOptions& options, SceneMeshes* out);
 
@@ -284,6 +308,8 @@ struct ElementGraph {
 // At most pair_budget candidate pairs are compared (ReconstructOptions::
 // graph_pair_budget): see docs/element-graph.md for the bound.
 ElementGraph build_element_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, GraphMode mode,
+                                 std::uint64_t pair_budget = limits::kGraphPairBudget);
+ElementGraph build_element_graph(const Scene& scene, const SceneAnalysis& analysis, GraphMode mode,
                                  std::uint64_t pair_budget = limits::kGraphPairBudget);
 
 // Paper 2.3.1: a drawing order (a permutation of element indices) that

@@ -269,11 +269,5 @@ bool cache_store(const std::string& dir, const CacheKey& key, const ImageAnalysi
     }
 }
 
-std::string default_cache_dir() {
-    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (std::filesystem::path(xdg) / "depthcull" / "analysis").string();
-    if (const char* home = std::getenv("HOME"); home && *home)
-        return (std::filesystem::path(home) / ".cache" / "depthcull" / "analysis").string();
-    return {};
-}
 
 } // namespace depthcull::io

@@ -8,7 +8,6 @@
 // A frame with several boundary polygons (disjoint parts) lists all their
 // vertices and triangles together. Each polygon is ear-clipped
 // (triangulate_polygon), not fanned: boundary polygons may be concave.
-#include <atomic>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
@@ -60,41 +59,18 @@ void add_polygons(Json& out, const AtlasFrame& frame, const std::vector<Polygon>
     out["triangles"] = std::move(triangles);
 }
 
-std::string polygons_text(const std::string& path, const AtlasPolygonOptions& options, AtlasPolygonStats* stats_out,
-                          AtlasAnalysis* analysis_out) {
-    AtlasAnalysis local;
-    AtlasAnalysis& result = analysis_out ? *analysis_out : local;
-    result.atlas = load_texturepacker(path); // validates every frame
-    const Atlas& atlas = result.atlas;
-    result.page = load_png(atlas.image_path);
-    const Image& page = result.page;
-    if (atlas.width > 0 && (atlas.width != page.width || atlas.height != page.height))
-        throw Error(path + ": meta.size " + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) + " differs from " +
-                    atlas.image_path + " (" + std::to_string(page.width) + "x" + std::to_string(page.height) + ")");
-    for (const AtlasFrame& frame : atlas.frames)
-        if (!page.view().contains(frame.frame))
-            throw Error(path + ": frame '" + frame.name + "': texels lie outside the page " + atlas.image_path);
-    // Frames in parallel, results by index: the text is the same for any
-    // thread count.
-    result.frames.assign(atlas.frames.size(), {});
-    std::vector<std::uint8_t> hit(atlas.frames.size(), 0);
-    std::atomic<std::size_t> done{0};
-    parallel_for(atlas.frames.size(), options.threads, [&](std::size_t i) {
-        bool from_cache = false;
-        result.frames[i] = analyze_cached(page.view(), atlas.frames[i].frame, options.analyze, options.cache_dir, &from_cache);
-        hit[i] = from_cache;
-        if (options.progress) options.progress(++done, atlas.frames.size());
-    });
-    result.cache_hits = 0;
-    for (std::uint8_t h : hit) result.cache_hits += h;
-
+std::string polygons_json(const std::string& path, const Atlas& atlas, const std::vector<ImageAnalysis>& frame_analyses,
+                          AtlasPolygonStats* stats_out) {
+    if (frame_analyses.size() != atlas.frames.size())
+        throw Error(path + ": " + std::to_string(frame_analyses.size()) + " frame analyses for " + std::to_string(atlas.frames.size()) +
+                    " frames");
     Json doc = Json::parse(read_file(path));
     Json& frames = doc["frames"];
     AtlasPolygonStats stats;
     std::size_t index = 0;
     auto visit = [&](Json& f) {
         const AtlasFrame& frame = atlas.frames[index];
-        add_polygons(f, frame, result.frames[index].boundary, stats, path + ": frame '" + frame.name + "'");
+        add_polygons(f, frame, frame_analyses[index].boundary, stats, path + ": frame '" + frame.name + "'");
         ++index;
         stats.frames += 1;
         stats.frame_area += double(frame.frame.w) * frame.frame.h;
@@ -109,15 +85,9 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
 
 } // namespace
 
-std::string atlas_with_polygons(const std::string& path, const AtlasPolygonOptions& options, AtlasPolygonStats* stats_out,
-                                AtlasAnalysis* analysis) {
-    return guarded(path, [&] { return polygons_text(path, options, stats_out, analysis); });
-}
-
-std::string atlas_with_polygons(const std::string& path, const AnalyzeOptions& options, AtlasPolygonStats* stats_out) {
-    AtlasPolygonOptions o;
-    o.analyze = options;
-    return atlas_with_polygons(path, o, stats_out);
+std::string atlas_polygons_json(const std::string& path, const Atlas& atlas, const std::vector<ImageAnalysis>& frames,
+                                AtlasPolygonStats* stats) {
+    return guarded(path, [&] { return polygons_json(path, atlas, frames, stats); });
 }
 
 } // namespace depthcull::io

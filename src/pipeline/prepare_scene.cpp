@@ -1,4 +1,4 @@
-// io::prepare_scene: the pipeline shared by optimize, render and bench.
+// pipeline::prepare_scene: the pipeline shared by optimize, render and bench.
 // Loads the scene, decodes each image file once, and analyzes each distinct
 // (image file, rect) once, on threads, through the cache when one is set.
 // Work is split by index and results stored by index, so the output never
@@ -12,11 +12,15 @@
 #include <thread>
 #include <tuple>
 
-#include "depthcull/io.h"
+#include <filesystem>
+
+#include "depthcull/pipeline.h"
 #include "io/cache.h"
 #include "io/formats.h"
 
-namespace depthcull::io {
+namespace depthcull::pipeline {
+
+using io::Error;
 
 void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
@@ -52,16 +56,23 @@ void parallel_for(std::size_t n, unsigned threads, const std::function<void(std:
     if (error) std::rethrow_exception(error);
 }
 
+std::string default_cache_dir() {
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (std::filesystem::path(xdg) / "depthcull" / "analysis").string();
+    if (const char* home = std::getenv("HOME"); home && *home)
+        return (std::filesystem::path(home) / ".cache" / "depthcull" / "analysis").string();
+    return {};
+}
+
 ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& cache_dir, bool* hit) {
     if (hit) *hit = false;
     if (cache_dir.empty()) return analyze_image(image, rect, options);
-    const CacheKey key = analysis_key(image, rect, options);
-    if (auto cached = cache_load(cache_dir, key, rect)) {
+    const io::CacheKey key = io::analysis_key(image, rect, options);
+    if (auto cached = io::cache_load(cache_dir, key, rect)) {
         if (hit) *hit = true;
         return std::move(*cached);
     }
     ImageAnalysis analysis = analyze_image(image, rect, options);
-    cache_store(cache_dir, key, analysis);
+    io::cache_store(cache_dir, key, analysis);
     return analysis;
 }
 
@@ -70,7 +81,7 @@ namespace {
 PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     PreparedScene out;
-    out.scene = load_scene(path, options.load);
+    out.scene = io::load_scene(path, options.load);
     Scene& scene = out.scene;
 
     if (options.filter_override) scene.filter = *options.filter_override;
@@ -84,7 +95,7 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     std::vector<std::size_t> to_decode;
     for (std::size_t i = 0; i < scene.images.size(); ++i) {
         const SceneImage& img = scene.images[i];
-        auto [it, fresh] = first_with_path.emplace(img.path + (img.has_trans ? "\n" + colour_key_text(img.trans) : std::string()), i);
+        auto [it, fresh] = first_with_path.emplace(img.path + (img.has_trans ? "\n" + io::colour_key_text(img.trans) : std::string()), i);
         canon[i] = it->second;
         if (fresh) to_decode.push_back(i);
     }
@@ -92,7 +103,7 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     parallel_for(to_decode.size(), options.threads, [&](std::size_t k) {
         std::size_t i = to_decode[k];
         const SceneImage& img = scene.images[i];
-        out.images[i] = load_scene_image(img);
+        out.images[i] = io::load_scene_image(img);
         if (out.images[i].width != img.width || out.images[i].height != img.height)
             throw Error(path + ": image " + std::to_string(i) + " \"" + img.id + "\": " + img.path + " is " +
                         std::to_string(out.images[i].width) + "x" + std::to_string(out.images[i].height) + ", expected " +
@@ -112,17 +123,18 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
         if (fresh) work.push_back({file, e.rect});
         element_slot[i] = it->second;
     }
-    out.analyses.resize(work.size());
+    std::vector<ImageAnalysis>& analyses = out.analysis.images;
+    analyses.resize(work.size());
     std::vector<std::uint8_t> hit(work.size(), 0);
     std::atomic<std::size_t> done{0};
     parallel_for(work.size(), options.threads, [&](std::size_t k) {
         bool from_cache = false;
-        out.analyses[k] = analyze_cached(out.images[work[k].first].view(), work[k].second, analyze, options.cache_dir, &from_cache);
+        analyses[k] = analyze_cached(out.images[work[k].first].view(), work[k].second, analyze, options.cache_dir, &from_cache);
         hit[k] = from_cache;
         if (options.progress) options.progress(++done, work.size());
     });
-    out.element_analysis.resize(scene.elements.size());
-    for (std::size_t i = 0; i < scene.elements.size(); ++i) out.element_analysis[i] = &out.analyses[element_slot[i]];
+    out.analysis.of_element.resize(scene.elements.size());
+    for (std::size_t i = 0; i < scene.elements.size(); ++i) out.analysis.of_element[i] = std::uint32_t(element_slot[i]);
     for (std::uint8_t h : hit) out.cache_hits += h;
     out.analyzed = int(work.size()) - out.cache_hits;
     out.analysis_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -133,7 +145,7 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
 
 PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options) {
     // std::bad_alloc from a scene that fits the limits but not this machine.
-    return guarded(path, [&] { return prepare(path, options); });
+    return io::guarded(path, [&] { return prepare(path, options); });
 }
 
-} // namespace depthcull::io
+} // namespace depthcull::pipeline

@@ -17,7 +17,7 @@ const char* mode_name(Mode mode) {
     return "?";
 }
 
-ReconstructStatus build_meshes(Mode mode, const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
+ReconstructStatus build_meshes(Mode mode, const Scene& scene, const SceneAnalysis& analyses,
                                const ReconstructOptions& options, SceneMeshes* out) {
     // With element spans: GlRenderer samples each element through its own map.
     ReconstructOptions spanned = options;
@@ -60,7 +60,7 @@ double median(std::vector<double> v) {
 } // namespace
 
 SceneMeasurement measure_scene(GlRenderer& renderer, const Scene& scene, const std::vector<ImageView>& images,
-                               const std::vector<const ImageAnalysis*>& analyses, const MeasureOptions& options) {
+                               const SceneAnalysis& analyses, const MeasureOptions& options) {
     SceneMeasurement out;
     out.width = scene.viewport.width;
     out.height = scene.viewport.height;

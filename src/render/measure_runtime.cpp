@@ -52,7 +52,7 @@ std::int64_t count_off_texel_edges(ImageView a, ImageView b, const Scene& scene)
 }
 
 RuntimeMeasurement measure_runtime(GlHost& host, const Scene& scene, const std::vector<ImageView>& images,
-                                   const std::vector<const ImageAnalysis*>& analyses, const MeasureOptions& options) {
+                                   const SceneAnalysis& analyses, const MeasureOptions& options) {
     host.make_current();
     RuntimeMeasurement out;
     out.width = scene.viewport.width;

@@ -505,4 +505,8 @@ ElementGraph build_element_graph(const Scene& scene, const std::vector<const Ima
     return detail::build_graph(scene, a, shapes.boundary, mode, nullptr, pair_budget);
 }
 
+ElementGraph build_element_graph(const Scene& scene, const SceneAnalysis& analysis, GraphMode mode, std::uint64_t pair_budget) {
+    return build_element_graph(scene, analysis.per_element(), mode, pair_budget);
+}
+
 } // namespace depthcull

@@ -251,6 +251,12 @@ bool plan_rectangles(const Scene& scene, const ReconstructOptions& options, Rect
 
 } // namespace
 
+ReconstructStatus reconstruct_scene(const Scene& scene, const SceneAnalysis& analysis, const ReconstructOptions& options,
+                                    SceneMeshes* out) {
+    if (analysis.of_element.size() != scene.elements.size()) return ReconstructStatus::invalid_scene;
+    return reconstruct_scene(scene, analysis.per_element(), options, out);
+}
+
 ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions& options, SceneMeshes* out) {
     const auto start = std::chrono::steady_clock::now();
     const std::size_t n = scene.elements.size();

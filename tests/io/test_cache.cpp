@@ -73,28 +73,28 @@ TEST(Cache, SceneRerunIsServedFromTheCacheAndCorruptEntriesAreRecomputed) {
     std::string scene = dir.write("scene.json", R"({"images": [{"id": "blob", "path": "art/blob.png"}, {"id": "tiles", "path": "art/tiles.png"}],
         "elements": [{"image": "blob"}, {"image": "tiles", "rect": [0, 0, 8, 8]}, {"image": "tiles", "rect": [8, 0, 8, 8]},
                      {"image": "blob", "transform": [1, 0, 0, 1, 4, 4]}]})");
-    io::PrepareOptions o;
+    pipeline::PrepareOptions o;
     o.cache_dir = dir.path("cache");
     o.threads = 2;
-    io::PreparedScene first = io::prepare_scene(scene, o);
+    pipeline::PreparedScene first = pipeline::prepare_scene(scene, o);
     EXPECT_EQ(first.analyzed, 3);
     EXPECT_EQ(first.cache_hits, 0);
-    io::PreparedScene second = io::prepare_scene(scene, o);
+    pipeline::PreparedScene second = pipeline::prepare_scene(scene, o);
     EXPECT_EQ(second.analyzed, 0);
     EXPECT_EQ(second.cache_hits, 3);
-    for (std::size_t i = 0; i < first.analyses.size(); ++i) {
-        EXPECT_EQ(second.analyses[i].boundary, first.analyses[i].boundary);
-        EXPECT_EQ(second.analyses[i].opaque, first.analyses[i].opaque);
-        EXPECT_EQ(second.analyses[i].rect, first.analyses[i].rect);
+    for (std::size_t i = 0; i < first.analysis.images.size(); ++i) {
+        EXPECT_EQ(second.analysis.images[i].boundary, first.analysis.images[i].boundary);
+        EXPECT_EQ(second.analysis.images[i].opaque, first.analysis.images[i].opaque);
+        EXPECT_EQ(second.analysis.images[i].rect, first.analysis.images[i].rect);
     }
     // Truncate every entry (as a crash mid-write without rename could not,
     // but a disk error might): all are recomputed, none trusted.
     for (auto& f : std::filesystem::recursive_directory_iterator(dir.path("cache")))
         if (f.is_regular_file()) std::filesystem::resize_file(f.path(), 10);
-    io::PreparedScene third = io::prepare_scene(scene, o);
+    pipeline::PreparedScene third = pipeline::prepare_scene(scene, o);
     EXPECT_EQ(third.analyzed, 3);
-    EXPECT_EQ(third.analyses[0].boundary, first.analyses[0].boundary);
-    EXPECT_EQ(io::prepare_scene(scene, o).cache_hits, 3); // rewritten
+    EXPECT_EQ(third.analysis.images[0].boundary, first.analysis.images[0].boundary);
+    EXPECT_EQ(pipeline::prepare_scene(scene, o).cache_hits, 3); // rewritten
 }
 
 // Concurrent runs on one cache directory (as parallel asset builds do):
@@ -107,28 +107,28 @@ TEST(Cache, ConcurrentRunsAgreeAndStrayFilesAreIgnored) {
     std::string scene = dir.write("scene.json", R"({"images": [{"id": "blob", "path": "art/blob.png"}, {"id": "tiles", "path": "art/tiles.png"}],
         "elements": [{"image": "blob"}, {"image": "tiles", "rect": [0, 0, 8, 8]}, {"image": "tiles", "rect": [8, 0, 8, 8]},
                      {"image": "tiles", "rect": [4, 0, 8, 8]}, {"image": "tiles", "rect": [2, 2, 6, 6]}]})");
-    io::PrepareOptions o;
+    pipeline::PrepareOptions o;
     o.cache_dir = dir.path("cache");
     o.threads = 1;
-    io::PreparedScene reference = io::prepare_scene(scene, io::PrepareOptions{});
+    pipeline::PreparedScene reference = pipeline::prepare_scene(scene, pipeline::PrepareOptions{});
     // A killed writer's temporary file beside where an entry will go.
-    CacheKey first_key = analysis_key(reference.images[0].view(), reference.analyses[0].rect, o.analyze);
+    CacheKey first_key = analysis_key(reference.images[0].view(), reference.analysis.images[0].rect, o.analyze);
     std::string entry = cache_entry_path(o.cache_dir, first_key);
     std::filesystem::create_directories(std::filesystem::path(entry).parent_path());
     dir.write(std::filesystem::relative(std::filesystem::path(entry).parent_path() / ".stray.tmp123.4", dir.root).string(), "garbage");
-    std::vector<io::PreparedScene> runs(8);
+    std::vector<pipeline::PreparedScene> runs(8);
     std::vector<std::thread> threads;
-    for (std::size_t t = 0; t < runs.size(); ++t) threads.emplace_back([&, t] { runs[t] = io::prepare_scene(scene, o); });
+    for (std::size_t t = 0; t < runs.size(); ++t) threads.emplace_back([&, t] { runs[t] = pipeline::prepare_scene(scene, o); });
     for (auto& t : threads) t.join();
-    for (const io::PreparedScene& run : runs) {
-        ASSERT_EQ(run.analyses.size(), reference.analyses.size());
-        EXPECT_EQ(run.analyzed + run.cache_hits, int(reference.analyses.size()));
-        for (std::size_t i = 0; i < run.analyses.size(); ++i) {
-            EXPECT_EQ(run.analyses[i].boundary, reference.analyses[i].boundary);
-            EXPECT_EQ(run.analyses[i].opaque, reference.analyses[i].opaque);
+    for (const pipeline::PreparedScene& run : runs) {
+        ASSERT_EQ(run.analysis.images.size(), reference.analysis.images.size());
+        EXPECT_EQ(run.analyzed + run.cache_hits, int(reference.analysis.images.size()));
+        for (std::size_t i = 0; i < run.analysis.images.size(); ++i) {
+            EXPECT_EQ(run.analysis.images[i].boundary, reference.analysis.images[i].boundary);
+            EXPECT_EQ(run.analysis.images[i].opaque, reference.analysis.images[i].opaque);
         }
     }
-    EXPECT_EQ(io::prepare_scene(scene, o).cache_hits, int(reference.analyses.size()));
+    EXPECT_EQ(pipeline::prepare_scene(scene, o).cache_hits, int(reference.analysis.images.size()));
 }
 
 } // namespace

@@ -17,6 +17,7 @@
 #include <new>
 
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "depthcull/limits.h"
 #include "io/cache.h"
 #include "io/formats.h"
@@ -347,11 +348,11 @@ TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
     SceneDir dir("hostile_cache");
     dir.standard_art();
     std::string scene = dir.write("s.json", R"({"images": [{"id": "b", "path": "art/blob.png"}], "elements": [{"image": "b"}]})");
-    io::PrepareOptions o;
+    pipeline::PrepareOptions o;
     o.cache_dir = dir.path("cache");
-    io::PreparedScene first = io::prepare_scene(scene, o);
+    pipeline::PreparedScene first = pipeline::prepare_scene(scene, o);
     ASSERT_EQ(first.analyzed, 1);
-    const ImageAnalysis good = first.analyses[0];
+    const ImageAnalysis good = first.analysis.images[0];
     const io::CacheKey key = io::analysis_key(first.images[0].view(), good.rect, o.analyze);
     const std::string entry = io::cache_entry_path(o.cache_dir, key);
     // Damaged before it was summed: the checksum matches, the content lies.
@@ -360,12 +361,12 @@ TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
         damage(bad);
         std::ofstream(entry, std::ios::binary | std::ios::trunc) << io::serialize_analysis(key, bad);
         EXPECT_FALSE(io::parse_analysis(io::serialize_analysis(key, bad), key, good.rect));
-        io::PreparedScene run = io::prepare_scene(scene, o);
+        pipeline::PreparedScene run = pipeline::prepare_scene(scene, o);
         EXPECT_EQ(run.analyzed, 1);
-        EXPECT_EQ(run.analyses[0].boundary, good.boundary);
+        EXPECT_EQ(run.analysis.images[0].boundary, good.boundary);
         std::ifstream in(entry, std::ios::binary);
-        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), io::serialize_analysis(key, run.analyses[0])) << "rewritten";
-        EXPECT_EQ(io::prepare_scene(scene, o).cache_hits, 1);
+        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), io::serialize_analysis(key, run.analysis.images[0])) << "rewritten";
+        EXPECT_EQ(pipeline::prepare_scene(scene, o).cache_hits, 1);
     };
     corrupt([](ImageAnalysis& a) { a.boundary[0][0].x = NAN; });
     corrupt([](ImageAnalysis& a) { a.boundary[0][1].y = 1e12; });          // far outside the rect

@@ -24,15 +24,15 @@ std::string write_scene(const SceneDir& dir) {
         "images": [{"id": "blob", "path": "art/blob.png"}, {"id": "tiles", "path": "art/tiles.png"}], "elements": [)" + elements + "]}");
 }
 
-SceneMeshes optimize(const io::PreparedScene& p) {
+SceneMeshes optimize(const pipeline::PreparedScene& p) {
     SceneMeshes m;
-    EXPECT_EQ(reconstruct_scene(p.scene, p.element_analysis, {}, &m), ReconstructStatus::ok);
+    EXPECT_EQ(reconstruct_scene(p.scene, p.analysis, {}, &m), ReconstructStatus::ok);
     return m;
 }
 
 TEST(MeshOutput, JsonHasTheDocumentedShape) {
     SceneDir dir("mesh_json");
-    io::PreparedScene p = io::prepare_scene(write_scene(dir), {});
+    pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});
     SceneMeshes m = optimize(p);
     std::filesystem::create_directories(dir.path("out"));
     io::write_meshes_json(dir.path("out/meshes.json"), p.scene, m, false);
@@ -58,7 +58,7 @@ TEST(MeshOutput, JsonHasTheDocumentedShape) {
 
 TEST(MeshOutput, BinaryHeaderAndSize) {
     SceneDir dir("mesh_bin");
-    io::PreparedScene p = io::prepare_scene(write_scene(dir), {});
+    pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});
     SceneMeshes m = optimize(p);
     std::string b = io::meshes_to_binary(p.scene, m, dir.path("meshes.bin"), false);
     ASSERT_GT(b.size(), 8u);
@@ -77,10 +77,10 @@ TEST(MeshOutput, BinaryHeaderAndSize) {
 TEST(MeshOutput, ByteIdenticalWhateverTheThreadCount) {
     SceneDir dir("mesh_threads");
     std::string scene = write_scene(dir);
-    io::PrepareOptions one, four;
+    pipeline::PrepareOptions one, four;
     one.threads = 1;
     four.threads = 4;
-    io::PreparedScene a = io::prepare_scene(scene, one), b = io::prepare_scene(scene, four);
+    pipeline::PreparedScene a = pipeline::prepare_scene(scene, one), b = pipeline::prepare_scene(scene, four);
     std::string out = dir.path("m.json");
     EXPECT_EQ(io::meshes_to_json(a.scene, optimize(a), out, false), io::meshes_to_json(b.scene, optimize(b), out, false));
     EXPECT_EQ(io::meshes_to_binary(a.scene, optimize(a), out, false), io::meshes_to_binary(b.scene, optimize(b), out, false));

@@ -14,7 +14,7 @@ namespace depthcull::test {
 namespace {
 
 struct Optimized {
-    io::PreparedScene prepared;
+    pipeline::PreparedScene prepared;
     SceneMeshes meshes;
 };
 
@@ -29,8 +29,8 @@ Optimized optimized_scene(const SceneDir& dir) {
     }
     std::string path = dir.write("scene.json", R"({"viewport": {"x": -3, "y": 2, "width": 40, "height": 30},
         "images": [{"id": "blob", "path": "art/blob.png"}, {"id": "tiles", "path": "art/tiles.png"}], "elements": [)" + elements + "]}");
-    Optimized o{io::prepare_scene(path, {}), {}};
-    EXPECT_EQ(reconstruct_scene(o.prepared.scene, o.prepared.element_analysis, {}, &o.meshes), ReconstructStatus::ok);
+    Optimized o{pipeline::prepare_scene(path, {}), {}};
+    EXPECT_EQ(reconstruct_scene(o.prepared.scene, o.prepared.analysis, {}, &o.meshes), ReconstructStatus::ok);
     o.meshes.stats.seconds = 0.125; // exact in both forms
     return o;
 }

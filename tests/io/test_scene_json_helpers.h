@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "testing/ascii_image.h"
 
 namespace depthcull::test {

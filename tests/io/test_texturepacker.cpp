@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "testing/corpus.h"
 
 using namespace depthcull;
@@ -178,8 +179,8 @@ TEST(TexturePacker, Errors) {
 TEST(TexturePackerPolygons, RoundTripCoversEveryTexel) {
     for (const char* name : {"sheet.json", "sheet-array.json"}) {
         io::AtlasPolygonStats stats;
-        std::string text = io::atlas_with_polygons(example(name), AnalyzeOptions{}, &stats);
-        EXPECT_EQ(text, io::atlas_with_polygons(example(name), AnalyzeOptions{})); // deterministic
+        std::string text = pipeline::atlas_with_polygons(example(name), pipeline::AtlasPolygonOptions{}, &stats);
+        EXPECT_EQ(text, pipeline::atlas_with_polygons(example(name), pipeline::AtlasPolygonOptions{})); // deterministic
         EXPECT_EQ(stats.frames, 4);
         EXPECT_LT(stats.polygon_area, stats.frame_area);
         std::string path = write_temp(std::string("poly-") + name, text);

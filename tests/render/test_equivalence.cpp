@@ -86,16 +86,14 @@ void check(unsigned seed, Filter filter) {
     auto rs = random_scene(seed, filter);
     AnalyzeOptions analyze;
     analyze.filter = filter;
-    std::vector<ImageAnalysis> analyses;
-    analyses.reserve(rs.scene.elements.size());
-    std::vector<const ImageAnalysis*> per_element;
+    SceneAnalysis analysis; // one per element
     for (const Element& e : rs.scene.elements) {
-        analyses.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, analyze));
-        per_element.push_back(&analyses.back());
+        analysis.of_element.push_back(std::uint32_t(analysis.images.size()));
+        analysis.images.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, analyze));
     }
     render::MeasureOptions options;
     options.frames = 0;
-    auto m = render::measure_scene(*r, rs.scene, rs.views(), per_element, options);
+    auto m = render::measure_scene(*r, rs.scene, rs.views(), analysis, options);
     for (const auto& mode : m.modes) {
         SCOPED_TRACE(render::mode_name(mode.mode));
         if (filter == Filter::nearest) {

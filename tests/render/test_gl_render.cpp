@@ -199,18 +199,16 @@ TEST(GlRender, MeshSlotsDrawWhatSetMeshesDraws) {
 TEST(MeasureScene, TableTwoRowsForEveryMode) {
     REQUIRE_GL(r);
     auto rs = test::mixed_scene();
-    std::vector<ImageAnalysis> analyses;
-    analyses.reserve(rs.scene.elements.size());
-    std::vector<const ImageAnalysis*> per_element;
+    SceneAnalysis analysis; // one per element
     for (const Element& e : rs.scene.elements) {
-        analyses.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, {}));
-        per_element.push_back(&analyses.back());
+        analysis.of_element.push_back(std::uint32_t(analysis.images.size()));
+        analysis.images.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, {}));
     }
     render::MeasureOptions options;
     options.frames = 2;
     options.warmup = 1;
     options.keep_maps = true;
-    auto m = render::measure_scene(*r, rs.scene, rs.views(), per_element, options);
+    auto m = render::measure_scene(*r, rs.scene, rs.views(), analysis, options);
     ASSERT_EQ(m.modes.size(), 3u);
     EXPECT_EQ(m.modes[0].mode, render::Mode::overpaint);
     EXPECT_EQ(m.modes[0].counts.draw_calls, std::int64_t(rs.scene.elements.size()));

@@ -11,6 +11,7 @@
 
 #include "../render/render_scenes.h"
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "runtime_host.h"
 #include "testing/corpus.h"
 
@@ -18,7 +19,7 @@ namespace depthcull {
 namespace {
 
 void expect_identical(test::RuntimeHost& h, const Scene& scene, const std::vector<ImageView>& images,
-                      const std::vector<const ImageAnalysis*>& analyses, const std::string& label) {
+                      const SceneAnalysis& analyses, const std::string& label) {
     render::MeasureOptions options;
     options.frames = 0;
     render::RuntimeMeasurement m = render::measure_runtime(*h.host, scene, images, analyses, options);
@@ -31,17 +32,17 @@ void expect_identical(test::RuntimeHost& h, const Scene& scene, const std::vecto
     }
 }
 
-void expect_identical(test::RuntimeHost& h, const io::PreparedScene& p, const std::string& label) {
+void expect_identical(test::RuntimeHost& h, const pipeline::PreparedScene& p, const std::string& label) {
     std::vector<ImageView> views;
     for (const Image& i : p.images) views.push_back(i.view());
-    expect_identical(h, p.scene, views, p.element_analysis, label);
+    expect_identical(h, p.scene, views, p.analysis, label);
 }
 
 class PixelIdentity : public testing::TestWithParam<render::GlApi> {};
 
 TEST_P(PixelIdentity, BundledExample) {
     DEPTHCULL_RUNTIME_HOST(h, GetParam());
-    expect_identical(*h, io::prepare_scene(test::source_path("examples/meadow.json"), {}), "meadow");
+    expect_identical(*h, pipeline::prepare_scene(test::source_path("examples/meadow.json"), {}), "meadow");
 }
 
 // Sprites with transparent margins, translucent rims and opaque cores,
@@ -72,14 +73,12 @@ TEST_P(PixelIdentity, RandomScenes) {
             if (pick(4) == 0) color = {float(uniform(0.3, 1)), float(uniform(0.3, 1)), float(uniform(0.3, 1)), pick(2) ? 1.0f : 0.6f};
             rs.add(pick(3), m, blend, color);
         }
-        std::vector<ImageAnalysis> analyses;
-        std::vector<const ImageAnalysis*> per_element;
-        analyses.reserve(rs.scene.elements.size());
+        SceneAnalysis analysis; // one per element
         for (const Element& e : rs.scene.elements) {
-            analyses.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, {}));
-            per_element.push_back(&analyses.back());
+            analysis.of_element.push_back(std::uint32_t(analysis.images.size()));
+            analysis.images.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, {}));
         }
-        expect_identical(*h, rs.scene, rs.views(), per_element, "seed " + std::to_string(seed));
+        expect_identical(*h, rs.scene, rs.views(), analysis, "seed " + std::to_string(seed));
     }
 }
 
@@ -96,11 +95,11 @@ TEST_P(PixelIdentity, EveryCorpusCamera) {
         std::vector<std::string> maps = test::corpus_files(package, ".tmx");
         for (const std::string& p : test::corpus_files(package, ".tmx.gz")) maps.push_back(p);
         for (const std::string& path : maps) {
-            io::PreparedScene p;
+            pipeline::PreparedScene p;
             try {
-                io::PrepareOptions options;
-                options.cache_dir = io::default_cache_dir();
-                p = io::prepare_scene(path, options);
+                pipeline::PrepareOptions options;
+                options.cache_dir = pipeline::default_cache_dir();
+                p = pipeline::prepare_scene(path, options);
             } catch (const io::Error&) {
                 continue; // maps depthcull refuses (hexagonal, staggered) are listed by bench-corpus
             }

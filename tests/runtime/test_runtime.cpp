@@ -9,6 +9,7 @@
 #include <new>
 
 #include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 #include "../render/render_scenes.h"
 #include "testing/corpus.h"
 #include "runtime_host.h"
@@ -70,18 +71,19 @@ TEST_P(Runtime, BadDrawsGetAStatusAndAMessage) {
 
 TEST_P(Runtime, AFrameWithDynamicElementsAllocatesNothing) {
     DEPTHCULL_RUNTIME_HOST(h, GetParam());
-    io::PreparedScene p = io::prepare_scene(test::source_path("examples/meadow.json"), {});
+    pipeline::PreparedScene p = pipeline::prepare_scene(test::source_path("examples/meadow.json"), {});
     std::vector<ImageView> views;
     for (const Image& i : p.images) views.push_back(i.view());
     ASSERT_EQ(h->renderer->upload_images(views, p.scene.filter), runtime::Status::ok);
     ReconstructOptions options;
     options.reserved_dynamic_levels = 16;
     SceneMeshes static_meshes;
-    ASSERT_EQ(reconstruct_scene(p.scene, p.element_analysis, options, &static_meshes), ReconstructStatus::ok);
+    ASSERT_EQ(reconstruct_scene(p.scene, p.analysis, options, &static_meshes), ReconstructStatus::ok);
     ASSERT_EQ(h->renderer->set_meshes(static_meshes), runtime::Status::ok);
     // add_dynamic_elements gives only the dynamic draws.
     std::vector<Element> moving(p.scene.elements.end() - 8, p.scene.elements.end());
-    std::vector<const ImageAnalysis*> analyses(p.element_analysis.end() - 8, p.element_analysis.end());
+    const std::vector<const ImageAnalysis*> all = p.analysis.per_element();
+    std::vector<const ImageAnalysis*> analyses(all.end() - 8, all.end());
     SceneMeshes dynamic;
     ASSERT_EQ(add_dynamic_elements(static_meshes, p.scene, moving, analyses, &dynamic), ReconstructStatus::ok);
     ASSERT_FALSE(dynamic.draws.empty());
