@@ -59,6 +59,26 @@ TEST(OptimizeCli, WritesMeshesWithTheDocumentedFields) {
     EXPECT_GT(fs::file_size(dir / "m.bin"), 16u);
 }
 
+// --stats: overdraw before and after from the CPU analyzers (no GL), and
+// the filter the meshes are made for in both forms; --filter wins over the
+// scene's own.
+TEST(OptimizeCli, StatsPrintOverdrawAndMeshesRecordTheFilter) {
+    fs::path dir = scratch("optimize_stats");
+    auto r = run_cli("optimize " + shq(example("meadow.json")) + " --no-cache --stats -o " + shq(dir / "m.json"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const char* row : {"fragments rasterized", "fragments shaded", "overdraw", "ideal overdraw"})
+        EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
+    EXPECT_EQ(json::parse(std::ifstream(dir / "m.json"))["filter"], "nearest");
+    r = run_cli("optimize " + shq(example("meadow.json")) + " --no-cache --filter linear -o " + shq(dir / "l.json") + " --binary " +
+                shq(dir / "l.bin"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(json::parse(std::ifstream(dir / "l.json"))["filter"], "linear");
+    std::ifstream bin(dir / "l.bin", std::ios::binary);
+    char header[16] = {};
+    bin.read(header, sizeof header);
+    EXPECT_EQ(header[12] & 4, 4) << "binary flags bit 2: linear";
+}
+
 TEST(OptimizeCli, ByteIdenticalAcrossThreadCountsAndCacheRuns) {
     fs::path dir = scratch("determinism");
     std::string base = "optimize " + shq(example("meadow.json")) + " --no-timing --cache " + shq(dir / "cache");
