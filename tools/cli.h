@@ -33,6 +33,7 @@ void add_bench_command(CLI::App& app);
 void add_import_command(CLI::App& app);
 void add_atlas_command(CLI::App& app);
 void add_report_command(CLI::App& app);
+void add_calibrate_command(CLI::App& app);
 
 // The command line as given (set by main), for reports.
 extern std::string g_command_line;

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "cli.h"
+#include "target_common.h"
 #include "depthcull/io.h"
 #include "depthcull/scene.h"
 #include "progress.h"
@@ -26,6 +27,7 @@ struct OptimizeArgs {
     bool timing = true;
     bool quiet = false;
     CLI::Option* filter_option = nullptr;
+    std::string target;
 };
 
 std::string figures(const io::PreparedScene& p, const SceneMeshes& overpaint, const SceneMeshes& rects, const SceneMeshes& optimized) {
@@ -65,6 +67,8 @@ void run_optimize(OptimizeArgs& args) {
                      prepared.scene.elements.size());
     ReconstructOptions options = args.reconstruct;
     options.opaque_polygons = args.opaque;
+    prepare.progress = nullptr;
+    const auto plan = apply_target(args.target, args.scene, prepared, prepare, &options, args.quiet);
     SceneMeshes meshes;
     switch (reconstruct_scene(prepared.scene, prepared.element_analysis, options, &meshes)) {
     case ReconstructStatus::ok: break;
@@ -117,6 +121,7 @@ void add_optimize_command(CLI::App& app) {
     cmd->add_option("--cache", args->cache_dir, "Analysis cache directory (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
     cmd->add_flag("--no-cache", args->no_cache, "Analyze every image, read and write no cache");
     add_reconstruct_options(*cmd, args->reconstruct);
+    add_target_option(*cmd, args->target);
     cmd->add_flag("!--no-opaque", args->opaque, "No opaque pass: boundary polygons only");
     cmd->add_flag("--cull", args->reconstruct.cull_to_viewport,
                   "Drop elements entirely outside the viewport (meshes for that one camera position)");

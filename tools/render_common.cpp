@@ -1,6 +1,7 @@
 // Only in builds with the renderer (DEPTHCULL_BUILD_RENDER).
 #ifdef DEPTHCULL_HAVE_RENDER
 #include "render_common.h"
+#include "target_common.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +19,7 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
     cmd.add_flag("!--no-opaque", in.opaque, "Optimized without the opaque pass: boundary polygons only");
     add_viewport_option(cmd, in.prepare.load);
     add_analysis_options(cmd, in.prepare.analyze);
+    add_target_option(cmd, in.target);
     in.filter_option = cmd.get_option("--filter");
     cmd.add_option("-j,--threads", in.prepare.threads, "Worker threads for the analysis (0: all cores)")->capture_default_str();
     cmd.add_option("--gl", in.platform,

@@ -20,6 +20,7 @@ struct RenderInput {
     bool opaque = true;
     render::GlPlatform platform = render::GlPlatform::automatic;
     CLI::Option* filter_option = nullptr;
+    std::string target;        // --target PROFILE (target_common.h)
 };
 
 // --cache, --no-cache, --graph, --sort, --no-opaque, --viewport, the
