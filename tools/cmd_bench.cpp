@@ -80,24 +80,29 @@ struct SceneResult {
     render::RuntimeMeasurement rt;     // the runtime renderer
     double covered = 0;                // share of viewport pixels showing a non-transparent texel
     std::vector<double> predicted;     // --target: predicted ms per mode of rt.modes
+    std::vector<FrameFeatures> features; // --target: what the model read off each mode's meshes
+    std::vector<CostTerms> terms;      // --target: the prediction by term
     std::string target;                // the profile's name
 };
 
 // The model's prediction for each mode drawn (the meshes measure_runtime draws).
-std::vector<double> predict_modes(const io::PreparedScene& prepared, const render::MeasureOptions& options, const CostProfile& profile,
-                                  const std::vector<render::Mode>& modes) {
-    std::vector<double> out;
+void predict_modes(const io::PreparedScene& prepared, const render::MeasureOptions& options, const CostProfile& profile,
+                   const std::vector<render::Mode>& modes, SceneResult* r) {
+    std::vector<double>& out = r->predicted;
     ReconstructOptions reconstruct = options.reconstruct;
     reconstruct.coverage_margin = 0;
     for (render::Mode mode : modes) {
         SceneMeshes meshes;
         if (render::build_meshes(mode, prepared.scene, prepared.element_analysis, reconstruct, &meshes) != ReconstructStatus::ok) {
             out.push_back(0);
+            r->features.emplace_back();
+            r->terms.emplace_back();
             continue;
         }
-        out.push_back(predict_ms(profile, frame_features(meshes)));
+        r->features.push_back(frame_features(meshes));
+        r->terms.push_back(predict_terms(profile, r->features.back()));
+        out.push_back(predict_ms(profile, r->features.back()));
     }
-    return out;
 }
 
 double median_of(std::vector<double> v) {
@@ -151,8 +156,22 @@ json runtime_json(const SceneResult& r) {
     for (std::size_t mi = 0; mi < r.rt.modes.size(); ++mi) {
         const render::RuntimeModeMeasurement& m = r.rt.modes[mi];
         const double od = pixels > 0 ? double(m.fragments_shaded) / pixels : 0;
-        if (mi < r.predicted.size()) modes.push_back({{"mode", render::mode_name(m.mode)}, {"predicted_ms", r.predicted[mi]}});
-        else modes.push_back(json::object());
+        if (mi < r.predicted.size()) {
+            const FrameFeatures& f = r.features[mi];
+            const CostTerms& t = r.terms[mi];
+            modes.push_back({{"mode", render::mode_name(m.mode)},
+                             {"predicted_ms", r.predicted[mi]},
+                             {"predicted_terms_ms",
+                              {{"frame", t.frame}, {"clears", t.clears}, {"draws", t.draws}, {"triangles", t.triangles},
+                               {"opaque", t.opaque}, {"blend", t.blend}, {"rejected", t.rejected}}},
+                             {"model_features",
+                              {{"pixels", f.pixels}, {"depth_clear", f.depth_clear}, {"draw_calls", f.draw_calls},
+                               {"texture_switches", f.texture_switches}, {"triangles", f.triangles},
+                               {"triangle_perimeter", f.triangle_perimeter}, {"opaque_fragments", f.opaque_fragments},
+                               {"blend_fragments", f.blend_fragments}, {"rejected_fragments", f.rejected_fragments}}}});
+        } else {
+            modes.push_back(json::object());
+        }
         modes.back().update(json{{"mode", render::mode_name(m.mode)},
                          {"draw_calls", m.draw_calls},
                          {"triangles", m.triangles},
@@ -289,7 +308,7 @@ void run_bench(BenchArgs& args) {
         r.path = path;
         if (plan) {
             r.target = plan->profile.name;
-            r.predicted = predict_modes(prepared, options, plan->profile, renderer ? std::vector<render::Mode>{} : modes_in_order(modes));
+            predict_modes(prepared, options, plan->profile, renderer ? std::vector<render::Mode>{} : modes_in_order(modes), &r);
         }
         r.elements = prepared.scene.elements.size();
         try {

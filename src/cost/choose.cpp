@@ -21,6 +21,7 @@
 #include <tuple>
 
 #include "depthcull/cost.h"
+#include "scene/placement.h"
 
 namespace depthcull {
 
@@ -75,33 +76,6 @@ bool inside_rect(const std::vector<Polygon>& polygons, const Rect& r) {
     for (const Polygon& p : polygons)
         for (const Vec2& v : p)
             if (v.x < r.x || v.y < r.y || v.x > double(r.x) + r.w || v.y > double(r.y) + r.h) return false;
-    return true;
-}
-
-// As the texel skirts decide (src/scene/texel_margin.cpp): elements whose
-// vertices GL places exactly get none.
-bool snaps_exactly(const std::array<double, 6>& m) {
-    auto power_of_two_or_zero = [](double a) {
-        if (a == 0) return true;
-        int exponent = 0;
-        const double mantissa = std::frexp(std::abs(a), &exponent);
-        return mantissa == 0.5 && exponent >= -2 && exponent <= 4;
-    };
-    auto on_subpixel_grid = [](double t) { return std::abs(t) < 8192 && std::floor(t * 256) == t * 256; };
-    const bool axis_aligned = (m[1] == 0 && m[2] == 0) || (m[0] == 0 && m[3] == 0);
-    return axis_aligned && power_of_two_or_zero(m[0]) && power_of_two_or_zero(m[1]) && power_of_two_or_zero(m[2]) &&
-           power_of_two_or_zero(m[3]) && on_subpixel_grid(m[4]) && on_subpixel_grid(m[5]);
-}
-
-// As reconstruction's whole-rect opaque rule (src/scene/shapes.cpp).
-bool pixel_aligned(const Scene& scene, const Element& e) {
-    const auto& m = e.transform;
-    const bool axis_aligned = (m[1] == 0 && m[2] == 0) || (m[0] == 0 && m[3] == 0);
-    if (!axis_aligned || std::floor(scene.viewport.x) != scene.viewport.x || std::floor(scene.viewport.y) != scene.viewport.y) return false;
-    for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
-        const Vec2 p = apply(m, c);
-        if (std::floor(p.x) != p.x || std::floor(p.y) != p.y) return false;
-    }
     return true;
 }
 
@@ -200,7 +174,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
         det[i] = std::abs(m[0] * m[3] - m[1] * m[2]);
         stretch[i] = std::max(std::hypot(m[0], m[1]), std::hypot(m[2], m[3]));
         if (!std::isfinite(det[i])) det[i] = 0;
-        skirt[i] = options.texel_margin > 0 && !snaps_exactly(m);
+        skirt[i] = options.texel_margin > 0 && !detail::snaps_exactly(m);
         choosable[i] = usable(i) && (e.blend == Blend::alpha || e.blend == Blend::add) && e.color[3] > 0.0f;
     }
 
@@ -317,7 +291,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
             bool rect;
         };
         std::vector<Option> options_j;
-        if (cap.stats.opaque_texels == std::int64_t(cap.rect.w) * cap.rect.h && pixel_aligned(scene, e)) {
+        if (cap.stats.opaque_texels == std::int64_t(cap.rect.w) * cap.rect.h && detail::pixel_aligned(scene, e)) {
             // Whole-rect opaque: the rect in the opaque pass, no blend draw.
             const Geometry g = rect_geo[std::size_t(key_of(j))];
             std::vector<Polygon> screen{to_screen(j, rect_polygon_of(cap.rect))};
