@@ -26,9 +26,9 @@ std::unique_ptr<io::TargetPlan> apply_target(const std::string& target, const st
         const TargetChoice& c = plan->choice;
         std::fprintf(stderr,
                      "depthcull: %s: --target %s: predicted %.3f ms (overpaint %.3f, meshes only %.3f); opaque pass %s, %lld elements with "
-                     "opaque polygons, %lld hidden elements dropped, MIN_OPAQUE_AREA %d%s%s\n",
+                     "opaque polygons (%lld given up per element), %lld hidden elements dropped, MIN_OPAQUE_AREA %d%s%s\n",
                      path.c_str(), profile.name.c_str(), c.predicted_ms, c.overpaint_ms, c.meshes_only_ms, c.opaque_pass ? "on" : "off",
-                     (long long)c.elements_opaque, (long long)c.elements_dropped, plan->min_opaque_area, c.fallback.empty() ? "" : "; fallback: ",
+                     (long long)c.elements_opaque, (long long)c.elements_reverted, (long long)c.elements_dropped, plan->min_opaque_area, c.fallback.empty() ? "" : "; fallback: ",
                      c.fallback.c_str());
     }
     return plan;

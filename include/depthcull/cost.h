@@ -114,6 +114,7 @@ struct TargetChoice {
     std::vector<int> key_choice;
     std::int64_t elements_dropped = 0;     // hidden by opaque polygons in front
     std::int64_t elements_opaque = 0;      // drawing opaque polygons
+    std::int64_t elements_reverted = 0;    // per-element fallback: opaque polygons given up (step 5)
     std::string fallback;                  // "" or what was given up to stay no slower than meshes only
     // Predicted ms: the chosen output, meshes only, overpaint.
     double predicted_ms = 0, meshes_only_ms = 0, overpaint_ms = 0;

@@ -330,6 +330,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
     for (std::size_t j = 0; j < n; ++j)
         for (const std::uint32_t* b = graph.behind_begin(j); b != graph.behind_end(j); ++b) front[*b].push_back(std::uint32_t(j));
     std::int64_t dropped = 0;
+    std::vector<std::int64_t> hider(n, -1); // the element whose opaque polygon hides it
     if (opaque_pass)
         for (std::size_t i = 0; i < n; ++i) {
             if (!choosable[i] || drawn[i].empty()) continue;
@@ -367,6 +368,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
                 }
                 if (hidden) {
                     variants[i].dropped = true;
+                    hider[i] = std::int64_t(j);
                     ++dropped;
                     break;
                 }
@@ -400,45 +402,96 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
         if (rectangle_meshes(scene, options, &m) == ReconstructStatus::ok) out.meshes_only_ms = predict_ms(P, frame_features(m));
         out.overpaint_ms = predict_ms(P, frame_features(overpaint_meshes(scene)));
     }
-    double best_ms = INFINITY;
-    std::size_t best = 0;
-    std::vector<std::vector<const ImageAnalysis*>> pointers(contestants.size());
-    std::map<Variant, std::size_t> index;
-    // All variants first, so storage never moves once pointers are taken.
-    for (const Contestant& c : contestants)
+    // The frame predicted for a contestant (INFINITY if it cannot be built).
+    auto evaluate = [&](const Contestant& c, std::vector<ImageAnalysis>* storage, std::vector<const ImageAnalysis*>* pointers) {
+        std::map<Variant, std::size_t> index;
+        storage->clear();
         for (std::size_t i = 0; i < n; ++i)
             if (usable(i) && !index.count(c.variants[i])) {
-                index.emplace(c.variants[i], out.storage.size());
-                out.storage.push_back(make_variant(candidates[std::size_t(key_of(i))], c.variants[i]));
+                index.emplace(c.variants[i], storage->size());
+                storage->push_back(make_variant(candidates[std::size_t(key_of(i))], c.variants[i]));
             }
-    for (std::size_t ci = 0; ci < contestants.size(); ++ci) {
-        const Contestant& c = contestants[ci];
-        pointers[ci].assign(n, nullptr);
+        pointers->assign(n, nullptr); // after storage is complete: it never moves again
         for (std::size_t i = 0; i < n; ++i)
-            if (usable(i)) pointers[ci][i] = &out.storage[index.at(c.variants[i])];
+            if (usable(i)) (*pointers)[i] = &(*storage)[index.at(c.variants[i])];
         ReconstructOptions o = options;
         o.opaque_polygons = c.opaque_pass;
         SceneMeshes m;
-        if (reconstruct_scene(scene, pointers[ci], o, &m) != ReconstructStatus::ok) continue;
-        const double ms = predict_ms(P, frame_features(m));
-        if (ms < best_ms) best_ms = ms, best = ci; // first wins ties: deterministic
+        if (reconstruct_scene(scene, *pointers, o, &m) != ReconstructStatus::ok) return double(INFINITY);
+        return predict_ms(P, frame_features(m));
+    };
+    double best_ms = INFINITY;
+    std::size_t best = 0;
+    {
+        std::vector<ImageAnalysis> storage;
+        std::vector<const ImageAnalysis*> pointers;
+        for (std::size_t ci = 0; ci < contestants.size(); ++ci) {
+            const double ms = evaluate(contestants[ci], &storage, &pointers);
+            if (ms < best_ms) best_ms = ms, best = ci; // first wins ties: deterministic
+        }
     }
-    const Contestant& win = contestants[best];
-    out.element_analysis = pointers[best];
+    Contestant win = contestants[best];
+    if (best == 3) std::fill(out.key_choice.begin(), out.key_choice.end(), -1); // rects everywhere
+    if (best == 4)
+        for (std::size_t k = 0; k < keys; ++k) out.key_choice[k] = int(candidates[k].analyses.size()) - 1;
+
+    // 5. Per element fallback, image by image: the local estimates of 1
+    // and 2 miss what the whole frame shows (blocks the rasterizer shades
+    // whole, fragments behind several occluders), so for the images used
+    // most, the winner is predicted again with that image's elements
+    // drawing no opaque polygons (and what they hid drawn again), then with
+    // its plain rect as boundary; a change is kept only when the frame is
+    // predicted faster, so the result stays no slower than meshes only.
+    if (std::isfinite(best_ms) && keys > 0) {
+        std::vector<std::int64_t> uses(keys, 0);
+        for (std::size_t i = 0; i < n; ++i)
+            if (usable(i) && !win.variants[i].dropped) ++uses[std::size_t(key_of(i))];
+        std::vector<std::size_t> order(keys);
+        for (std::size_t k = 0; k < keys; ++k) order[k] = k;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return uses[a] > uses[b]; });
+        constexpr std::size_t kMaxKeysTried = 12; // bounds the time: each try rasterizes the frame
+        std::vector<ImageAnalysis> storage;
+        std::vector<const ImageAnalysis*> pointers;
+        for (std::size_t r = 0; r < std::min(kMaxKeysTried, keys) && uses[order[r]] > 0; ++r) {
+            const int k = int(order[r]);
+            if (win.opaque_pass) {
+                Contestant t = win;
+                bool changed = false;
+                for (std::size_t i = 0; i < n; ++i)
+                    if (usable(i) && key_of(i) == k && t.variants[i].opaque != Opaque::none && !t.variants[i].dropped) {
+                        t.variants[i].opaque = Opaque::none;
+                        changed = true;
+                        for (std::size_t h = 0; h < n; ++h)
+                            if (hider[h] == std::int64_t(i)) t.variants[h].dropped = false;
+                    }
+                if (changed) {
+                    const double ms = evaluate(t, &storage, &pointers);
+                    if (ms < best_ms) {
+                        best_ms = ms, win = t;
+                        for (std::size_t i = 0; i < n; ++i) out.elements_reverted += usable(i) && key_of(i) == k && !win.variants[i].dropped;
+                    }
+                }
+            }
+            {
+                Contestant t = win;
+                bool changed = false;
+                for (std::size_t i = 0; i < n; ++i)
+                    if (usable(i) && key_of(i) == k && t.variants[i].boundary >= 0) t.variants[i].boundary = -1, changed = true;
+                if (changed) {
+                    const double ms = evaluate(t, &storage, &pointers);
+                    if (ms < best_ms) best_ms = ms, win = t, out.key_choice[std::size_t(k)] = -1;
+                }
+            }
+        }
+    }
+    out.predicted_ms = evaluate(win, &out.storage, &out.element_analysis);
     out.opaque_pass = win.opaque_pass;
     out.fallback = win.name;
-    out.predicted_ms = best_ms;
     for (std::size_t i = 0; i < n; ++i) {
         out.elements_dropped += win.variants[i].dropped;
         out.elements_opaque += usable(i) && win.opaque_pass && !win.variants[i].dropped && win.variants[i].opaque != Opaque::none &&
                                !out.element_analysis[i]->opaque.empty();
     }
-    if (best == 3 || best == 2) {
-        // Rects everywhere: the key choice reports it.
-        if (best == 3) std::fill(out.key_choice.begin(), out.key_choice.end(), -1);
-    }
-    if (best == 4)
-        for (std::size_t k = 0; k < keys; ++k) out.key_choice[k] = int(candidates[k].analyses.size()) - 1;
     (void)dropped;
     return out;
 }
