@@ -15,6 +15,7 @@
 #include "depthcull/io.h"
 #include "depthcull/report.h"
 #include "progress.h"
+#include "target_common.h"
 
 namespace depthcull::cli {
 
@@ -41,6 +42,9 @@ struct AnalyzeArgs {
     std::string cache_dir;
     bool no_cache = false;
     bool quiet = false;
+    std::string target;          // --target: the profile's name or file
+    bool has_profile = false;
+    CostProfile profile;         // resolved from target
 };
 
 // IMAGE or IMAGE:x,y,w,h. Only a trailing ":int,int,int,int" is a rect, so
@@ -101,6 +105,7 @@ struct Result {
     ImageAnalysis analysis;
     std::int64_t uncontained = 0, violations = 0;
     bool cache_hit = false;
+    int chosen_budget = -1;      // --target: the vertex budget chosen (0: the plain rect)
 };
 
 // Preview file names: the image's stem, its rect when one was given, and
@@ -131,7 +136,42 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
     Result r;
     r.width = image.width;
     r.height = image.height;
-    r.analysis = io::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit);
+    if (!args.has_profile) {
+        r.analysis = io::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit);
+    } else {
+        // As optimize --target plans each image (io::plan_target): the
+        // budgets 4, 6, 8 up to the cap, MIN_OPAQUE_AREA from the profile;
+        // here the one that draws the image once at scale 1 the fastest,
+        // or its plain rect.
+        AnalyzeOptions o = args.options;
+        o.opaque.min_area = min_opaque_area(args.profile);
+        const int cap = std::max(kMinBoundaryVertices, o.boundary.max_vertices);
+        std::vector<int> budgets;
+        for (int b : {4, 6, 8})
+            if (b < cap) budgets.push_back(b);
+        budgets.push_back(cap);
+        std::vector<ImageAnalysis> analyses;
+        r.cache_hit = true;
+        for (int b : budgets) {
+            o.boundary.max_vertices = b;
+            bool hit = false;
+            analyses.push_back(io::analyze_cached(image.view(), rect, o, args.cache_dir, &hit));
+            r.cache_hit = r.cache_hit && hit;
+        }
+        ImageAnalysis plain = analyses.back();
+        if (!plain.boundary.empty()) {
+            const double x0 = rect.x, y0 = rect.y, x1 = double(rect.x) + rect.w, y1 = double(rect.y) + rect.h;
+            plain.boundary = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+            plain.stats.boundary_area = double(rect.w) * rect.h;
+            plain.stats.boundary_vertices = 4;
+        }
+        std::vector<const ImageAnalysis*> candidates;
+        for (const ImageAnalysis& a : analyses) candidates.push_back(&a);
+        candidates.push_back(&plain);
+        const std::size_t c = io::choose_image_candidate(candidates, args.profile);
+        r.analysis = *candidates[c];
+        r.chosen_budget = c < budgets.size() ? budgets[c] : 0;
+    }
     if (!preview_base.empty()) {
         report::PreviewOptions options;
         options.title = fs::path(in.path).filename().string();
@@ -146,7 +186,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
     return r;
 }
 
-json result_json(const Input& in, const Result& r, bool timing) {
+json result_json(const Input& in, const Result& r, bool timing, const AnalyzeArgs& args) {
     const ImageStats& s = r.analysis.stats;
     const Rect& rect = r.analysis.rect;
     json stats = {{"nontransparent_texels", s.nontransparent_texels},
@@ -161,13 +201,19 @@ json result_json(const Input& in, const Result& r, bool timing) {
                   {"opaque_covered_texels", s.opaque_covered_texels},
                   {"opaque_coverage", s.opaque_coverage},
                   {"seconds", timing ? s.seconds : 0.0}};
-    return {{"path", in.path},
+    json out = {{"path", in.path},
             {"rect", {rect.x, rect.y, rect.w, rect.h}},
             {"width", r.width},
             {"height", r.height},
             {"boundary", polygons_json(r.analysis.boundary)},
             {"opaque", polygons_json(r.analysis.opaque)},
             {"stats", std::move(stats)}};
+    if (r.chosen_budget >= 0)
+        out["target"] = {{"profile", args.profile.name},
+                         {"max_vertices", r.chosen_budget},
+                         {"rect", r.chosen_budget == 0},
+                         {"min_opaque_area", min_opaque_area(args.profile)}};
+    return out;
 }
 
 std::string summary_text(const std::vector<Result>& results, double wall_seconds) {
@@ -256,7 +302,7 @@ void run_analyze(const AnalyzeArgs& args) {
         // One image per line: diffable, and still one JSON document.
         std::string text = "{\"images\": [\n";
         for (std::size_t i = 0; i < inputs.size(); ++i)
-            text += " " + result_json(inputs[i], results[i], args.timing).dump() + (i + 1 < inputs.size() ? ",\n" : "\n");
+            text += " " + result_json(inputs[i], results[i], args.timing, args).dump() + (i + 1 < inputs.size() ? ",\n" : "\n");
         write_output(args.output, text + "]}\n");
     }
     if (args.summary) {
@@ -272,6 +318,10 @@ void run_analyze(const AnalyzeArgs& args) {
 
 void set_cache(AnalyzeArgs& args) {
     args.options.opaque.filter = args.options.boundary.filter; // as optimize: same key, same entries
+    if (!args.target.empty()) {
+        args.profile = io::resolve_target(args.target);
+        args.has_profile = true;
+    }
     if (args.no_cache) args.cache_dir.clear();
     else if (args.cache_dir.empty()) args.cache_dir = io::default_cache_dir();
 }
@@ -294,6 +344,7 @@ void add_analyze_command(CLI::App& app) {
         ->type_name("DIR");
     cmd->add_option("--cache", args->cache_dir, "Analysis cache directory, shared with optimize (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
     cmd->add_flag("--no-cache", args->no_cache, "Analyze every image, read and write no cache");
+    add_target_option(*cmd, args->target);
     add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] {
         set_cache(*args);

@@ -193,5 +193,71 @@ TEST(Target, PixelIdentityHoldsForEveryTarget) {
     }
 }
 
+// The per-element fallback (choose.cpp step 5) only keeps what predicts
+// faster, so for every profile, including ones where opaque polygons or
+// boundary edges cost more than they save, the output is predicted no
+// slower than meshes only.
+TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    CostProfile base;
+    ASSERT_TRUE(builtin_profile("llvmpipe", &base));
+    CostProfile rejected_dear = base, edges_dear = base;
+    rejected_dear.name = "rejected-dear";
+    rejected_dear.fragment_rejected_ns = 10 * base.fragment_blend_ns;
+    edges_dear.name = "edges-dear";
+    edges_dear.triangle_perimeter_ns_per_pixel = 200;
+    edges_dear.triangle_us = 20;
+    std::vector<std::string> targets = {"llvmpipe", "ipad1"};
+    for (const CostProfile& p : {rejected_dear, edges_dear}) {
+        targets.push_back(temp(p.name + ".json"));
+        io::save_profile(targets.back(), p);
+    }
+    for (const std::string& target : targets) {
+        const std::string err = temp("never-slower.err");
+        const std::string cmd = cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache --target " + target +
+                                " -o " + temp("never-slower.json") + " 2>" + err;
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+        const std::string text = slurp(err);
+        double predicted = 0, overpaint = 0, meshes = 0;
+        const std::size_t at = text.find("predicted ");
+        ASSERT_NE(at, std::string::npos) << text;
+        ASSERT_EQ(std::sscanf(text.c_str() + at, "predicted %lf ms (overpaint %lf, meshes only %lf)", &predicted, &overpaint, &meshes), 3) << text;
+        EXPECT_LE(predicted, meshes + 1e-9) << target << ": " << text;
+    }
+}
+
+// analyze --target: per image the chosen budget (or the plain rect) and
+// MIN_OPAQUE_AREA from the profile, the same for any thread count.
+TEST(Target, AnalyzeReportsThePerImageChoice) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    for (const char* target : {"llvmpipe", "ipad1"}) {
+        std::string outputs[2];
+        for (int k = 0; k < 2; ++k) {
+            const std::string out = temp(std::string("analyze-") + target + std::to_string(k) + ".json");
+            const std::string cmd = cli() + " analyze " + DEPTHCULL_SOURCE_DIR + "/examples/art --no-cache -q --no-timing -j " +
+                                    std::to_string(k + 1) + " --target " + target + " -o " + out;
+            ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+            outputs[k] = slurp(out);
+        }
+        EXPECT_EQ(outputs[0], outputs[1]) << target;
+        CostProfile p;
+        ASSERT_TRUE(builtin_profile(target, &p));
+        const nlohmann::json doc = nlohmann::json::parse(outputs[0]);
+        ASSERT_FALSE(doc["images"].empty());
+        for (const auto& image : doc["images"]) {
+            ASSERT_TRUE(image.contains("target")) << image["path"];
+            const auto& t = image["target"];
+            EXPECT_EQ(t["profile"], target);
+            EXPECT_EQ(t["min_opaque_area"].get<int>(), min_opaque_area(p));
+            const int budget = t["max_vertices"].get<int>();
+            EXPECT_EQ(t["rect"].get<bool>(), budget == 0);
+            EXPECT_TRUE(budget == 0 || budget == 4 || budget == 6 || budget == 8 || budget == 10) << budget;
+            if (budget > 0) {
+                for (const auto& poly : image["boundary"]) EXPECT_LE(int(poly.size()), budget) << image["path"];
+            }
+        }
+    }
+}
+
 } // namespace
 } // namespace depthcull
