@@ -267,8 +267,6 @@ void run_bench(BenchArgs& args) {
     const char* lp_threads = std::getenv("LP_NUM_THREADS");
 
     check_distinct_files(args.scenes, {args.output, args.report});
-    if (!args.input.target.empty() && !args.report.empty())
-        throw UsageError(std::string(args.report_only ? "report" : "bench") + ": --target with an HTML report is not supported yet");
     args.opaque_given = args.input.opaque;
     std::unique_ptr<render::GlRenderer> renderer;
     std::unique_ptr<render::GlHost> host;
@@ -322,6 +320,12 @@ void run_bench(BenchArgs& args) {
         if (!args.report.empty()) {
             progress.stage(path + ": report");
             run.scenes.push_back(scene_report(path, prepared, args.input, renderer ? nullptr : &r.rt, renderer ? &r.m : nullptr));
+            if (!r.predicted.empty()) {
+                // Same order: predict_modes predicted rt.modes' modes.
+                report::SceneReport& sr = run.scenes.back();
+                sr.target = r.target;
+                for (std::size_t mi = 0; mi < sr.rows.size() && mi < r.predicted.size(); ++mi) sr.rows[mi].predicted_ms = r.predicted[mi];
+            }
             r.covered = run.scenes.back().covered;
             // The frames live on in the report; drop them here.
             for (auto& mode : r.m.modes) mode.frame = {};

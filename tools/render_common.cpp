@@ -111,6 +111,7 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
         {"sort", in.reconstruct.sort == SortMethod::batch ? "batch" : in.reconstruct.sort == SortMethod::paper ? "paper" : "none"},
         {"cache", in.no_cache ? "off" : (in.cache_dir.empty() ? io::default_cache_dir() : in.cache_dir)},
     };
+    if (!in.target.empty()) o.push_back({"target", in.target});
     if (in.prepare.load.has_viewport) {
         const Viewport& v = in.prepare.load.viewport;
         o.push_back({"viewport", str(v.x) + "," + str(v.y) + "," + std::to_string(v.width) + "," + std::to_string(v.height)});
