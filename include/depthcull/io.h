@@ -52,7 +52,8 @@ bool same_file(const std::string& a, const std::string& b);
 bool valid_utf8(std::string_view text);
 
 // Scene loading, by extension: .json (our scene format), .tmx / .tmx.gz
-// (Tiled). Image sizes are filled in; images are not kept.
+// (Tiled); a PNG or a directory of PNGs (recursive) is a contact sheet: each
+// image once, in rows of up to 1024 px, 4 px apart, in path order. Image sizes are filled in; images are not kept.
 // Tiled maps (src/io/tiled_map.cpp): orthogonal, isometric, staggered and
 // hexagonal; every layer encoding; external and gzipped tilesets; tile
 // objects and templates; drawn in Tiled's order. A tileset image's trans

@@ -18,6 +18,10 @@ Scene load_tiled_map(const std::string& path, const LoadOptions& options);  // t
 // Width and height from the PNG signature and IHDR chunk, without decoding;
 // io::Error when the file is missing, not a PNG, or over our size limits.
 void png_size(const std::string& path, int* width, int* height); // png.cpp
+// A directory of PNGs (recursive) or one PNG as a scene: each image once,
+// in rows without overlap (sprite_folder.cpp).
+bool is_sprite_source(const std::string& path);
+Scene load_sprite_folder(const std::string& path, const LoadOptions& options);
 
 // io::Error "<where>: ..." unless the viewport is finite, within
 // limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).

@@ -21,7 +21,8 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
     return guarded(path, [&] {
         if (ends_with(path, ".tmx") || ends_with(path, ".tmx.gz")) return load_tiled_map(path, options);
         if (ends_with(path, ".json")) return load_scene_json(path, options);
-        throw Error(path + ": unknown scene format (expected .json, .tmx or .tmx.gz)");
+        if (is_sprite_source(path)) return load_sprite_folder(path, options);
+        throw Error(path + ": unknown scene format (expected .json, .tmx, .tmx.gz, a PNG or a directory of PNGs)");
     });
 }
 
