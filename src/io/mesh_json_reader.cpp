@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
+#include "io/formats.h"
 #include "io/mesh_common.h"
 
 namespace depthcull::io {
@@ -156,16 +157,17 @@ SceneStats read_stats(const Context& ctx, const json& v) {
     return st;
 }
 
-} // namespace
-
-LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir) {
+LoadedMeshes read_json(std::string_view text, const std::string& name, const std::string& base_dir) {
     const Context ctx{name};
     json doc;
+    check_json_depth(text, name);
     try {
         doc = json::parse(text);
     } catch (const json::parse_error& e) {
         // nlohmann counts bytes from 1; our offsets (as the binary reader's) from 0.
-        throw Error(name + ": byte " + std::to_string(e.byte ? e.byte - 1 : 0) + ": not valid JSON (" + e.what() + ")");
+        throw Error(name + ": byte " + std::to_string(e.byte ? e.byte - 1 : 0) + ": not valid JSON (" + exception_text(e) + ")");
+    } catch (const json::exception& e) { // out_of_range for numbers like 1e400
+        throw Error(name + ": not valid JSON (" + exception_text(e) + ")");
     }
     if (!doc.is_object()) ctx.fail("top level", "expected a JSON object with \"images\" and \"draws\"");
     LoadedMeshes out;
@@ -187,6 +189,12 @@ LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, co
     for (std::size_t i = 0; i < draws.size(); ++i) out.meshes.draws.push_back(read_draw(ctx, draws[i], at("draws", i), ids, &totals));
     if (doc.contains("stats")) out.meshes.stats = read_stats(ctx, doc["stats"]);
     return out;
+}
+
+} // namespace
+
+LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir) {
+    return guarded(name, [&] { return read_json(text, name, base_dir); });
 }
 
 LoadedMeshes read_meshes_json(const std::string& path) {

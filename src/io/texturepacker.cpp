@@ -121,8 +121,7 @@ const AtlasFrame* Atlas::find(const std::string& name) const {
 
 namespace {
 
-Json parse_json_file(const std::string& path) {
-    std::string text = read_file(path);
+Json parse_json_text(std::string_view text, const std::string& path) {
     check_json_depth(text, path);
     try {
         return Json::parse(text);
@@ -137,8 +136,8 @@ Json parse_json_file(const std::string& path) {
 
 namespace {
 
-Atlas read_texturepacker(const std::string& path) {
-    Json doc = parse_json_file(path);
+Atlas read_texturepacker(std::string_view text, const std::string& path) {
+    Json doc = parse_json_text(text, path);
     if (!doc.is_object()) throw Error(path + ": not a TexturePacker atlas (top level is not an object)");
     if (doc.contains("textures") && !doc.contains("frames"))
         throw Error(path + ": multipack atlases (\"textures\") are not supported; load each page's JSON (hash or array form)");
@@ -189,7 +188,11 @@ Atlas read_texturepacker(const std::string& path) {
 } // namespace
 
 Atlas load_texturepacker(const std::string& path) {
-    return guarded(path, [&] { return read_texturepacker(path); });
+    return guarded(path, [&] { return read_texturepacker(read_file(path), path); });
+}
+
+Atlas texturepacker_from_text(std::string_view text, const std::string& path) {
+    return guarded(path, [&] { return read_texturepacker(text, path); });
 }
 
 FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>& t) {

@@ -118,8 +118,8 @@ Viewport drawn_extent(const Scene& scene) {
 
 } // namespace
 
-Scene load_tiled_map(const std::string& path, const LoadOptions& options) {
-    std::string text = tiled::read_maybe_gzipped(path);
+Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options) {
+    std::string text = tiled::maybe_gunzip(bytes, path);
     if (text.size() > tiled::kMaxXmlBytes) throw Error(path + ": map is larger than 256 MiB (kMaxXmlBytes)");
     pugi::xml_document doc;
     pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
