@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "depthcull/limits.h"
@@ -36,12 +37,14 @@ inline void check_scene(const depthcull::Scene& scene) {
 // Keyed tileset images (Tiled's trans) are written under
 // $XDG_CACHE_HOME/depthcull/keyed: a fuzz run keeps them out of the user's
 // cache, in a directory of its own that it returns.
+// (under $TMPDIR: scripts/fuzz-smoke points it at a scratch directory it
+// removes).
 inline std::string private_cache_dir() {
     static const std::string dir = [] {
-        char name[] = "/tmp/depthcull-fuzz.XXXXXX";
-        if (!mkdtemp(name)) std::abort();
-        setenv("XDG_CACHE_HOME", name, 1);
-        return std::string(name);
+        std::string name = (std::filesystem::temp_directory_path() / "depthcull-fuzz.XXXXXX").string();
+        if (!mkdtemp(name.data())) std::abort();
+        setenv("XDG_CACHE_HOME", name.c_str(), 1);
+        return name;
     }();
     return dir;
 }
