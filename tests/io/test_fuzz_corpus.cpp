@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <typeinfo>
 
 #include <gtest/gtest.h>
 
