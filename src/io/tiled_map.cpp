@@ -100,7 +100,11 @@ bool default_viewport(const tiled::MapInfo& info, Viewport* v) {
             h = last.y + th;
         }
     }
-    *v = {0, 0, int(std::min<double>(w, kDefaultViewportMax)), int(std::min<double>(h, kDefaultViewportMax))};
+    // At least 1 texel a side: hexagonal maps round the tile size down to
+    // even, so 1-texel-high tiles make a 0-high map (a viewport no scene
+    // may have).
+    auto side = [](double extent) { return int(std::clamp(extent, 1.0, double(kDefaultViewportMax))); };
+    *v = {0, 0, side(w), side(h)};
     return true;
 }
 

@@ -134,5 +134,23 @@ TEST(FuzzRegressions, MeshJsonNumberOverflowIsAnIoError) {
     }
 }
 
+// fuzz_tiled_map: a staggered map of 4x1 tiles (Tiled's hexagonal
+// renderer rounds tile sizes down to even: 0 high) got a 10x0 default
+// viewport, which `import` wrote out as a scene no reader accepts.
+// fuzz/corpus/tiled_map/crash-hex-zero-high-viewport.tmx.
+TEST(FuzzRegressions, HexagonalMapOfOddTinyTilesHasAPositiveViewport) {
+    const std::string dir = DEPTHCULL_SOURCE_DIR "/tests/data/tiled/";
+    for (const char* axis : {"x", "y"}) {
+        const std::string map = std::string(R"(<map orientation="hexagonal" width="3" height="3" tilewidth="1" tileheight="1" hexsidelength="0" staggeraxis=")") +
+                                axis + R"(" staggerindex="even"><tileset firstgid="1" source="tiles.tsx"/></map>)";
+        const Viewport v = io::load_scene_bytes(map, dir + "fuzz.tmx").viewport;
+        EXPECT_GE(v.width, 1) << axis;
+        EXPECT_GE(v.height, 1) << axis;
+    }
+    const Viewport v = io::load_scene_bytes(slurp(kCorpus / "tiled_map" / "crash-hex-zero-high-viewport.tmx"), dir + "fuzz.tmx").viewport;
+    EXPECT_EQ(v.width, 10);
+    EXPECT_EQ(v.height, 1);
+}
+
 } // namespace
 } // namespace depthcull::test
