@@ -12,8 +12,15 @@
 
 namespace depthcull::io {
 
-Scene load_scene_json(const std::string& path, const LoadOptions& options); // scene_json.cpp
-Scene load_tiled_map(const std::string& path, const LoadOptions& options);  // tiled.cpp
+// The readers over a file's bytes: `path` names it in errors, picks the
+// format (as load_scene does) and resolves the relative paths it names.
+Scene scene_json_from_text(std::string_view text, const std::string& path, const LoadOptions& options); // scene_json.cpp
+Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options); // tiled_map.cpp, gzipped or not
+// load_scene over bytes already read (the fuzz harnesses): the same
+// checks, and io::Error the only exception.
+Scene load_scene_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options = {}); // load_scene.cpp
+// load_texturepacker over the JSON's text.
+Atlas texturepacker_from_text(std::string_view text, const std::string& path); // texturepacker.cpp
 
 // Width and height from the PNG signature and IHDR chunk, without decoding;
 // io::Error when the file is missing, not a PNG, or over our size limits.

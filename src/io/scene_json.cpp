@@ -164,11 +164,10 @@ Viewport bounding_viewport(const Scene& scene) {
 
 } // namespace
 
-Scene load_scene_json(const std::string& path, const LoadOptions& options) {
+Scene scene_json_from_text(std::string_view text, const std::string& path, const LoadOptions& options) {
     Context ctx{path, ""};
     json doc;
     try {
-        std::string text = read_file(path);
         check_json_depth(text, path);
         doc = json::parse(text);
     } catch (const json::exception& e) {

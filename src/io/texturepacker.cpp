@@ -151,8 +151,7 @@ struct FrameOrder final : nlohmann::json_sax<Json> {
 };
 
 // The document, and in *frame_order the hash form's frame names in file order.
-Json parse_json_file(const std::string& path, std::vector<std::string>* frame_order) {
-    std::string text = read_file(path);
+Json parse_json_text(std::string_view text, const std::string& path, std::vector<std::string>* frame_order) {
     check_json_depth(text, path);
     FrameOrder order(frame_order);
     try {
@@ -169,9 +168,9 @@ Json parse_json_file(const std::string& path, std::vector<std::string>* frame_or
 
 namespace {
 
-Atlas read_texturepacker(const std::string& path) {
+Atlas read_texturepacker(std::string_view text, const std::string& path) {
     std::vector<std::string> order;
-    Json doc = parse_json_file(path, &order);
+    Json doc = parse_json_text(text, path, &order);
     if (!doc.is_object()) throw Error(path + ": not a TexturePacker atlas (top level is not an object)");
     if (doc.contains("textures") && !doc.contains("frames"))
         throw Error(path + ": multipack atlases (\"textures\") are not supported; load each page's JSON (hash or array form)");
@@ -223,7 +222,11 @@ Atlas read_texturepacker(const std::string& path) {
 } // namespace
 
 Atlas load_texturepacker(const std::string& path) {
-    return guarded(path, [&] { return read_texturepacker(path); });
+    return guarded(path, [&] { return read_texturepacker(read_file(path), path); });
+}
+
+Atlas texturepacker_from_text(std::string_view text, const std::string& path) {
+    return guarded(path, [&] { return read_texturepacker(text, path); });
 }
 
 FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>& t) {

@@ -144,12 +144,13 @@ std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const st
     return out;
 }
 
-std::string read_maybe_gzipped(const std::string& path) {
-    std::string bytes = read_file(path);
+std::string maybe_gunzip(std::string_view bytes, const std::string& path) {
     if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f && static_cast<unsigned char>(bytes[1]) == 0x8b)
         return inflate_bytes(bytes, kMaxXmlBytes, path);
-    return bytes;
+    return std::string(bytes);
 }
+
+std::string read_maybe_gzipped(const std::string& path) { return maybe_gunzip(read_file(path), path); }
 
 std::vector<std::uint8_t> decode_base64(std::string_view text, const std::string& where) {
     std::vector<std::uint8_t> out;

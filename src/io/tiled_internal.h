@@ -2,7 +2,7 @@
 //   tiled_data.cpp      layer data: CSV, XML, base64, zlib / gzip, chunks
 //   tiled_tilesets.cpp  tilesets (inline and .tsx), tile rects, images, trans keys
 //   tiled_layers.cpp    layers and objects -> elements, in Tiled's drawing order
-//   tiled_map.cpp       load_tiled_map: the map, its viewport and culling
+//   tiled_map.cpp       tiled_map_from_bytes: the map, its viewport and culling
 #pragma once
 
 #include <array>
@@ -44,6 +44,7 @@ int int_attr(pugi::xml_node node, const char* name, int fallback, const std::str
 // The file's bytes, gunzipped when it starts with the gzip magic (so
 // .tmx.gz and .tsx.gz need no special naming).
 std::string read_maybe_gzipped(const std::string& path);
+std::string maybe_gunzip(std::string_view bytes, const std::string& path);
 // zlib or gzip stream -> bytes; more than max_bytes is an error.
 std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where);
 std::vector<std::uint8_t> decode_base64(std::string_view text, const std::string& where);
@@ -107,6 +108,10 @@ private:
 // An external tileset's path: `source` relative to `base_dir`, or its
 // gzipped twin when only that exists (Debian gzips example tilesets).
 std::string resolve_tsx(const std::string& base_dir, const std::string& source);
+
+// An external tileset (.tsx, gzipped or not) from its bytes; `tsx` names
+// it and resolves its images.
+Tileset tileset_from_bytes(std::string_view bytes, const std::string& tsx, std::uint32_t firstgid, ImageTable& images);
 
 // All <tileset> children of the map, sorted by firstgid.
 std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images);

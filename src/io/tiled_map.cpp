@@ -100,7 +100,11 @@ bool default_viewport(const tiled::MapInfo& info, Viewport* v) {
             h = last.y + th;
         }
     }
-    *v = {0, 0, int(std::min<double>(w, kDefaultViewportMax)), int(std::min<double>(h, kDefaultViewportMax))};
+    // At least 1 texel a side: hexagonal maps round the tile size down to
+    // even, so 1-texel-high tiles make a 0-high map (a viewport no scene
+    // may have).
+    auto side = [](double extent) { return int(std::clamp(extent, 1.0, double(kDefaultViewportMax))); };
+    *v = {0, 0, side(w), side(h)};
     return true;
 }
 
@@ -118,8 +122,8 @@ Viewport drawn_extent(const Scene& scene) {
 
 } // namespace
 
-Scene load_tiled_map(const std::string& path, const LoadOptions& options) {
-    std::string text = tiled::read_maybe_gzipped(path);
+Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options) {
+    std::string text = tiled::maybe_gunzip(bytes, path);
     if (text.size() > tiled::kMaxXmlBytes) throw Error(path + ": map is larger than 256 MiB (kMaxXmlBytes)");
     pugi::xml_document doc;
     pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());

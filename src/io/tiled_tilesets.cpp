@@ -182,6 +182,19 @@ std::string resolve_tsx(const std::string& base_dir, const std::string& source) 
     return tsx;
 }
 
+Tileset tileset_from_bytes(std::string_view bytes, const std::string& tsx, std::uint32_t firstgid, ImageTable& images) {
+    std::string text = maybe_gunzip(bytes, tsx);
+    pugi::xml_document doc;
+    pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
+    if (!ok) throw Error(tsx + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+    pugi::xml_node root = doc.child("tileset");
+    if (!root) throw Error(tsx + ": no <tileset> element");
+    std::string here = tsx + (root.attribute("name") ? ": tileset '" + std::string(root.attribute("name").as_string()) + "'" : "");
+    Tileset ts = parse_tileset(root, firstgid, tsx, here, images);
+    ts.source = tsx;
+    return ts;
+}
+
 std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images) {
     std::vector<Tileset> tilesets;
     for (pugi::xml_node node : map.children("tileset")) {
@@ -193,15 +206,7 @@ std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_pa
         if (firstgid < 1 || firstgid > kGidMask) throw Error(where + ": firstgid missing or out of range");
         if (pugi::xml_attribute source = node.attribute("source")) {
             std::string tsx = resolve_tsx(dir_of(map_path), source.as_string());
-            pugi::xml_document doc;
-            std::string text = read_maybe_gzipped(tsx);
-            pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
-            if (!ok) throw Error(tsx + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
-            pugi::xml_node root = doc.child("tileset");
-            if (!root) throw Error(tsx + ": no <tileset> element");
-            std::string here = tsx + (root.attribute("name") ? ": tileset '" + std::string(root.attribute("name").as_string()) + "'" : "");
-            tilesets.push_back(parse_tileset(root, std::uint32_t(firstgid), tsx, here, images));
-            tilesets.back().source = tsx;
+            tilesets.push_back(tileset_from_bytes(read_file(tsx), tsx, std::uint32_t(firstgid), images));
         } else {
             tilesets.push_back(parse_tileset(node, std::uint32_t(firstgid), map_path, where, images));
         }
