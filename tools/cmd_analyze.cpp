@@ -73,7 +73,7 @@ std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
                  !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
                 std::string ext = it->path().extension().string();
                 std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-                if (ext == ".png" && it->is_regular_file(ec)) found.push_back(it->path().string());
+                if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".webp") && it->is_regular_file(ec)) found.push_back(it->path().string());
             }
             if (ec) throw CliError(arg + ": cannot list directory (" + ec.message() + ")");
             std::sort(found.begin(), found.end());
@@ -82,7 +82,7 @@ std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
             inputs.push_back(parse_input(arg));
         }
     }
-    if (inputs.empty()) throw CliError("analyze: no PNG images found in the given inputs");
+    if (inputs.empty()) throw CliError("analyze: no PNG, JPEG or WebP images found in the given inputs");
     return inputs;
 }
 
@@ -122,7 +122,7 @@ std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
 }
 
 Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base) {
-    Image image = io::load_png(in.path);
+    Image image = io::load_image(in.path);
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))
         throw CliError(in.path + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," +
@@ -281,7 +281,7 @@ void set_cache(AnalyzeArgs& args) {
 void add_analyze_command(CLI::App& app) {
     auto args = std::make_shared<AnalyzeArgs>();
     auto* cmd = app.add_subcommand("analyze", "Compute boundary and opaque polygons of images (paper 2.1, 2.2) as JSON");
-    cmd->add_option("inputs", args->inputs, "IMAGE.png, IMAGE.png:x,y,w,h (a sub-rectangle), or a directory of PNGs")->required();
+    cmd->add_option("inputs", args->inputs, "IMAGE (PNG, JPEG, WebP), IMAGE:x,y,w,h (a sub-rectangle), or a directory of images")->required();
     cmd->add_option("-o,--output", args->output, "Write JSON here instead of stdout");
     add_analysis_options(*cmd, args->options);
     cmd->add_flag("--summary", args->summary, "Print totals over all inputs (JSON only with -o)");

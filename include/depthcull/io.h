@@ -26,6 +26,11 @@ struct Error : std::runtime_error {
 // RGB, RGBA), converted to RGBA8. Rejects images over kMaxImageSide /
 // kMaxImageTexels.
 Image load_png(const std::string& path);
+// Any image we read, told by its content (not its name): PNG, JPEG (no
+// alpha: every texel fully opaque) or WebP (lossy or lossless, with or
+// without alpha), as RGBA8; the same limits as load_png.
+Image load_image(const std::string& path);
+Image decode_image(const void* data, std::size_t size, const std::string& name);
 // The pixels a SceneImage stands for: its file decoded, its colour key
 // (SceneImage::trans) applied.
 Image load_scene_image(const SceneImage& image);
@@ -61,6 +66,13 @@ bool valid_utf8(std::string_view text);
 struct LoadOptions {
     bool has_viewport = false; // --viewport x,y,w,h
     Viewport viewport;
+    // What a reader approximates or leaves out (a Tiled feature we do not
+    // draw), one line each naming the file, the layer and the feature:
+    // passed to `warning` (nothing when empty), or an io::Error when
+    // `strict`. Notes (`note`) say how to read the result (parallax layers
+    // placed for this camera only) and never fail.
+    std::function<void(const std::string&)> warning, note;
+    bool strict = false;
 };
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 

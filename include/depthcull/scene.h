@@ -38,7 +38,13 @@ struct SceneImage {
     // on disk does not say so, so scene and mesh files carry the key.
     bool has_trans = false;
     std::uint32_t trans = 0;
+    // A solid colour and no file (Tiled's map backgroundcolor): path is
+    // empty, every texel is 0xRRGGBB and opaque, kFillImageSide square (big
+    // enough that its opaque polygon passes the worth-it area threshold).
+    bool has_fill = false;
+    std::uint32_t fill = 0;
 };
+inline constexpr int kFillImageSide = 16;
 
 // Paper 2: an element is an image (a rect of it) placed on screen.
 struct Element {

@@ -18,6 +18,8 @@ Scene load_tiled_map(const std::string& path, const LoadOptions& options);  // t
 // Width and height from the PNG signature and IHDR chunk, without decoding;
 // io::Error when the file is missing, not a PNG, or over our size limits.
 void png_size(const std::string& path, int* width, int* height); // png.cpp
+// The same for any image load_image reads (PNG, JPEG, WebP), told by content.
+void image_size(const std::string& path, int* width, int* height); // image_formats.cpp
 
 // io::Error "<where>: ..." unless the viewport is finite, within
 // limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).

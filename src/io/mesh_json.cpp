@@ -59,7 +59,7 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
         check_utf8(img.id, output_name(output_path) + ": image id");
         append_string(s, img.id);
         s += ", \"path\": ";
-        std::string path = output_relative_path(img.path, output_path);
+        std::string path = img.has_fill ? std::string() : output_relative_path(img.path, output_path);
         check_utf8(path, output_name(output_path) + ": image \"" + img.id + "\": path");
         append_string(s, path);
         s += ", \"width\": ";
@@ -69,6 +69,10 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
         if (img.has_trans) {
             s += ", \"trans\": ";
             append_string(s, colour_key_text(img.trans));
+        }
+        if (img.has_fill) {
+            s += ", \"fill\": ";
+            append_string(s, colour_key_text(img.fill));
         }
         s += "}";
     }

@@ -86,7 +86,9 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     std::vector<std::size_t> to_decode;
     for (std::size_t i = 0; i < scene.images.size(); ++i) {
         const SceneImage& img = scene.images[i];
-        auto [it, fresh] = first_with_path.emplace(img.path + (img.has_trans ? "\n" + colour_key_text(img.trans) : std::string()), i);
+        auto [it, fresh] = first_with_path.emplace(img.has_fill ? "\nfill " + colour_key_text(img.fill)
+                                                                : img.path + (img.has_trans ? "\n" + colour_key_text(img.trans) : std::string()),
+                                                   i);
         canon[i] = it->second;
         if (fresh) to_decode.push_back(i);
     }

@@ -205,6 +205,9 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
             entries[i].is_atlas = true;
             entries[i].atlas = load_texturepacker(resolve(base, string_field(c, v, "atlas")));
             img.path = entries[i].atlas.image_path;
+        } else if (v.contains("fill")) {
+            img.has_fill = true;
+            img.fill = parse_colour_key(string_field(c, v, "fill"), path + ": image " + std::to_string(i));
         } else {
             img.path = resolve(base, string_field(c, v, "path"));
         }
@@ -213,7 +216,8 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
             img.trans = parse_colour_key(string_field(c, v, "trans"), path + ": image " + std::to_string(i));
         }
         try {
-            png_size(img.path, &img.width, &img.height);
+            if (img.has_fill) img.width = img.height = kFillImageSide;
+            else image_size(img.path, &img.width, &img.height);
         } catch (const Error& e) {
             c.fail(e.what());
         }

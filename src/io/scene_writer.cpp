@@ -69,6 +69,11 @@ std::string scene_to_json_text(const Scene& scene, const std::string& output_pat
     doc["filter"] = scene.filter == Filter::linear ? "linear" : "nearest";
     Json images = Json::array();
     for (const SceneImage& image : scene.images) {
+        if (image.has_fill) {
+            check_utf8(image.id, output_name(output_path) + ": image id");
+            images.push_back({{"id", image.id}, {"fill", colour_key_text(image.fill)}});
+            continue;
+        }
         std::string path = portable_path(image.path, base);
         check_utf8(image.id, output_name(output_path) + ": image id");
         check_utf8(path, output_name(output_path) + ": image \"" + image.id + "\": path");

@@ -66,7 +66,7 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
     AtlasAnalysis& result = analysis_out ? *analysis_out : local;
     result.atlas = load_texturepacker(path); // validates every frame
     const Atlas& atlas = result.atlas;
-    result.page = load_png(atlas.image_path);
+    result.page = load_image(atlas.image_path);
     const Image& page = result.page;
     if (atlas.width > 0 && (atlas.width != page.width || atlas.height != page.height))
         throw Error(path + ": meta.size " + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) + " differs from " +

@@ -141,7 +141,10 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
         if (still.image < 0) throw Error(here + ": frame names no tile (" + std::to_string(first) + ")");
         animated.emplace_back(std::uint32_t(id), still);
     }
-    for (const auto& [id, still] : animated) ts.named[id] = still;
+    for (const auto& [id, still] : animated) {
+        ts.named[id] = still;
+        ts.animated.insert(id);
+    }
     return ts;
 }
 
@@ -160,7 +163,7 @@ int ImageTable::add(const std::string& base_dir, const std::string& source, cons
         image.has_trans = true;
         image.trans = parse_colour_key(trans, where);
     }
-    png_size(path, &image.width, &image.height);
+    image_size(path, &image.width, &image.height);
     // Ids: the file stem, numbered when two files share a stem.
     std::string stem = resolved.stem().string();
     if (stem.empty()) stem = "image";
@@ -172,6 +175,21 @@ int ImageTable::add(const std::string& base_dir, const std::string& source, cons
     int index = int(images_.size()) - 1;
     by_key_.emplace(key, index);
     return index;
+}
+
+int ImageTable::add_fill(std::uint32_t rgb) {
+    std::string key = "\nfill " + colour_key_text(rgb);
+    if (auto it = by_key_.find(key); it != by_key_.end()) return it->second;
+    SceneImage image;
+    image.has_fill = true;
+    image.fill = rgb;
+    image.width = image.height = kFillImageSide;
+    image.id = "background";
+    for (int n = 2; ids_.count(image.id); ++n) image.id = "background-" + std::to_string(n);
+    ids_.insert(image.id);
+    images_.push_back(std::move(image));
+    by_key_.emplace(key, int(images_.size()) - 1);
+    return int(images_.size()) - 1;
 }
 
 std::string resolve_tsx(const std::string& base_dir, const std::string& source) {
@@ -195,8 +213,12 @@ std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_pa
             std::string tsx = resolve_tsx(dir_of(map_path), source.as_string());
             pugi::xml_document doc;
             std::string text = read_maybe_gzipped(tsx);
-            pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
-            if (!ok) throw Error(tsx + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+            if (looks_like_json(text)) {
+                json_tileset_to_xml(text, tsx, doc);
+            } else {
+                pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
+                if (!ok) throw Error(tsx + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+            }
             pugi::xml_node root = doc.child("tileset");
             if (!root) throw Error(tsx + ": no <tileset> element");
             std::string here = tsx + (root.attribute("name") ? ": tileset '" + std::string(root.attribute("name").as_string()) + "'" : "");
