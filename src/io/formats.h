@@ -27,6 +27,9 @@ void check_viewport(const Viewport& viewport, const std::string& where);
 
 bool ends_with(const std::string& s, const std::string& suffix);
 
+// cocos2d-x sprite frames (.plist, formats 2 and 3) as an Atlas (cocos2d_plist.cpp).
+Atlas load_cocos2d_plist(const std::string& path);
+
 // io::Error unless `path` is a regular file within kMaxFileBytes.
 void check_input_file(const std::string& path); // file.cpp
 

@@ -95,6 +95,7 @@ Blend parse_blend(const Context& ctx, const json& v) {
 struct ImageEntry {
     bool is_atlas = false;
     Atlas atlas;
+    std::vector<int> page_images; // a multipack's pages: scene image per page (page 0: the entry's own)
 };
 
 Element parse_element(const Context& ctx, const json& v, const Scene& scene, const std::map<std::string, int>& ids,
@@ -105,7 +106,8 @@ Element parse_element(const Context& ctx, const json& v, const Scene& scene, con
     auto it = ids.find(id);
     if (it == ids.end()) ctx.fail("unknown image id \"" + id + "\"");
     e.image = it->second;
-    const SceneImage& img = scene.images[std::size_t(e.image)];
+    const SceneImage* page = &scene.images[std::size_t(e.image)];
+    const SceneImage& img = *page;
     if (v.contains("transform")) {
         e.transform = number_array<6>(ctx, v["transform"], "transform");
         // Far beyond any screen, and keeps every product finite.
@@ -126,6 +128,10 @@ Element parse_element(const Context& ctx, const json& v, const Scene& scene, con
         if (!v["frame"].is_string()) ctx.fail("\"frame\" must be a string");
         const AtlasFrame* frame = entry.atlas.find(v["frame"].get<std::string>());
         if (!frame) ctx.fail("atlas \"" + id + "\" has no frame \"" + v["frame"].get<std::string>() + "\"");
+        if (!entry.page_images.empty()) {
+            e.image = entry.page_images[std::size_t(frame->page)];
+            page = &scene.images[std::size_t(e.image)];
+        }
         FramePlacement placed = place_frame(*frame, e.transform);
         e.rect = placed.rect;
         e.transform = placed.transform;
@@ -137,7 +143,7 @@ Element parse_element(const Context& ctx, const json& v, const Scene& scene, con
     } else {
         e.rect = {0, 0, img.width, img.height};
     }
-    if (!ImageView{nullptr, img.width, img.height, 0}.contains(e.rect) || e.rect.empty())
+    if (!ImageView{nullptr, page->width, page->height, 0}.contains(e.rect) || e.rect.empty())
         ctx.fail("rect " + std::to_string(e.rect.x) + "," + std::to_string(e.rect.y) + "," + std::to_string(e.rect.w) + "," +
                  std::to_string(e.rect.h) + " is outside the " + std::to_string(img.width) + "x" + std::to_string(img.height) +
                  " image \"" + id + "\"");
@@ -222,6 +228,22 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
             c.fail(e.what());
         }
         scene.images.push_back(std::move(img));
+    }
+    // A multipack atlas's other pages: images "<id>#<page>" after the listed ones.
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        ImageEntry& entry = entries[i];
+        if (!entry.is_atlas || entry.atlas.pages.size() < 2) continue;
+        entry.page_images.push_back(int(i));
+        for (std::size_t k = 1; k < entry.atlas.pages.size(); ++k) {
+            SceneImage img;
+            img.id = scene.images[i].id + "#" + std::to_string(k);
+            if (!ids.emplace(img.id, int(scene.images.size())).second)
+                ctx.fail("image id \"" + img.id + "\" (page " + std::to_string(k) + " of atlas \"" + scene.images[i].id + "\") is taken");
+            img.path = entry.atlas.pages[k].image_path;
+            image_size(img.path, &img.width, &img.height);
+            entry.page_images.push_back(int(scene.images.size()));
+            scene.images.push_back(std::move(img));
+        }
     }
     scene.elements.reserve(elements.size());
     for (std::size_t i = 0; i < elements.size(); ++i)
