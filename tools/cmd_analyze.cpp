@@ -27,6 +27,7 @@ struct Input {
     std::string path;
     bool has_rect = false;
     Rect rect;
+    int cell = -1; // IMAGE:grid=...: the cell's index, row-major
 };
 
 struct AnalyzeArgs {
@@ -43,12 +44,40 @@ struct AnalyzeArgs {
     bool quiet = false;
 };
 
-// IMAGE or IMAGE:x,y,w,h. Only a trailing ":int,int,int,int" is a rect, so
-// paths with colons still work.
-Input parse_input(const std::string& arg) {
+// IMAGE:grid=W,H[,margin,spacing]: a sprite sheet or strip, every W x H
+// cell its own frame, cut as Tiled cuts a tileset (cells start at `margin`,
+// `spacing` apart; a partial cell at the right or bottom edge is none).
+std::vector<Input> grid_inputs(const std::string& arg, const std::string& path, int w, int h, int margin, int spacing) {
+    if (w <= 0 || h <= 0 || w > kMaxImageSide || h > kMaxImageSide || margin > kMaxImageSide || spacing > kMaxImageSide)
+        throw CliError(arg + ": grid cell size must be 1.." + std::to_string(kMaxImageSide) + ", margin and spacing 0.." + std::to_string(kMaxImageSide));
+    Image image = io::load_image(path);
+    int columns = image.width - margin >= w ? (image.width - margin - w) / (w + spacing) + 1 : 0;
+    int rows = image.height - margin >= h ? (image.height - margin - h) / (h + spacing) + 1 : 0;
+    if (columns == 0 || rows == 0)
+        throw CliError(arg + ": the " + std::to_string(image.width) + "x" + std::to_string(image.height) + " image holds no " +
+                       std::to_string(w) + "x" + std::to_string(h) + " grid cell");
+    std::vector<Input> cells;
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < columns; ++c)
+            cells.push_back({path, true, {margin + c * (w + spacing), margin + r * (h + spacing), w, h}, r * columns + c});
+    return cells;
+}
+
+// IMAGE, IMAGE:x,y,w,h or IMAGE:grid=W,H[,margin,spacing]. Only a trailing
+// ":int,int,int,int" is a rect, so paths with colons still work.
+std::vector<Input> parse_input(const std::string& arg) {
     static const std::regex rect_suffix(R"(^(.*):(\d+),(\d+),(\d+),(\d+)$)");
+    static const std::regex grid_suffix(R"(^(.*):grid=(\d+),(\d+)(?:,(\d+),(\d+))?$)");
     std::smatch m;
     Input in;
+    if (std::regex_match(arg, m, grid_suffix)) {
+        try {
+            return grid_inputs(arg, m[1], std::stoi(m[2]), std::stoi(m[3]), m[4].matched ? std::stoi(m[4]) : 0,
+                               m[5].matched ? std::stoi(m[5]) : 0);
+        } catch (const std::out_of_range&) {
+            throw CliError(arg + ": grid numbers out of range");
+        }
+    }
     if (std::regex_match(arg, m, rect_suffix)) {
         in.path = m[1];
         in.has_rect = true;
@@ -60,7 +89,7 @@ Input parse_input(const std::string& arg) {
     } else {
         in.path = arg;
     }
-    return in;
+    return {in};
 }
 
 std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
@@ -79,7 +108,7 @@ std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
             std::sort(found.begin(), found.end());
             for (auto& p : found) inputs.push_back({p, false, {}});
         } else {
-            inputs.push_back(parse_input(arg));
+            for (Input& in : parse_input(arg)) inputs.push_back(std::move(in));
         }
     }
     if (inputs.empty()) throw CliError("analyze: no PNG, JPEG or WebP images found in the given inputs");
@@ -161,13 +190,15 @@ json result_json(const Input& in, const Result& r, bool timing) {
                   {"opaque_covered_texels", s.opaque_covered_texels},
                   {"opaque_coverage", s.opaque_coverage},
                   {"seconds", timing ? s.seconds : 0.0}};
-    return {{"path", in.path},
+    json out = {{"path", in.path},
             {"rect", {rect.x, rect.y, rect.w, rect.h}},
             {"width", r.width},
             {"height", r.height},
             {"boundary", polygons_json(r.analysis.boundary)},
             {"opaque", polygons_json(r.analysis.opaque)},
             {"stats", std::move(stats)}};
+    if (in.cell >= 0) out["cell"] = in.cell;
+    return out;
 }
 
 std::string summary_text(const std::vector<Result>& results, double wall_seconds) {
@@ -281,7 +312,7 @@ void set_cache(AnalyzeArgs& args) {
 void add_analyze_command(CLI::App& app) {
     auto args = std::make_shared<AnalyzeArgs>();
     auto* cmd = app.add_subcommand("analyze", "Compute boundary and opaque polygons of images (paper 2.1, 2.2) as JSON");
-    cmd->add_option("inputs", args->inputs, "IMAGE (PNG, JPEG, WebP), IMAGE:x,y,w,h (a sub-rectangle), or a directory of images")->required();
+    cmd->add_option("inputs", args->inputs, "IMAGE (PNG, JPEG, WebP), IMAGE:x,y,w,h (a sub-rectangle), IMAGE:grid=W,H[,margin,spacing] (every cell of a sprite sheet), or a directory of images")->required();
     cmd->add_option("-o,--output", args->output, "Write JSON here instead of stdout");
     add_analysis_options(*cmd, args->options);
     cmd->add_flag("--summary", args->summary, "Print totals over all inputs (JSON only with -o)");
