@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include "cli.h"
 #include "depthcull/report.h"
@@ -21,6 +22,7 @@ struct AtlasArgs {
     std::string output;
     AnalyzeOptions analyze;
     std::string preview_dir;
+    std::string godot_dir;
     std::string cache_dir;
     bool no_cache = false;
     bool quiet = false;
@@ -68,6 +70,26 @@ void write_previews(const AtlasArgs& args, const io::AtlasAnalysis& a, bool quie
     });
 }
 
+// DIR/<frame>.tscn per frame (names made file-safe, numbered to stay
+// distinct), the page named relative to DIR.
+void write_godot(const AtlasArgs& args, const io::AtlasAnalysis& a) {
+    std::error_code ec;
+    const fs::path dir(args.godot_dir);
+    fs::create_directories(dir, ec);
+    if (!fs::is_directory(dir)) throw CliError(args.godot_dir + ": cannot create the Godot directory" + (ec ? " (" + ec.message() + ")" : ""));
+    std::map<std::string, int> seen;
+    for (std::size_t i = 0; i < a.frames.size(); ++i) {
+        const io::AtlasFrame& frame = a.atlas.frames[i];
+        std::string stem = safe_name(fs::path(frame.name).replace_extension().string());
+        const int n = ++seen[stem];
+        if (n > 1) stem += "-" + std::to_string(n);
+        fs::path page = fs::absolute(a.atlas.pages[std::size_t(frame.page)].image_path, ec);
+        std::string texture = fs::relative(page, fs::absolute(dir, ec), ec).generic_string();
+        if (texture.empty()) texture = page.generic_string();
+        io::write_file_atomic((dir / (stem + ".tscn")).string(), io::godot_polygon_scene(frame, a.frames[i].boundary, texture));
+    }
+}
+
 void run_atlas(AtlasArgs& args) {
     std::vector<std::string> inputs{args.input};
     for (const io::AtlasPage& page : io::load_texturepacker(args.input).pages) inputs.push_back(page.image_path);
@@ -89,6 +111,7 @@ void run_atlas(AtlasArgs& args) {
     }
     write_output(args.output, text);
     if (!args.preview_dir.empty()) write_previews(args, analysis, args.quiet);
+    if (!args.godot_dir.empty()) write_godot(args, analysis);
     if (stats.rectangle_frames > 0)
         std::fprintf(stderr, "warning: %s: %d frames written as their rectangle (cocos2d-x plist vertices are integers; rounding their polygon would cut texels)\n",
                      args.input.c_str(), stats.rectangle_frames);
@@ -115,6 +138,9 @@ void add_atlas_command(CLI::App& app) {
     add_analysis_options(*cmd, args->analyze);
     cmd->add_option("--preview", args->preview_dir,
                     "Write PNG and SVG previews here: the page with every frame's polygons, and each frame in frames/")
+        ->type_name("DIR");
+    cmd->add_option("--godot", args->godot_dir,
+                    "Write a Godot scene per frame here (FRAME.tscn: a Polygon2D with texture, polygon, uv and polygons from our boundary polygons)")
         ->type_name("DIR");
     cmd->add_option("--cache", args->cache_dir, "Analysis cache directory, shared with optimize (default: $XDG_CACHE_HOME/depthcull/analysis or ~/.cache/depthcull/analysis)");
     cmd->add_flag("--no-cache", args->no_cache, "Analyze every frame, read and write no cache");

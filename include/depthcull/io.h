@@ -181,6 +181,15 @@ struct AtlasAnalysis {
 std::string atlas_with_polygons(const std::string& path, const AtlasPolygonOptions& options, AtlasPolygonStats* stats,
                                 AtlasAnalysis* analysis = nullptr);
 
+// Godot: a text scene (.tscn, Godot 3's format 2) holding one Polygon2D
+// that draws `frame` through `boundary` (its boundary polygons in page
+// texels): "texture" the page at `texture_path` (res://..., or relative to
+// the scene's directory), "polygon" the vertices in the untrimmed sprite's
+// coordinates (origin its top-left), "uv" the same points in page texels,
+// "polygons" one index triple per triangle of our ear clipping. A fully
+// transparent frame gets empty arrays (it draws nothing).
+std::string godot_polygon_scene(const AtlasFrame& frame, const std::vector<Polygon>& boundary, const std::string& texture_path);
+
 // Runs fn(i) for i in [0, n) on `threads` threads (0: all cores). Callers
 // store results by index, so output never depends on the thread count;
 // the error of the lowest failing index is rethrown, as a serial run would.
