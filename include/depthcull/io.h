@@ -60,7 +60,9 @@ bool valid_utf8(std::string_view text);
 // (Tiled). Image sizes are filled in; images are not kept.
 // Tiled maps (src/io/tiled_map.cpp): orthogonal, isometric, staggered and
 // hexagonal; every layer encoding; external and gzipped tilesets; tile
-// objects and templates; drawn in Tiled's order. A tileset image's trans
+// objects and templates; drawn in Tiled's order. JSON maps, tilesets and
+// templates (.tmj, .tsj, .tj; a .json is told by content). Animated tiles
+// are drawn at their first frame and recorded in Scene::animations. A tileset image's trans
 // colour key is kept on its SceneImage (has_trans, trans) and applied at
 // decode (load_scene_image); loading writes no file.
 struct LoadOptions {

@@ -27,6 +27,13 @@ void check_viewport(const Viewport& viewport, const std::string& where);
 
 bool ends_with(const std::string& s, const std::string& suffix);
 
+// One analysis for every frame of an animation (animation_analysis.cpp):
+// boundary polygons hold the union of the frames' non-transparent texels,
+// opaque polygons only texels opaque in all; polygons on frame 0's rect.
+// `images` are the decoded scene images, indexed like Scene::images.
+ImageAnalysis analyze_animation(const std::vector<Image>& images, const Animation& animation, const AnalyzeOptions& options,
+                                const std::string& cache_dir, bool* hit);
+
 // cocos2d-x sprite frames (.plist, formats 2 and 3) as an Atlas (cocos2d_plist.cpp).
 Atlas load_cocos2d_plist(const std::string& path);
 

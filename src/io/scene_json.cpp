@@ -245,9 +245,47 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
             scene.images.push_back(std::move(img));
         }
     }
+    // Animations: frames of one size, each an image rect and a duration.
+    if (doc.contains("animations")) {
+        const json& animations = doc["animations"];
+        if (!animations.is_array() || animations.size() > kMaxElements) ctx.fail("\"animations\" must be an array");
+        for (std::size_t i = 0; i < animations.size(); ++i) {
+            Context c{path, "animation " + std::to_string(i) + ": "};
+            const json& a = animations[i];
+            if (!a.is_object() || !a.contains("frames") || !a["frames"].is_array() || a["frames"].empty() || a["frames"].size() > 65536)
+                c.fail("must be an object with a non-empty \"frames\" array");
+            Animation animation;
+            for (const json& f : a["frames"]) {
+                if (!f.is_object()) c.fail("frame must be an object");
+                const std::string& id = string_field(c, f, "image");
+                auto it = ids.find(id);
+                if (it == ids.end()) c.fail("unknown image id \"" + id + "\"");
+                const SceneImage& img = scene.images[std::size_t(it->second)];
+                if (!f.contains("rect") || !f["rect"].is_array() || f["rect"].size() != 4) c.fail("frame \"rect\" must be [x, y, w, h]");
+                const json& r = f["rect"];
+                Rect rect{integer(c, r[0], "rect"), integer(c, r[1], "rect"), integer(c, r[2], "rect"), integer(c, r[3], "rect")};
+                if (rect.empty() || !ImageView{nullptr, img.width, img.height, 0}.contains(rect)) c.fail("frame rect is outside image \"" + id + "\"");
+                if (!animation.frames.empty() && (rect.w != animation.frames[0].rect.w || rect.h != animation.frames[0].rect.h))
+                    c.fail("frames differ in size");
+                int duration = f.contains("duration") ? integer(c, f["duration"], "duration") : 0;
+                if (duration < 0) c.fail("negative duration");
+                animation.frames.push_back({it->second, rect, duration});
+            }
+            scene.animations.push_back(std::move(animation));
+        }
+    }
     scene.elements.reserve(elements.size());
-    for (std::size_t i = 0; i < elements.size(); ++i)
-        scene.elements.push_back(parse_element({path, "element " + std::to_string(i) + ": "}, elements[i], scene, ids, entries));
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+        Context c{path, "element " + std::to_string(i) + ": "};
+        scene.elements.push_back(parse_element(c, elements[i], scene, ids, entries));
+        if (elements[i].contains("animation")) {
+            Element& e = scene.elements.back();
+            e.animation = integer(c, elements[i]["animation"], "animation");
+            if (e.animation < 0 || std::size_t(e.animation) >= scene.animations.size()) c.fail("\"animation\" names no animation");
+            const AnimationFrame& first = scene.animations[std::size_t(e.animation)].frames.front();
+            if (first.image != e.image || first.rect != e.rect) c.fail("an animated element shows its animation's first frame (image and rect)");
+        }
+    }
 
     if (options.has_viewport) scene.viewport = options.viewport;
     else if (doc.contains("viewport")) scene.viewport = parse_viewport(ctx, doc["viewport"]);

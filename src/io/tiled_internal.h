@@ -95,7 +95,9 @@ struct Tileset {
     int image = -1; // the image of an image tileset, cut in columns x rows
     int columns = 0, rows = 0, margin = 0, spacing = 0;
     std::map<std::uint32_t, Tile> named;
-    std::set<std::uint32_t> animated; // local ids of tiles with an <animation> (drawn at their first frame)
+    // Animated tiles by local id: every frame's tile and duration (ms); the
+    // tile itself (in `named`) is its first frame.
+    std::map<std::uint32_t, std::vector<std::pair<Tile, int>>> animations;
     std::uint32_t tile_count() const; // one past the largest local id
     Tile tile(std::uint32_t local) const; // image -1: no such tile
 };
@@ -178,7 +180,12 @@ struct Emitter {
     std::int64_t cells = 0; // tile-layer cells read so far (limits::kMaxMapCells)
     const LoadOptions* options = nullptr; // warnings, notes, strict
     std::set<std::string> warned;         // one line per (place, feature)
+    std::map<std::pair<const Tileset*, std::uint32_t>, int> animation_index; // into Scene::animations
 };
+
+// The Scene::animations index of a tile's animation, or -1 when it has
+// none (or frames of different sizes, which is warned about).
+int animation_of(Emitter& out, const Tileset& tileset, std::uint32_t local, const std::string& where);
 
 // One warning line naming the place and the feature (io::Error with
 // LoadOptions::strict); each distinct line once per map.

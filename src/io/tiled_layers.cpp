@@ -104,6 +104,26 @@ void warn(Emitter& out, const std::string& line) {
     if (out.options && out.options->warning) out.options->warning(line);
 }
 
+int animation_of(Emitter& out, const Tileset& tileset, std::uint32_t local, const std::string& where) {
+    auto it = tileset.animations.find(local);
+    if (it == tileset.animations.end()) return -1;
+    auto [slot, fresh] = out.animation_index.try_emplace({&tileset, local}, -1);
+    if (!fresh) return slot->second;
+    const auto& frames = it->second;
+    Animation animation;
+    for (const auto& [tile, duration] : frames) {
+        if (tile.rect.w != frames.front().first.rect.w || tile.rect.h != frames.front().first.rect.h) {
+            warn(out, where + ": animated tile " + std::to_string(local) + " of tileset '" + tileset.name +
+                          "' has frames of different sizes: drawn at its first frame, not animated");
+            return -1;
+        }
+        animation.frames.push_back({tile.image, tile.rect, duration});
+    }
+    slot->second = int(out.scene.animations.size());
+    out.scene.animations.push_back(std::move(animation));
+    return slot->second;
+}
+
 void note(Emitter& out, const std::string& line) {
     if (!out.warned.insert(line).second) return;
     if (out.options && out.options->note) out.options->note(line);
@@ -158,8 +178,6 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
     if ((raw & kRotateHex120) && !m.hex_rotation)
         throw Error(where + ": the 120-degree rotation flag is only valid on hexagonal maps");
     TileRef ref = find_tile(out.tilesets, raw & kGidMask, where);
-    if (ref.tileset->animated.count((raw & kGidMask) - ref.tileset->firstgid))
-        warn(out, where + ": animated tiles are drawn at their first frame (tileset '" + ref.tileset->name + "')");
     const Rect& r = ref.tile.rect;
     double bw = ref.tileset->render_grid_size ? m.tile_width : r.w;
     double bh = ref.tileset->render_grid_size ? m.tile_height : r.h;
@@ -194,6 +212,7 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
         e.transform = place_in_box(r.w, r.h, x, y - bh, bw, bh, flags, true);
     }
     e.color = color;
+    e.animation = animation_of(out, *ref.tileset, (raw & kGidMask) - ref.tileset->firstgid, where);
     push(out, e, where);
 }
 
@@ -252,8 +271,6 @@ struct TileObject {
 void emit_object(Emitter& out, const TileObject& o, const LayerState& s, const std::array<float, 4>& color) {
     const MapInfo& m = out.info;
     TileRef ref = find_tile(out.tilesets, o.gid & kGidMask, o.where);
-    if (ref.tileset->animated.count((o.gid & kGidMask) - ref.tileset->firstgid))
-        warn(out, o.where + ": animated tiles are drawn at their first frame (tileset '" + ref.tileset->name + "')");
     const Rect& r = ref.tile.rect;
     double w = o.width, h = o.height;
     if (w <= 0 || h <= 0) return; // a zero-size object draws nothing
@@ -280,6 +297,7 @@ void emit_object(Emitter& out, const TileObject& o, const LayerState& s, const s
     e.transform = place_in_box(r.w, r.h, bx, by, w, h, o.gid & ~kGidMask, false);
     if (o.rotation != 0) e.transform = compose(rotation_about(o.rotation, px, py), e.transform);
     e.color = color;
+    e.animation = animation_of(out, *ref.tileset, (o.gid & kGidMask) - ref.tileset->firstgid, o.where);
     push(out, e, o.where);
 }
 

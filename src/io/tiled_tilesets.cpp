@@ -1,7 +1,8 @@
 // Tiled tilesets: inline and external (.tsx, also gzipped), image tilesets
 // cut into tiles by tile size, margin and spacing, image-collection
 // tilesets, animations (drawn at their first frame, as Tiled shows a map at
-// time zero), and the trans colour key.
+// time zero, and recorded as Scene::animations so every frame is analyzed
+// and an engine can animate the meshes), and the trans colour key.
 //
 // The trans key: Tiled makes texels of the key colour transparent when it
 // loads the image; the PNG on disk does not say so. The key travels on the
@@ -130,20 +131,26 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
     }
     // Animations: the first frame is what Tiled shows at time zero (looked
     // up among the still tiles, before any animation is resolved).
-    std::vector<std::pair<std::uint32_t, Tile>> animated;
+    std::vector<std::pair<std::uint32_t, std::vector<std::pair<Tile, int>>>> animated;
     for (pugi::xml_node tile : node.children("tile")) {
-        pugi::xml_node frame = tile.child("animation").child("frame");
-        if (!frame) continue;
+        if (!tile.child("animation").child("frame")) continue;
         std::string here = where + ": tile " + tile.attribute("id").as_string() + ": animation";
         int id = int_attr(tile, "id", -1, here);
-        int first = int_attr(frame, "tileid", -1, here);
-        Tile still = first < 0 ? Tile{} : ts.tile(std::uint32_t(first));
-        if (still.image < 0) throw Error(here + ": frame names no tile (" + std::to_string(first) + ")");
-        animated.emplace_back(std::uint32_t(id), still);
+        std::vector<std::pair<Tile, int>> frames;
+        for (pugi::xml_node frame : tile.child("animation").children("frame")) {
+            if (frames.size() >= 65536) throw Error(here + ": more than 65536 frames");
+            int tile_id = int_attr(frame, "tileid", -1, here);
+            Tile still = tile_id < 0 ? Tile{} : ts.tile(std::uint32_t(tile_id));
+            if (still.image < 0) throw Error(here + ": frame names no tile (" + std::to_string(tile_id) + ")");
+            int duration = int_attr(frame, "duration", 0, here);
+            if (duration < 0) throw Error(here + ": negative frame duration");
+            frames.emplace_back(still, duration);
+        }
+        animated.emplace_back(std::uint32_t(id), std::move(frames));
     }
-    for (const auto& [id, still] : animated) {
-        ts.named[id] = still;
-        ts.animated.insert(id);
+    for (auto& [id, frames] : animated) {
+        ts.named[id] = frames.front().first;
+        ts.animations[id] = std::move(frames);
     }
     return ts;
 }

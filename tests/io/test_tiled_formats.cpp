@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "depthcull/io.h"
 #include "testing/corpus.h"
 
@@ -195,12 +197,11 @@ TEST(TiledLayers, UnsupportedFeaturesWarnOnceOrFailWithStrict) {
     options.warning = [&](const std::string& line) { warnings.push_back(line); };
     Scene s = io::load_scene(map, options);
     EXPECT_EQ(s.elements.size(), 2u);
-    ASSERT_EQ(warnings.size(), 2u);
-    EXPECT_EQ(warnings[0], map + ": layer 'g': animated tiles are drawn at their first frame (tileset 'tiles')");
-    EXPECT_EQ(warnings[1], map + ": object layer 'labels': text objects are not drawn");
+    EXPECT_EQ(s.animations.size(), 1u); // animated tiles are recorded, not warned about
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], map + ": object layer 'labels': text objects are not drawn");
     options.strict = true;
-    EXPECT_EQ(error_of([&] { io::load_scene(map, options); }),
-              map + ": layer 'g': animated tiles are drawn at their first frame (tileset 'tiles') (--strict)");
+    EXPECT_EQ(error_of([&] { io::load_scene(map, options); }), map + ": object layer 'labels': text objects are not drawn (--strict)");
 }
 
 // ---- images by content
@@ -269,4 +270,111 @@ TEST(TiledLayers, BackgroundFillTravelsInBothMeshForms) {
         EXPECT_EQ(back.images[1].fill, 0x3b97d3u);
         EXPECT_TRUE(back.images[1].path.empty());
     }
+}
+
+// ---- animated tiles: every frame drawn correctly, the animation recorded
+
+TEST(TiledAnimation, OneAnalysisCoversEveryFrame) {
+    TempDir t;
+    // Two 16x16 tiles: A opaque in columns 0..11, B in columns 4..15 (and a
+    // translucent texel): the union is the whole tile, the intersection
+    // columns 4..11.
+    Image sheet;
+    sheet.width = 32;
+    sheet.height = 16;
+    sheet.rgba.assign(32 * 16 * 4, 0);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            if (x < 12) sheet.rgba[std::size_t(y * 32 + x) * 4 + 3] = 255;
+            if (x >= 4) sheet.rgba[std::size_t(y * 32 + 16 + x) * 4 + 3] = 255;
+        }
+    sheet.rgba[std::size_t(0 * 32 + 16 + 0) * 4 + 3] = 100; // B's top-left: translucent
+    io::save_png((t.dir / "anim.png").string(), sheet.view());
+    std::string map = t.write("a.tmx", "<map orientation=\"orthogonal\" width=\"1\" height=\"1\" tilewidth=\"16\" tileheight=\"16\">"
+                                       "<tileset firstgid=\"1\" name=\"a\" tilewidth=\"16\" tileheight=\"16\"><image source=\"anim.png\"/>"
+                                       "<tile id=\"0\"><animation><frame tileid=\"0\" duration=\"100\"/><frame tileid=\"1\" duration=\"250\"/></animation></tile>"
+                                       "</tileset><layer name=\"g\" width=\"1\" height=\"1\"><data encoding=\"csv\">1</data></layer></map>");
+    io::LoadOptions options;
+    std::vector<std::string> warnings;
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    io::PrepareOptions prepare;
+    prepare.load = options;
+    io::PreparedScene p = io::prepare_scene(map, prepare);
+    EXPECT_TRUE(warnings.empty());
+    const Scene& s = p.scene;
+    ASSERT_EQ(s.animations.size(), 1u);
+    ASSERT_EQ(s.animations[0].frames.size(), 2u);
+    EXPECT_EQ(s.animations[0].frames[0].rect, (Rect{0, 0, 16, 16}));
+    EXPECT_EQ(s.animations[0].frames[1].rect, (Rect{16, 0, 16, 16}));
+    EXPECT_EQ(s.animations[0].frames[0].duration_ms, 100);
+    EXPECT_EQ(s.animations[0].frames[1].duration_ms, 250);
+    ASSERT_EQ(s.elements.size(), 1u);
+    EXPECT_EQ(s.elements[0].animation, 0);
+    const ImageAnalysis& a = *p.element_analysis[0];
+    EXPECT_EQ(a.rect, (Rect{0, 0, 16, 16}));
+    ASSERT_FALSE(a.opaque.empty());
+    // Each frame, with the polygons moved onto its rect, keeps both guarantees.
+    const Image& image = p.images[0];
+    for (const AnimationFrame& f : s.animations[0].frames) {
+        auto moved = [&](std::vector<Polygon> polygons) {
+            for (Polygon& poly : polygons)
+                for (Vec2& v : poly) v = {v.x + f.rect.x, v.y + f.rect.y};
+            return polygons;
+        };
+        EXPECT_EQ(count_uncontained_texels(image.view(), f.rect, moved(a.boundary), Filter::nearest), 0) << f.rect.x;
+        EXPECT_EQ(count_opaque_violations(image.view(), f.rect, moved(a.opaque), Filter::nearest), 0) << f.rect.x;
+    }
+    for (const Polygon& poly : a.opaque)
+        for (const Vec2& v : poly) {
+            EXPECT_GE(v.x, 4.0);
+            EXPECT_LE(v.x, 12.0);
+        }
+    // Frame 0 alone would have had opaque texels in columns 0..3: not here.
+    ImageAnalysis alone = analyze_image(image.view(), {0, 0, 16, 16}, {});
+    EXPECT_GT(alone.stats.opaque_covered_texels, a.stats.opaque_covered_texels);
+
+    // Recorded in our scene JSON (and read back) and in the meshes JSON.
+    std::string text = io::scene_to_json_text(s, (t.dir / "s.json").string());
+    EXPECT_NE(text.find("\"animation\":0"), std::string::npos) << text;
+    EXPECT_NE(text.find("{\"frames\":[{\"image\":\"anim\",\"rect\":[0,0,16,16],\"duration\":100},{\"image\":\"anim\",\"rect\":[16,0,16,16],\"duration\":250}]}"),
+              std::string::npos) << text;
+    Scene back = io::load_scene(t.write("s.json", text));
+    ASSERT_EQ(back.animations.size(), 1u);
+    EXPECT_EQ(back.animations[0].frames[1].rect, (Rect{16, 0, 16, 16}));
+    EXPECT_EQ(back.animations[0].frames[1].duration_ms, 250);
+    EXPECT_EQ(back.elements[0].animation, 0);
+    SceneMeshes meshes;
+    reconstruct_scene(s, p.element_analysis, {}, &meshes);
+    std::string mesh_text = io::meshes_to_json(s, meshes, "", false);
+    auto doc = nlohmann::json::parse(mesh_text);
+    ASSERT_EQ(doc["animations"].size(), 1u);
+    EXPECT_EQ(doc["animations"][0]["frames"][1], nlohmann::json::parse(R"({"image": 0, "rect": [16, 0, 16, 16], "duration": 250})"));
+    ASSERT_FALSE(doc["animated"].empty());
+    std::size_t covered = 0;
+    for (const auto& run : doc["animated"]) {
+        EXPECT_EQ(run["animation"], 0);
+        covered += run["vertex_count"].get<std::size_t>();
+    }
+    std::size_t total = 0;
+    for (const auto& d : doc["draws"]) total += d["vertices"].size() / 9;
+    EXPECT_EQ(covered, total); // the only element is animated
+    // The readers still read it (unknown fields are ignored).
+    EXPECT_EQ(io::meshes_from_json(mesh_text, "m.json").meshes.draws.size(), meshes.draws.size());
+}
+
+TEST(TiledAnimation, FramesOfDifferentSizesWarn) {
+    TempDir t;
+    std::string map = t.write("d.tmx", "<map orientation=\"orthogonal\" width=\"1\" height=\"1\" tilewidth=\"4\" tileheight=\"4\">"
+                                       "<tileset firstgid=\"1\" name=\"c\" tilewidth=\"4\" tileheight=\"5\">"
+                                       "<tile id=\"0\"><image source=\"" + data("a.png") + "\"/></tile>"
+                                       "<tile id=\"1\"><image source=\"" + data("tiles.png") + "\"/></tile>"
+                                       "<tile id=\"2\"><image source=\"" + data("a.png") + "\"/><animation><frame tileid=\"0\" duration=\"1\"/><frame tileid=\"1\" duration=\"1\"/></animation></tile>"
+                                       "</tileset><layer name=\"g\" width=\"1\" height=\"1\"><data encoding=\"csv\">3</data></layer></map>");
+    io::LoadOptions options;
+    std::vector<std::string> warnings;
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    Scene s = io::load_scene(map, options);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], map + ": layer 'g': animated tile 2 of tileset 'c' has frames of different sizes: drawn at its first frame, not animated");
+    EXPECT_EQ(s.elements.at(0).animation, -1);
 }
