@@ -88,6 +88,7 @@ struct Tileset {
     double offset_x = 0, offset_y = 0;   // <tileoffset>
     Alignment alignment = Alignment::unspecified;
     bool render_grid_size = false;       // tilerendersize="grid": tiles scaled to the map's grid
+    bool preserve_aspect = false;        // ... with fillmode="preserve-aspect-fit": uniformly, centred in the cell
     // Tiles by local id. An image tileset's grid is computed, not stored (a
     // 16384x16384 image of 1x1 tiles would be a table of 5 GB); tiles named
     // by <tile id> (image collections, animations resolved to their first

@@ -181,6 +181,14 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
     const Rect& r = ref.tile.rect;
     double bw = ref.tileset->render_grid_size ? m.tile_width : r.w;
     double bh = ref.tileset->render_grid_size ? m.tile_height : r.h;
+    double fit_x = 0, fit_y = 0; // preserve-aspect-fit: the scaled tile centred in the cell
+    if (ref.tileset->preserve_aspect) {
+        const double scale = std::min(bw / r.w, bh / r.h);
+        fit_x = (bw - r.w * scale) / 2;
+        fit_y = (bh - r.h * scale) / 2;
+        bw = r.w * scale;
+        bh = r.h * scale;
+    }
     // The cell's bottom-left corner on screen.
     double x, y;
     if (m.orientation == Orientation::orthogonal) {
@@ -195,8 +203,8 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
         x = double(col - row) * m.tile_width / 2 + origin_x - m.tile_width / 2.0;
         y = double(col + row) * m.tile_height / 2 + m.tile_height;
     }
-    x += s.offset_x + ref.tileset->offset_x * bw / r.w;
-    y += s.offset_y + ref.tileset->offset_y * bh / r.h;
+    x += s.offset_x + ref.tileset->offset_x * bw / r.w + fit_x;
+    y += s.offset_y + ref.tileset->offset_y * bh / r.h - fit_y;
     Element e;
     e.image = ref.tile.image;
     e.rect = r;

@@ -96,8 +96,10 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
     std::string render_size = node.attribute("tilerendersize").as_string("tile");
     std::string fill = node.attribute("fillmode").as_string("stretch");
     if (render_size != "tile" && render_size != "grid") throw Error(where + ": unknown tilerendersize '" + render_size + "'");
-    if (render_size == "grid" && fill != "stretch") throw Error(where + ": fillmode '" + fill + "' is not supported (only stretch)");
+    if (fill != "stretch" && fill != "preserve-aspect-fit")
+        throw Error(where + ": fillmode '" + fill + "' is not supported (only stretch and preserve-aspect-fit)");
     ts.render_grid_size = render_size == "grid";
+    ts.preserve_aspect = ts.render_grid_size && fill == "preserve-aspect-fit";
     if (pugi::xml_node offset = node.child("tileoffset")) {
         ts.offset_x = offset.attribute("x").as_double(0);
         ts.offset_y = offset.attribute("y").as_double(0);

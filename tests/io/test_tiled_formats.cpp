@@ -378,3 +378,28 @@ TEST(TiledAnimation, FramesOfDifferentSizesWarn) {
     EXPECT_EQ(warnings[0], map + ": layer 'g': animated tile 2 of tileset 'c' has frames of different sizes: drawn at its first frame, not animated");
     EXPECT_EQ(s.elements.at(0).animation, -1);
 }
+
+TEST(TiledLayers, FillModePreserveAspectFitCentresTheScaledTile) {
+    TempDir t;
+    // a.png (3x5) as a tile in 4x4 grid cells: scale 0.8 -> 2.4 x 4, centred (0.8 in from the left).
+    std::string map = t.write("f.tmx", "<map orientation=\"orthogonal\" width=\"2\" height=\"1\" tilewidth=\"4\" tileheight=\"4\">"
+                                       "<tileset firstgid=\"1\" name=\"c\" tilewidth=\"3\" tileheight=\"5\" tilerendersize=\"grid\" fillmode=\"preserve-aspect-fit\">"
+                                       "<tile id=\"0\"><image source=\"" + data("a.png") + "\"/></tile></tileset>"
+                                       "<layer name=\"g\" width=\"2\" height=\"1\"><data encoding=\"csv\">0,1</data></layer></map>");
+    Scene s = io::load_scene(map);
+    ASSERT_EQ(s.elements.size(), 1u);
+    expect_element(s, 0, "a", {0, 0, 3, 5}, {0.8, 0, 0, 0.8, 4 + (4 - 2.4) / 2, 0});
+}
+
+TEST(TiledJson, JsonTemplateInAJsonMap) {
+    TempDir t;
+    t.write("t.tj", R"({"type": "template", "tileset": {"firstgid": 1, "source": ")" + data("tiles.tsj") +
+                        R"("}, "object": {"gid": 2, "width": 8, "height": 8}})");
+    std::string map = t.write("m.tmj", R"({"type": "map", "orientation": "orthogonal", "width": 3, "height": 2, "tilewidth": 4, "tileheight": 4,
+        "tilesets": [{"firstgid": 1, "source": ")" + data("tiles.tsj") + R"("}],
+        "layers": [{"type": "objectgroup", "name": "things", "objects": [{"id": 1, "template": "t.tj", "x": 2, "y": 8}]}]})");
+    Scene s = io::load_scene(map);
+    ASSERT_EQ(s.elements.size(), 1u);
+    // gid 2: tile (6,1); the template's 8x8 size scales it 2x; bottom-left at (2, 8).
+    expect_element(s, 0, "tiles", {6, 1, 4, 4}, {2, 0, 0, 2, 2, 0});
+}
