@@ -129,7 +129,7 @@ void convert_layers(const json& layers, pugi::xml_node parent, const std::string
         if (!element) throw Error(here + ": unknown layer type '" + type + "'");
         pugi::xml_node node = parent.append_child(element);
         copy_attributes(layer, node, {"id", "name", "visible", "opacity", "offsetx", "offsety", "tintcolor", "parallaxx", "parallaxy",
-                                      "width", "height", "draworder", "repeatx", "repeaty", "class"},
+                                      "width", "height", "draworder", "repeatx", "repeaty", "class", "mode"},
                         here);
         if (type == "tilelayer") {
             pugi::xml_node data = node.append_child("data");

@@ -475,6 +475,9 @@ void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out, i
         if (!visible(layer)) continue;
         LayerState s = child_state(layer, state, where);
         if (s.opacity == 0) continue; // draws nothing
+        // Tiled 1.11's layer blend modes: drawn as normal (alpha) blending.
+        if (std::string mode = layer.attribute("mode").as_string("normal"); mode != "normal")
+            warn(out, where + ": layer blend mode '" + mode + "' is drawn as normal");
         if (kind == "group") {
             emit_layers(layer, s, out, depth + 1);
             continue;

@@ -403,3 +403,14 @@ TEST(TiledJson, JsonTemplateInAJsonMap) {
     // gid 2: tile (6,1); the template's 8x8 size scales it 2x; bottom-left at (2, 8).
     expect_element(s, 0, "tiles", {6, 1, 4, 4}, {2, 0, 0, 2, 2, 0});
 }
+
+TEST(TiledLayers, BlendModesWarn) {
+    TempDir t;
+    std::string map = t.write("m.tmx", map_xml("<layer name=\"g\" mode=\"multiply\" width=\"3\" height=\"2\"><data encoding=\"csv\">1,0,0,0,0,0</data></layer>"));
+    io::LoadOptions options;
+    std::vector<std::string> warnings;
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    io::load_scene(map, options);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], map + ": layer 'g': layer blend mode 'multiply' is drawn as normal");
+}
