@@ -223,3 +223,31 @@ TEST(AtlasFormats, SceneFramesOfAMultipackUseTheirPage) {
     EXPECT_EQ(s.elements[0].image, 0);
     EXPECT_EQ(s.elements[1].image, 1);
 }
+
+// The bigger atlases scripts/fetch-corpus packs (pingus sprites, pages of
+// 256 px): every form reads the same frames and gets polygons.
+TEST(AtlasFormatsCorpus, PackedAtlasesAgree) {
+    if (std::string why = test::corpus_missing("packed-atlases"); !why.empty()) GTEST_SKIP() << why;
+    const std::string dir = test::corpus_dir() + "/packed-atlases/";
+    io::Atlas multi = io::load_atlas(dir + "phaser3-multi.json");
+    std::size_t pages = multi.pages.size(), seen = 0;
+    for (std::size_t k = 0; k < pages; ++k) {
+        const std::string n = std::to_string(k);
+        for (const std::string& name : {"hash-" + n + ".json", "array-" + n + ".json", "cocos2d-" + n + ".plist"}) {
+            io::Atlas a = io::load_atlas(dir + name);
+            for (const io::AtlasFrame& f : a.frames) {
+                const io::AtlasFrame* g = multi.find(f.name);
+                ASSERT_TRUE(g) << name << " " << f.name;
+                EXPECT_EQ(g->page, int(k)) << f.name;
+                expect_same_frame(f, *g, name);
+            }
+            if (name[0] == 'h') seen += a.frames.size();
+            io::AtlasPolygonOptions options;
+            io::AtlasPolygonStats stats;
+            io::atlas_with_polygons(dir + name, options, &stats);
+            EXPECT_EQ(std::size_t(stats.frames), a.frames.size()) << name;
+            EXPECT_EQ(stats.rectangle_frames, 0) << name;
+        }
+    }
+    EXPECT_EQ(seen, multi.frames.size());
+}
