@@ -56,6 +56,9 @@ std::vector<Input> grid_inputs(const std::string& arg, const std::string& path, 
     if (columns == 0 || rows == 0)
         throw CliError(arg + ": the " + std::to_string(image.width) + "x" + std::to_string(image.height) + " image holds no " +
                        std::to_string(w) + "x" + std::to_string(h) + " grid cell");
+    if (std::size_t(columns) * std::size_t(rows) > limits::kMaxAtlasFrames)
+        throw CliError(arg + ": the grid has " + std::to_string(std::int64_t(columns) * rows) + " cells, more than " +
+                       std::to_string(limits::kMaxAtlasFrames) + " (kMaxAtlasFrames)");
     std::vector<Input> cells;
     for (int r = 0; r < rows; ++r)
         for (int c = 0; c < columns; ++c)

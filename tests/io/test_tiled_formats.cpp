@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include <nlohmann/json.hpp>
 
@@ -413,4 +414,45 @@ TEST(TiledLayers, BlendModesWarn) {
     io::load_scene(map, options);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_EQ(warnings[0], map + ": layer 'g': layer blend mode 'multiply' is drawn as normal");
+}
+
+// Mutated JSON maps, JSON tilesets and plists: a scene or one io::Error
+// line, never a crash or another exception.
+TEST(TiledJson, MutatedFilesFailCleanly) {
+    std::mt19937 rng(4242);
+    TempDir t;
+    fs::copy_file(data("tiles.png"), t.dir / "tiles.png");
+    fs::copy_file(test::source_path("tests/data/atlas/packed/cocos2d-0.png"), t.dir / "cocos2d-0.png");
+    struct Case {
+        std::string file, name;
+    } cases[] = {{data("csv.tmj"), "m.tmj"}, {data("zstd.tmj"), "z.tmj"}, {data("tiles.tsj"), "tiles.tsj"},
+                 {test::source_path("tests/data/atlas/packed/cocos2d-0.plist"), "c.plist"}};
+    // A map naming the (mutated) tileset.
+    std::string tsx_map = t.write("uses_tsj.tmx", "<map orientation=\"orthogonal\" width=\"3\" height=\"2\" tilewidth=\"4\" tileheight=\"4\">"
+                                                  "<tileset firstgid=\"1\" source=\"tiles.tsj\"/><layer name=\"g\" width=\"3\" height=\"2\">"
+                                                  "<data encoding=\"csv\">1,2,3,4,0,0</data></layer></map>");
+    for (const Case& c : cases) {
+        std::string text = io::read_file(c.file);
+        for (int round = 0; round < 60; ++round) {
+            std::string mutated = text;
+            int edits = 1 + int(rng() % 4);
+            for (int k = 0; k < edits; ++k) {
+                std::size_t at = rng() % mutated.size();
+                switch (rng() % 3) {
+                case 0: mutated[at] = char(rng() % 256); break;
+                case 1: mutated.erase(at, 1 + rng() % 8); break;
+                default: mutated.insert(at, 1, "0123456789,:{}[]\"-e."[rng() % 20]); break;
+                }
+                if (mutated.empty()) mutated = "x";
+            }
+            std::string path = t.write(c.name, mutated);
+            try {
+                if (c.name == "c.plist") io::load_atlas(path);
+                else if (c.name == "tiles.tsj") io::load_scene(tsx_map);
+                else io::load_scene(path);
+            } catch (const io::Error& e) {
+                EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+            }
+        }
+    }
 }
