@@ -81,7 +81,8 @@ void check_distinct_files(const std::vector<std::string>& inputs, const std::vec
 std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene);
 
 // --viewport x,y,w,h: the camera rectangle in world units (for Tiled maps
-// and scenes alike); sets options.has_viewport.
+// and scenes alike); sets options.has_viewport. Also --strict and the
+// warning / note lines map readers print.
 void add_viewport_option(CLI::App& command, io::LoadOptions& options);
 
 

@@ -28,6 +28,7 @@ struct Input {
     std::string path;
     bool has_rect = false;
     Rect rect;
+    int cell = -1; // IMAGE:grid=...: the cell's index, row-major
 };
 
 struct AnalyzeArgs {
@@ -47,12 +48,43 @@ struct AnalyzeArgs {
     CostProfile profile;         // resolved from target
 };
 
-// IMAGE or IMAGE:x,y,w,h. Only a trailing ":int,int,int,int" is a rect, so
-// paths with colons still work.
-Input parse_input(const std::string& arg) {
+// IMAGE:grid=W,H[,margin,spacing]: a sprite sheet or strip, every W x H
+// cell its own frame, cut as Tiled cuts a tileset (cells start at `margin`,
+// `spacing` apart; a partial cell at the right or bottom edge is none).
+std::vector<Input> grid_inputs(const std::string& arg, const std::string& path, int w, int h, int margin, int spacing) {
+    if (w <= 0 || h <= 0 || w > kMaxImageSide || h > kMaxImageSide || margin > kMaxImageSide || spacing > kMaxImageSide)
+        throw CliError(arg + ": grid cell size must be 1.." + std::to_string(kMaxImageSide) + ", margin and spacing 0.." + std::to_string(kMaxImageSide));
+    Image image = io::load_image(path);
+    int columns = image.width - margin >= w ? (image.width - margin - w) / (w + spacing) + 1 : 0;
+    int rows = image.height - margin >= h ? (image.height - margin - h) / (h + spacing) + 1 : 0;
+    if (columns == 0 || rows == 0)
+        throw CliError(arg + ": the " + std::to_string(image.width) + "x" + std::to_string(image.height) + " image holds no " +
+                       std::to_string(w) + "x" + std::to_string(h) + " grid cell");
+    if (std::size_t(columns) * std::size_t(rows) > limits::kMaxAtlasFrames)
+        throw CliError(arg + ": the grid has " + std::to_string(std::int64_t(columns) * rows) + " cells, more than " +
+                       std::to_string(limits::kMaxAtlasFrames) + " (kMaxAtlasFrames)");
+    std::vector<Input> cells;
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < columns; ++c)
+            cells.push_back({path, true, {margin + c * (w + spacing), margin + r * (h + spacing), w, h}, r * columns + c});
+    return cells;
+}
+
+// IMAGE, IMAGE:x,y,w,h or IMAGE:grid=W,H[,margin,spacing]. Only a trailing
+// ":int,int,int,int" is a rect, so paths with colons still work.
+std::vector<Input> parse_input(const std::string& arg) {
     static const std::regex rect_suffix(R"(^(.*):(\d+),(\d+),(\d+),(\d+)$)");
+    static const std::regex grid_suffix(R"(^(.*):grid=(\d+),(\d+)(?:,(\d+),(\d+))?$)");
     std::smatch m;
     Input in;
+    if (std::regex_match(arg, m, grid_suffix)) {
+        try {
+            return grid_inputs(arg, m[1], std::stoi(m[2]), std::stoi(m[3]), m[4].matched ? std::stoi(m[4]) : 0,
+                               m[5].matched ? std::stoi(m[5]) : 0);
+        } catch (const std::out_of_range&) {
+            throw CliError(arg + ": grid numbers out of range");
+        }
+    }
     if (std::regex_match(arg, m, rect_suffix)) {
         in.path = m[1];
         in.has_rect = true;
@@ -64,7 +96,7 @@ Input parse_input(const std::string& arg) {
     } else {
         in.path = arg;
     }
-    return in;
+    return {in};
 }
 
 std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
@@ -77,16 +109,16 @@ std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
                  !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
                 std::string ext = it->path().extension().string();
                 std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-                if (ext == ".png" && it->is_regular_file(ec)) found.push_back(it->path().string());
+                if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".webp") && it->is_regular_file(ec)) found.push_back(it->path().string());
             }
             if (ec) throw CliError(arg + ": cannot list directory (" + ec.message() + ")");
             std::sort(found.begin(), found.end());
             for (auto& p : found) inputs.push_back({p, false, {}});
         } else {
-            inputs.push_back(parse_input(arg));
+            for (Input& in : parse_input(arg)) inputs.push_back(std::move(in));
         }
     }
-    if (inputs.empty()) throw CliError("analyze: no PNG images found in the given inputs");
+    if (inputs.empty()) throw CliError("analyze: no PNG, JPEG or WebP images found in the given inputs");
     return inputs;
 }
 
@@ -127,7 +159,7 @@ std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
 }
 
 Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base) {
-    Image image = io::load_png(in.path);
+    Image image = io::load_image(in.path);
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))
         throw CliError(in.path + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," +
@@ -213,6 +245,7 @@ json result_json(const Input& in, const Result& r, bool timing, const AnalyzeArg
                          {"max_vertices", r.chosen_budget},
                          {"rect", r.chosen_budget == 0},
                          {"min_opaque_area", min_opaque_area(args.profile)}};
+    if (in.cell >= 0) out["cell"] = in.cell;
     return out;
 }
 
@@ -331,7 +364,7 @@ void set_cache(AnalyzeArgs& args) {
 void add_analyze_command(CLI::App& app) {
     auto args = std::make_shared<AnalyzeArgs>();
     auto* cmd = app.add_subcommand("analyze", "Compute boundary and opaque polygons of images (paper 2.1, 2.2) as JSON");
-    cmd->add_option("inputs", args->inputs, "IMAGE.png, IMAGE.png:x,y,w,h (a sub-rectangle), or a directory of PNGs")->required();
+    cmd->add_option("inputs", args->inputs, "IMAGE (PNG, JPEG, WebP), IMAGE:x,y,w,h (a sub-rectangle), IMAGE:grid=W,H[,margin,spacing] (every cell of a sprite sheet), or a directory of images")->required();
     cmd->add_option("-o,--output", args->output, "Write JSON here instead of stdout");
     add_analysis_options(*cmd, args->options);
     cmd->add_flag("--summary", args->summary, "Print totals over all inputs (JSON only with -o)");

@@ -29,12 +29,24 @@ void png_size(const std::string& path, int* width, int* height); // png.cpp
 // in rows without overlap (sprite_folder.cpp).
 bool is_sprite_source(const std::string& path);
 Scene load_sprite_folder(const std::string& path, const LoadOptions& options);
+// The same for any image load_image reads (PNG, JPEG, WebP), told by content.
+void image_size(const std::string& path, int* width, int* height); // image_formats.cpp
 
 // io::Error "<where>: ..." unless the viewport is finite, within
 // limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).
 void check_viewport(const Viewport& viewport, const std::string& where);
 
 bool ends_with(const std::string& s, const std::string& suffix);
+
+// One analysis for every frame of an animation (animation_analysis.cpp):
+// boundary polygons hold the union of the frames' non-transparent texels,
+// opaque polygons only texels opaque in all; polygons on frame 0's rect.
+// `images` are the decoded scene images, indexed like Scene::images.
+ImageAnalysis analyze_animation(const std::vector<Image>& images, const Animation& animation, const AnalyzeOptions& options,
+                                const std::string& cache_dir, bool* hit);
+
+// cocos2d-x sprite frames (.plist, formats 2 and 3) as an Atlas (cocos2d_plist.cpp).
+Atlas load_cocos2d_plist(const std::string& path);
 
 // io::Error unless `path` is a regular file within kMaxFileBytes.
 void check_input_file(const std::string& path); // file.cpp

@@ -1,5 +1,7 @@
 #include <cmath>
 
+#include <nlohmann/json.hpp>
+
 #include "depthcull/limits.h"
 #include "io/formats.h"
 
@@ -18,7 +20,42 @@ void check_viewport(const Viewport& v, const std::string& where) {
 
 namespace {
 
-bool is_tiled(const std::string& path) { return ends_with(path, ".tmx") || ends_with(path, ".tmx.gz"); }
+// A .json scene is ours or a Tiled map: decided by the first top-level key
+// that only one of them has, reading no further than that key.
+struct FirstKeySax : nlohmann::json_sax<nlohmann::json> {
+    int depth = 0;
+    int verdict = 0; // 1: Tiled map, -1: our scene
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t, const string_t&) override { return true; }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool start_object(std::size_t) override { return ++depth, true; }
+    bool end_object() override { return --depth, true; }
+    bool start_array(std::size_t) override { return ++depth, true; }
+    bool end_array() override { return --depth, true; }
+    bool key(string_t& k) override {
+        if (depth != 1) return true;
+        if (k == "layers" || k == "tilesets" || k == "tiledversion" || k == "orientation") verdict = 1;
+        else if (k == "elements" || k == "images") verdict = -1;
+        return verdict == 0;
+    }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+};
+
+bool is_tiled_json(std::string_view text) {
+    FirstKeySax sax;
+    nlohmann::json::sax_parse(text, &sax);
+    return sax.verdict == 1;
+}
+
+bool is_tiled(const std::string& path) {
+    for (const char* ext : {".tmx", ".tmx.gz", ".tmj", ".tmj.gz", ".json.gz"}) // .json.gz: Tiled's gzipped JSON maps
+        if (ends_with(path, ext)) return true;
+    return false;
+}
 
 // `bytes` reads the file: load_scene reads it only once the format is known.
 template <class Bytes>
@@ -26,9 +63,13 @@ Scene load(const std::string& path, const LoadOptions& options, Bytes&& bytes) {
     if (options.has_viewport) check_viewport(options.viewport, path + ": --viewport");
     return guarded(path, [&] {
         if (is_tiled(path)) return tiled_map_from_bytes(bytes(), path, options);
-        if (ends_with(path, ".json")) return scene_json_from_text(bytes(), path, options);
+        if (ends_with(path, ".json")) {
+            // A .json scene is ours or a Tiled map: its first telling key decides.
+            const auto text = bytes();
+            return is_tiled_json(text) ? tiled_map_from_bytes(text, path, options) : scene_json_from_text(text, path, options);
+        }
         if (is_sprite_source(path)) return load_sprite_folder(path, options);
-        throw Error(path + ": unknown scene format (expected .json, .tmx, .tmx.gz, a PNG or a directory of PNGs)");
+        throw Error(path + ": unknown scene format (expected .json, .tmx, .tmj, either gzipped, a PNG or a directory of PNGs)");
     });
 }
 

@@ -112,8 +112,11 @@ SceneImage read_image(Reader& in, const std::string& base_dir, bool colour_keys)
     if (colour_keys) {
         const std::size_t at = in.pos;
         const auto key = in.get<std::uint32_t>("an image colour key");
-        if (key & ~(kColourKeyed | 0xffffffu)) in.fail(at, "colour key " + std::to_string(key) + " has unknown bits");
+        if ((key & ~(kColourKeyed | kSolidFill | 0xffffffu)) || ((key & kColourKeyed) && (key & kSolidFill)))
+            in.fail(at, "colour key " + std::to_string(key) + " has unknown bits");
         img.has_trans = key & kColourKeyed;
+        img.has_fill = key & kSolidFill;
+        if (img.has_fill) img.fill = key & 0xffffffu, img.path.clear();
         img.trans = key & 0xffffffu;
     }
     return img;

@@ -87,6 +87,11 @@ SceneImage read_image(const Context& ctx, const json& v, const std::string& wher
         img.has_trans = true;
         img.trans = parse_colour_key(string(ctx, v["trans"], at(where, "trans")), ctx.name + ": " + at(where, "trans"));
     }
+    if (v.contains("fill")) {
+        img.has_fill = true;
+        img.fill = parse_colour_key(string(ctx, v["fill"], at(where, "fill")), ctx.name + ": " + at(where, "fill"));
+        img.path.clear();
+    }
     return img;
 }
 

@@ -8,8 +8,11 @@
 // A frame with several boundary polygons (disjoint parts) lists all their
 // vertices and triangles together. Each polygon is ear-clipped
 // (triangulate_polygon), not fanned: boundary polygons may be concave.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 
 #include <nlohmann/json.hpp>
 
@@ -60,20 +63,147 @@ void add_polygons(Json& out, const AtlasFrame& frame, const std::vector<Polygon>
     out["triangles"] = std::move(triangles);
 }
 
+// ---- cocos2d-x format 3 plist with polygons
+
+void xml_escape(std::string& out, const std::string& text) {
+    for (char c : text) {
+        if (c == '&') out += "&amp;";
+        else if (c == '<') out += "&lt;";
+        else if (c == '>') out += "&gt;";
+        else out += c;
+    }
+}
+
+std::string int_text(double v) { return std::to_string(std::llround(v)); }
+
+// cocos2d-x parses "vertices" and "verticesUV" as integers (atoi). Our
+// polygons' vertices lie on the texel grid or are rounded onto it when that
+// keeps every texel inside and the polygons triangulable; otherwise the
+// frame's rectangle is written (counted in rectangle_frames).
+std::vector<Polygon> integer_polygons(ImageView page, const AtlasFrame& frame, const std::vector<Polygon>& polygons, Filter filter,
+                                      bool* fell_back) {
+    *fell_back = false;
+    bool integral = true;
+    std::vector<Polygon> rounded = polygons;
+    for (Polygon& p : rounded)
+        for (Vec2& v : p) {
+            Vec2 r{std::round(v.x), std::round(v.y)};
+            if (r.x != v.x || r.y != v.y) integral = false;
+            v = {std::clamp(r.x, double(frame.frame.x), double(frame.frame.x + frame.frame.w)),
+                 std::clamp(r.y, double(frame.frame.y), double(frame.frame.y + frame.frame.h))};
+        }
+    if (integral) return rounded;
+    bool good = rounded.size() == 1 && count_uncontained_texels(page, frame.frame, rounded, filter) == 0;
+    for (const Polygon& p : rounded) {
+        std::vector<std::uint32_t> t = p.size() >= 3 ? triangulate_polygon(p) : std::vector<std::uint32_t>{};
+        if (t.size() != 3 * (p.size() - 2)) good = false;
+    }
+    if (good) return rounded;
+    *fell_back = true;
+    const Rect& r = frame.frame;
+    return {{{double(r.x), double(r.y)}, {double(r.x + r.w), double(r.y)}, {double(r.x + r.w), double(r.y + r.h)}, {double(r.x), double(r.y + r.h)}}};
+}
+
+std::string plist_text(const Atlas& atlas, const std::vector<ImageAnalysis>& analyses, const Image& page, Filter filter,
+                       AtlasPolygonStats& stats) {
+    std::string s = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                    "<!DOCTYPE plist PUBLIC \"-//Apple Computer//DTD PLIST 1.0//EN\" \"http://www.apple.com/DTDs/PropertyList-1.0.dtd\">\n"
+                    "<plist version=\"1.0\">\n<dict>\n\t<key>frames</key>\n\t<dict>\n";
+    auto key = [&](const char* indent, const std::string& k) {
+        s += indent;
+        s += "<key>";
+        xml_escape(s, k);
+        s += "</key>\n";
+    };
+    auto str = [&](const char* indent, const std::string& v) {
+        s += indent;
+        s += "<string>";
+        xml_escape(s, v);
+        s += "</string>\n";
+    };
+    for (std::size_t i = 0; i < atlas.frames.size(); ++i) {
+        const AtlasFrame& f = atlas.frames[i];
+        const int w = f.rotated ? f.frame.h : f.frame.w, h = f.rotated ? f.frame.w : f.frame.h;
+        // cocos2d-x's spriteOffset: trimmed centre minus untrimmed centre, y up.
+        double ox = f.sprite_source.x + w / 2.0 - f.source_w / 2.0, oy = f.source_h / 2.0 - (f.sprite_source.y + h / 2.0);
+        char offset[64];
+        std::snprintf(offset, sizeof offset, "{%g,%g}", ox, oy);
+        key("\t\t", f.name);
+        s += "\t\t<dict>\n\t\t\t<key>aliases</key>\n\t\t\t<array/>\n";
+        key("\t\t\t", "spriteOffset");
+        str("\t\t\t", offset);
+        key("\t\t\t", "spriteSize");
+        str("\t\t\t", "{" + std::to_string(w) + "," + std::to_string(h) + "}");
+        key("\t\t\t", "spriteSourceSize");
+        str("\t\t\t", "{" + std::to_string(f.source_w) + "," + std::to_string(f.source_h) + "}");
+        key("\t\t\t", "textureRect");
+        str("\t\t\t", "{{" + std::to_string(f.frame.x) + "," + std::to_string(f.frame.y) + "},{" + std::to_string(w) + "," + std::to_string(h) + "}}");
+        key("\t\t\t", "textureRotated");
+        s += f.rotated ? "\t\t\t<true/>\n" : "\t\t\t<false/>\n";
+        bool fell_back = false;
+        std::vector<Polygon> polygons =
+            analyses[i].boundary.empty() ? std::vector<Polygon>{} : integer_polygons(page.view(), f, analyses[i].boundary, filter, &fell_back);
+        stats.rectangle_frames += fell_back;
+        std::string triangles, vertices, uv;
+        std::uint32_t base = 0;
+        for (const Polygon& polygon : polygons) {
+            std::vector<std::uint32_t> indices = triangulate_polygon(polygon);
+            for (const Vec2& p : polygon) {
+                Vec2 q = page_to_sprite(f, p);
+                vertices += (vertices.empty() ? "" : " ") + int_text(q.x) + " " + int_text(q.y);
+                uv += (uv.empty() ? "" : " ") + int_text(p.x) + " " + int_text(p.y);
+            }
+            for (std::uint32_t index : indices) triangles += (triangles.empty() ? "" : " ") + std::to_string(base + index);
+            base += std::uint32_t(polygon.size());
+            stats.vertices += std::int64_t(polygon.size());
+            stats.triangles += std::int64_t(indices.size() / 3);
+            stats.polygon_area += area(polygon);
+        }
+        key("\t\t\t", "triangles");
+        str("\t\t\t", triangles);
+        key("\t\t\t", "vertices");
+        str("\t\t\t", vertices);
+        key("\t\t\t", "verticesUV");
+        str("\t\t\t", uv);
+        s += "\t\t</dict>\n";
+        stats.frames += 1;
+        stats.frame_area += double(f.frame.w) * f.frame.h;
+    }
+    std::string image = std::filesystem::path(atlas.image_path).filename().string();
+    s += "\t</dict>\n\t<key>metadata</key>\n\t<dict>\n\t\t<key>format</key>\n\t\t<integer>3</integer>\n"
+         "\t\t<key>pixelFormat</key>\n\t\t<string>RGBA8888</string>\n\t\t<key>premultiplyAlpha</key>\n\t\t<false/>\n";
+    key("\t\t", "realTextureFileName");
+    str("\t\t", image);
+    key("\t\t", "size");
+    str("\t\t", "{" + std::to_string(page.width) + "," + std::to_string(page.height) + "}");
+    key("\t\t", "textureFileName");
+    str("\t\t", image);
+    s += "\t</dict>\n</dict>\n</plist>\n";
+    return s;
+}
+
 std::string polygons_text(const std::string& path, const AtlasPolygonOptions& options, AtlasPolygonStats* stats_out,
                           AtlasAnalysis* analysis_out) {
     AtlasAnalysis local;
     AtlasAnalysis& result = analysis_out ? *analysis_out : local;
     result.atlas = load_texturepacker(path); // validates every frame
     const Atlas& atlas = result.atlas;
-    result.page = load_png(atlas.image_path);
-    const Image& page = result.page;
-    if (atlas.width > 0 && (atlas.width != page.width || atlas.height != page.height))
-        throw Error(path + ": meta.size " + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) + " differs from " +
-                    atlas.image_path + " (" + std::to_string(page.width) + "x" + std::to_string(page.height) + ")");
+    const bool plist = options.plist || atlas.form == AtlasForm::cocos2d_plist;
+    if (plist && atlas.pages.size() > 1)
+        throw Error(path + ": a cocos2d-x plist holds one page; this multipack has " + std::to_string(atlas.pages.size()) +
+                    " (write JSON, or one plist per page)");
+    result.pages.clear();
+    for (const AtlasPage& p : atlas.pages) {
+        result.pages.push_back(load_image(p.image_path));
+        const Image& page = result.pages.back();
+        if (p.width > 0 && (p.width != page.width || p.height != page.height))
+            throw Error(path + ": page size " + std::to_string(p.width) + "x" + std::to_string(p.height) + " differs from " +
+                        p.image_path + " (" + std::to_string(page.width) + "x" + std::to_string(page.height) + ")");
+    }
+    result.page = result.pages.front();
     for (const AtlasFrame& frame : atlas.frames)
-        if (!page.view().contains(frame.frame))
-            throw Error(path + ": frame '" + frame.name + "': texels lie outside the page " + atlas.image_path);
+        if (!result.pages[std::size_t(frame.page)].view().contains(frame.frame))
+            throw Error(path + ": frame '" + frame.name + "': texels lie outside the page " + atlas.pages[std::size_t(frame.page)].image_path);
     // Frames in parallel, results by index: the text is the same for any
     // thread count.
     result.frames.assign(atlas.frames.size(), {});
@@ -81,16 +211,21 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
     std::atomic<std::size_t> done{0};
     parallel_for(atlas.frames.size(), options.threads, [&](std::size_t i) {
         bool from_cache = false;
-        result.frames[i] = analyze_cached(page.view(), atlas.frames[i].frame, options.analyze, options.cache_dir, &from_cache);
+        result.frames[i] = analyze_cached(result.pages[std::size_t(atlas.frames[i].page)].view(), atlas.frames[i].frame, options.analyze,
+                                          options.cache_dir, &from_cache);
         hit[i] = from_cache;
         if (options.progress) options.progress(++done, atlas.frames.size());
     });
     result.cache_hits = 0;
     for (std::uint8_t h : hit) result.cache_hits += h;
 
-    Json doc = Json::parse(read_file(path));
-    Json& frames = doc["frames"];
     AtlasPolygonStats stats;
+    if (plist) {
+        std::string text = plist_text(atlas, result.frames, result.page, options.analyze.boundary.filter, stats);
+        if (stats_out) *stats_out = stats;
+        return text;
+    }
+    Json doc = Json::parse(read_file(path));
     std::size_t index = 0;
     auto visit = [&](Json& f) {
         const AtlasFrame& frame = atlas.frames[index];
@@ -99,10 +234,14 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
         stats.frames += 1;
         stats.frame_area += double(frame.frame.w) * frame.frame.h;
     };
-    if (frames.is_object())
+    if (atlas.form == AtlasForm::json_multipack) {
+        for (Json& texture : doc["textures"])
+            for (Json& f : texture["frames"]) visit(f);
+    } else if (Json& frames = doc["frames"]; frames.is_object()) {
         for (auto& [name, f] : frames.items()) visit(f);
-    else
+    } else {
         for (Json& f : frames) visit(f);
+    }
     if (stats_out) *stats_out = stats;
     return doc.dump(1, '\t') + "\n";
 }
