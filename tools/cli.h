@@ -34,6 +34,7 @@ void add_bench_command(CLI::App& app);
 void add_import_command(CLI::App& app);
 void add_atlas_command(CLI::App& app);
 void add_report_command(CLI::App& app);
+void add_calibrate_command(CLI::App& app);
 
 // The command line as given (set by main), for reports.
 extern std::string g_command_line;
@@ -90,7 +91,8 @@ struct CacheChoice {
 void add_cache_options(CLI::App& command, CacheChoice& cache);
 
 // --viewport x,y,w,h: the camera rectangle in world units (for Tiled maps
-// and scenes alike); sets options.has_viewport.
+// and scenes alike); sets options.has_viewport. Also --strict and the
+// warning / note lines map readers print.
 void add_viewport_option(CLI::App& command, io::LoadOptions& options);
 
 

@@ -16,6 +16,7 @@
 #include "depthcull/pipeline.h"
 #include "depthcull/report.h"
 #include "progress.h"
+#include "target_common.h"
 
 namespace depthcull::cli {
 
@@ -28,6 +29,7 @@ struct Input {
     std::string path;
     bool has_rect = false;
     Rect rect;
+    int cell = -1; // IMAGE:grid=...: the cell's index, row-major
 };
 
 struct AnalyzeArgs {
@@ -42,14 +44,48 @@ struct AnalyzeArgs {
     CacheChoice cache;
     std::string cache_dir; // resolved from `cache`
     bool quiet = false;
+    std::string target;          // --target: the profile's name or file
+    bool has_profile = false;
+    CostProfile profile;         // resolved from target
 };
 
-// IMAGE or IMAGE:x,y,w,h. Only a trailing ":int,int,int,int" is a rect, so
-// paths with colons still work.
-Input parse_input(const std::string& arg) {
+// IMAGE:grid=W,H[,margin,spacing]: a sprite sheet or strip, every W x H
+// cell its own frame, cut as Tiled cuts a tileset (cells start at `margin`,
+// `spacing` apart; a partial cell at the right or bottom edge is none).
+std::vector<Input> grid_inputs(const std::string& arg, const std::string& path, int w, int h, int margin, int spacing) {
+    if (w <= 0 || h <= 0 || w > kMaxImageSide || h > kMaxImageSide || margin > kMaxImageSide || spacing > kMaxImageSide)
+        throw CliError(arg + ": grid cell size must be 1.." + std::to_string(kMaxImageSide) + ", margin and spacing 0.." + std::to_string(kMaxImageSide));
+    Image image = io::load_image(path);
+    int columns = image.width - margin >= w ? (image.width - margin - w) / (w + spacing) + 1 : 0;
+    int rows = image.height - margin >= h ? (image.height - margin - h) / (h + spacing) + 1 : 0;
+    if (columns == 0 || rows == 0)
+        throw CliError(arg + ": the " + std::to_string(image.width) + "x" + std::to_string(image.height) + " image holds no " +
+                       std::to_string(w) + "x" + std::to_string(h) + " grid cell");
+    if (std::size_t(columns) * std::size_t(rows) > limits::kMaxAtlasFrames)
+        throw CliError(arg + ": the grid has " + std::to_string(std::int64_t(columns) * rows) + " cells, more than " +
+                       std::to_string(limits::kMaxAtlasFrames) + " (kMaxAtlasFrames)");
+    std::vector<Input> cells;
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < columns; ++c)
+            cells.push_back({path, true, {margin + c * (w + spacing), margin + r * (h + spacing), w, h}, r * columns + c});
+    return cells;
+}
+
+// IMAGE, IMAGE:x,y,w,h or IMAGE:grid=W,H[,margin,spacing]. Only a trailing
+// ":int,int,int,int" is a rect, so paths with colons still work.
+std::vector<Input> parse_input(const std::string& arg) {
     static const std::regex rect_suffix(R"(^(.*):(\d+),(\d+),(\d+),(\d+)$)");
+    static const std::regex grid_suffix(R"(^(.*):grid=(\d+),(\d+)(?:,(\d+),(\d+))?$)");
     std::smatch m;
     Input in;
+    if (std::regex_match(arg, m, grid_suffix)) {
+        try {
+            return grid_inputs(arg, m[1], std::stoi(m[2]), std::stoi(m[3]), m[4].matched ? std::stoi(m[4]) : 0,
+                               m[5].matched ? std::stoi(m[5]) : 0);
+        } catch (const std::out_of_range&) {
+            throw CliError(arg + ": grid numbers out of range");
+        }
+    }
     if (std::regex_match(arg, m, rect_suffix)) {
         in.path = m[1];
         in.has_rect = true;
@@ -61,7 +97,7 @@ Input parse_input(const std::string& arg) {
     } else {
         in.path = arg;
     }
-    return in;
+    return {in};
 }
 
 std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
@@ -74,16 +110,16 @@ std::vector<Input> expand_inputs(const std::vector<std::string>& args) {
                  !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
                 std::string ext = it->path().extension().string();
                 std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-                if (ext == ".png" && it->is_regular_file(ec)) found.push_back(it->path().string());
+                if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".webp") && it->is_regular_file(ec)) found.push_back(it->path().string());
             }
             if (ec) throw CliError(arg + ": cannot list directory (" + ec.message() + ")");
             std::sort(found.begin(), found.end());
             for (auto& p : found) inputs.push_back({p, false, {}});
         } else {
-            inputs.push_back(parse_input(arg));
+            for (Input& in : parse_input(arg)) inputs.push_back(std::move(in));
         }
     }
-    if (inputs.empty()) throw CliError("analyze: no PNG images found in the given inputs");
+    if (inputs.empty()) throw CliError("analyze: no PNG, JPEG or WebP images found in the given inputs");
     return inputs;
 }
 
@@ -102,6 +138,7 @@ struct Result {
     ImageAnalysis analysis;
     std::int64_t uncontained = 0, violations = 0;
     bool cache_hit = false;
+    int chosen_budget = -1;      // --target: the vertex budget chosen (0: the plain rect)
 };
 
 // Preview file names: the image's stem, its rect when one was given, and
@@ -123,7 +160,7 @@ std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
 }
 
 Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base) {
-    Image image = io::load_png(in.path);
+    Image image = io::load_image(in.path);
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))
         throw CliError(in.path + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," +
@@ -132,7 +169,42 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
     Result r;
     r.width = image.width;
     r.height = image.height;
-    r.analysis = pipeline::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit);
+    if (!args.has_profile) {
+        r.analysis = pipeline::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit);
+    } else {
+        // As optimize --target plans each image (pipeline::plan_target): the
+        // budgets 4, 6, 8 up to the cap, MIN_OPAQUE_AREA from the profile;
+        // here the one that draws the image once at scale 1 the fastest,
+        // or its plain rect.
+        AnalyzeOptions o = args.options;
+        o.opaque.min_area = min_opaque_area(args.profile);
+        const int cap = std::max(kMinBoundaryVertices, o.boundary.max_vertices);
+        std::vector<int> budgets;
+        for (int b : {4, 6, 8})
+            if (b < cap) budgets.push_back(b);
+        budgets.push_back(cap);
+        std::vector<ImageAnalysis> analyses;
+        r.cache_hit = true;
+        for (int b : budgets) {
+            o.boundary.max_vertices = b;
+            bool hit = false;
+            analyses.push_back(pipeline::analyze_cached(image.view(), rect, o, args.cache_dir, &hit));
+            r.cache_hit = r.cache_hit && hit;
+        }
+        ImageAnalysis plain = analyses.back();
+        if (!plain.boundary.empty()) {
+            const double x0 = rect.x, y0 = rect.y, x1 = double(rect.x) + rect.w, y1 = double(rect.y) + rect.h;
+            plain.boundary = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+            plain.stats.boundary_area = double(rect.w) * rect.h;
+            plain.stats.boundary_vertices = 4;
+        }
+        std::vector<const ImageAnalysis*> candidates;
+        for (const ImageAnalysis& a : analyses) candidates.push_back(&a);
+        candidates.push_back(&plain);
+        const std::size_t c = io::choose_image_candidate(candidates, args.profile);
+        r.analysis = *candidates[c];
+        r.chosen_budget = c < budgets.size() ? budgets[c] : 0;
+    }
     if (!preview_base.empty()) {
         report::PreviewOptions options;
         options.title = fs::path(in.path).filename().string();
@@ -147,7 +219,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
     return r;
 }
 
-json result_json(const Input& in, const Result& r, bool timing) {
+json result_json(const Input& in, const Result& r, bool timing, const AnalyzeArgs& args) {
     const ImageStats& s = r.analysis.stats;
     const Rect& rect = r.analysis.rect;
     json stats = {{"nontransparent_texels", s.nontransparent_texels},
@@ -162,13 +234,20 @@ json result_json(const Input& in, const Result& r, bool timing) {
                   {"opaque_covered_texels", s.opaque_covered_texels},
                   {"opaque_coverage", s.opaque_coverage},
                   {"seconds", timing ? s.seconds : 0.0}};
-    return {{"path", in.path},
+    json out = {{"path", in.path},
             {"rect", {rect.x, rect.y, rect.w, rect.h}},
             {"width", r.width},
             {"height", r.height},
             {"boundary", polygons_json(r.analysis.boundary)},
             {"opaque", polygons_json(r.analysis.opaque)},
             {"stats", std::move(stats)}};
+    if (r.chosen_budget >= 0)
+        out["target"] = {{"profile", args.profile.name},
+                         {"max_vertices", r.chosen_budget},
+                         {"rect", r.chosen_budget == 0},
+                         {"min_opaque_area", min_opaque_area(args.profile)}};
+    if (in.cell >= 0) out["cell"] = in.cell;
+    return out;
 }
 
 std::string summary_text(const std::vector<Result>& results, double wall_seconds) {
@@ -257,7 +336,7 @@ void run_analyze(const AnalyzeArgs& args) {
         // One image per line: diffable, and still one JSON document.
         std::string text = "{\"images\": [\n";
         for (std::size_t i = 0; i < inputs.size(); ++i)
-            text += " " + result_json(inputs[i], results[i], args.timing).dump() + (i + 1 < inputs.size() ? ",\n" : "\n");
+            text += " " + result_json(inputs[i], results[i], args.timing, args).dump() + (i + 1 < inputs.size() ? ",\n" : "\n");
         write_output(args.output, text + "]}\n");
     }
     if (args.summary) {
@@ -273,6 +352,10 @@ void run_analyze(const AnalyzeArgs& args) {
 
 void set_cache(AnalyzeArgs& args) {
     args.cache_dir = args.cache.directory();
+    if (!args.target.empty()) {
+        args.profile = io::resolve_target(args.target);
+        args.has_profile = true;
+    }
 }
 
 } // namespace
@@ -280,7 +363,7 @@ void set_cache(AnalyzeArgs& args) {
 void add_analyze_command(CLI::App& app) {
     auto args = std::make_shared<AnalyzeArgs>();
     auto* cmd = app.add_subcommand("analyze", "Compute boundary and opaque polygons of images (paper 2.1, 2.2) as JSON");
-    cmd->add_option("inputs", args->inputs, "IMAGE.png, IMAGE.png:x,y,w,h (a sub-rectangle), or a directory of PNGs")->required();
+    cmd->add_option("inputs", args->inputs, "IMAGE (PNG, JPEG, WebP), IMAGE:x,y,w,h (a sub-rectangle), IMAGE:grid=W,H[,margin,spacing] (every cell of a sprite sheet), or a directory of images")->required();
     cmd->add_option("-o,--output", args->output, "Write JSON here instead of stdout");
     add_analysis_options(*cmd, args->options);
     cmd->add_flag("--summary", args->summary, "Print totals over all inputs (JSON only with -o)");
@@ -292,6 +375,7 @@ void add_analyze_command(CLI::App& app) {
                     "triangles, figures")
         ->type_name("DIR");
     add_cache_options(*cmd, args->cache);
+    add_target_option(*cmd, args->target);
     add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] {
         set_cache(*args);

@@ -6,7 +6,9 @@
 // sprite shader an engine runs; --renderer instrumented times the
 // measuring renderer of `render --compare` instead (texel maps and rect
 // tests in its shader), for comparison.
+#include <algorithm>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -20,6 +22,7 @@
 
 #ifdef DEPTHCULL_HAVE_RENDER
 #include "render_common.h"
+#include "target_common.h"
 #endif
 
 namespace depthcull::cli {
@@ -43,7 +46,18 @@ struct BenchArgs {
     std::string report;        // --report FILE (bench), -o FILE (report)
     bool report_only = false;  // `depthcull report`: no table
     bool quiet = false;
+    bool opaque_given = true;  // --no-opaque as given (a --target choice changes input.opaque per scene)
 };
+
+// The modes in the order measure_runtime reports them: as asked, once each.
+std::vector<render::Mode> modes_in_order(const std::vector<render::Mode>& modes) {
+    std::vector<render::Mode> order{render::Mode::overpaint}, out;
+    for (render::Mode m : modes)
+        if (std::find(order.begin(), order.end(), m) == order.end()) order.push_back(m);
+    for (render::Mode m : order)
+        if (std::find(modes.begin(), modes.end(), m) != modes.end()) out.push_back(m);
+    return out;
+}
 
 std::vector<render::Mode> parse_modes(const std::string& text) {
     static const std::map<std::string, render::Mode> names{
@@ -65,37 +79,100 @@ struct SceneResult {
     render::SceneMeasurement m;        // --renderer instrumented
     render::RuntimeMeasurement rt;     // the runtime renderer
     double covered = 0;                // share of viewport pixels showing a non-transparent texel
+    std::vector<double> predicted;     // --target: predicted ms per mode of rt.modes
+    std::vector<FrameFeatures> features; // --target: what the model read off each mode's meshes
+    std::vector<CostTerms> terms;      // --target: the prediction by term
+    std::string target;                // the profile's name
 };
+
+// The model's prediction for each mode drawn (the meshes measure_runtime draws).
+void predict_modes(const pipeline::PreparedScene& prepared, const render::MeasureOptions& options, const CostProfile& profile,
+                   const std::vector<render::Mode>& modes, SceneResult* r) {
+    std::vector<double>& out = r->predicted;
+    ReconstructOptions reconstruct = options.reconstruct;
+    reconstruct.coverage_margin = 0;
+    for (render::Mode mode : modes) {
+        SceneMeshes meshes;
+        if (render::build_meshes(mode, prepared.scene, prepared.analysis, reconstruct, &meshes) != ReconstructStatus::ok) {
+            out.push_back(0);
+            r->features.emplace_back();
+            r->terms.emplace_back();
+            continue;
+        }
+        r->features.push_back(frame_features(meshes));
+        r->terms.push_back(predict_terms(profile, r->features.back()));
+        out.push_back(predict_ms(profile, r->features.back()));
+    }
+}
+
+double median_of(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
+}
 
 std::string short_path(const std::string& path) { return path.size() > 24 ? "..." + path.substr(path.size() - 21) : path; }
 
 std::string runtime_table(const std::vector<SceneResult>& results) {
     std::string out;
     char line[512];
-    std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %7s %8s %7s %9s %9s %7s %7s\n", "Scene", "Mode", "Obj", "Tri", "raster",
-                  "OD", "ideal", "OD/ideal", "covered", "ms", "cpu ms", "diffpx", "offedge");
+    const bool predicted = !results.empty() && !results.front().predicted.empty();
+    std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %7s %8s %7s %9s %9s %7s %7s%s\n", "Scene", "Mode", "Obj", "Tri", "raster",
+                  "OD", "ideal", "OD/ideal", "covered", "ms", "cpu ms", "diffpx", "offedge", predicted ? "   pred ms   error" : "");
     out += line;
     for (const SceneResult& r : results) {
         const double pixels = double(r.rt.width) * double(r.rt.height);
-        for (const render::RuntimeModeMeasurement& m : r.rt.modes) {
+        for (std::size_t mi = 0; mi < r.rt.modes.size(); ++mi) {
+            const render::RuntimeModeMeasurement& m = r.rt.modes[mi];
             const double od = pixels > 0 ? double(m.fragments_shaded) / pixels : 0;
-            std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %7.3f %8.3f %6.1f%% %9.3f %9.3f %7" PRId64 " %7" PRId64 "\n",
+            std::snprintf(line, sizeof line, "%-24s %-10s %7" PRId64 " %8" PRId64 " %7.3f %7.3f %7.3f %8.3f %6.1f%% %9.3f %9.3f %7" PRId64 " %7" PRId64,
                           short_path(r.path).c_str(), render::mode_name(m.mode), m.draw_calls, m.triangles,
                           pixels > 0 ? double(m.fragments_rasterized) / pixels : 0, od, r.rt.ideal_overdraw,
                           r.rt.ideal_overdraw > 0 ? od / r.rt.ideal_overdraw : 0.0, 100 * r.covered, m.wall_ms, m.cpu_ms, m.diff.pixels_differ,
                           m.off_texel_edges);
             out += line;
+            if (mi < r.predicted.size()) {
+                std::snprintf(line, sizeof line, " %9.3f %6.1f%%", r.predicted[mi], m.cpu_ms > 0 ? 100 * (r.predicted[mi] - m.cpu_ms) / m.cpu_ms : 0.0);
+                out += line;
+            }
+            out += "\n";
         }
     }
     return out;
 }
 
+// Median of |predicted - measured CPU| / measured over every scene and mode.
+double median_prediction_error(const std::vector<SceneResult>& results) {
+    std::vector<double> errors;
+    for (const SceneResult& r : results)
+        for (std::size_t mi = 0; mi < r.predicted.size() && mi < r.rt.modes.size(); ++mi)
+            if (r.rt.modes[mi].cpu_ms > 0) errors.push_back(std::abs(r.predicted[mi] - r.rt.modes[mi].cpu_ms) / r.rt.modes[mi].cpu_ms);
+    return median_of(errors);
+}
+
 json runtime_json(const SceneResult& r) {
     json modes = json::array();
     const double pixels = double(r.rt.width) * double(r.rt.height);
-    for (const render::RuntimeModeMeasurement& m : r.rt.modes) {
+    for (std::size_t mi = 0; mi < r.rt.modes.size(); ++mi) {
+        const render::RuntimeModeMeasurement& m = r.rt.modes[mi];
         const double od = pixels > 0 ? double(m.fragments_shaded) / pixels : 0;
-        modes.push_back({{"mode", render::mode_name(m.mode)},
+        if (mi < r.predicted.size()) {
+            const FrameFeatures& f = r.features[mi];
+            const CostTerms& t = r.terms[mi];
+            modes.push_back({{"mode", render::mode_name(m.mode)},
+                             {"predicted_ms", r.predicted[mi]},
+                             {"predicted_terms_ms",
+                              {{"frame", t.frame}, {"clears", t.clears}, {"draws", t.draws}, {"triangles", t.triangles},
+                               {"opaque", t.opaque}, {"blend", t.blend}, {"rejected", t.rejected}}},
+                             {"model_features",
+                              {{"pixels", f.pixels}, {"depth_clear", f.depth_clear}, {"draw_calls", f.draw_calls},
+                               {"texture_switches", f.texture_switches}, {"triangles", f.triangles},
+                               {"triangle_perimeter", f.triangle_perimeter}, {"opaque_fragments", f.opaque_fragments},
+                               {"blend_fragments", f.blend_fragments}, {"rejected_fragments", f.rejected_fragments}}}});
+        } else {
+            modes.push_back(json::object());
+        }
+        modes.back().update(json{{"mode", render::mode_name(m.mode)},
                          {"draw_calls", m.draw_calls},
                          {"triangles", m.triangles},
                          {"fragments_rasterized", m.fragments_rasterized},
@@ -112,6 +189,7 @@ json runtime_json(const SceneResult& r) {
                          {"pixels_differ_elsewhere", m.off_texel_edges}});
     }
     return {{"scene", r.path},
+            {"target", r.target},
             {"width", r.rt.width},
             {"height", r.rt.height},
             {"elements", r.elements},
@@ -189,6 +267,7 @@ void run_bench(BenchArgs& args) {
     const char* lp_threads = std::getenv("LP_NUM_THREADS");
 
     check_distinct_files(args.scenes, {args.output, args.report});
+    args.opaque_given = args.input.opaque;
     std::unique_ptr<render::GlRenderer> renderer;
     std::unique_ptr<render::GlHost> host;
     std::string description;
@@ -210,6 +289,12 @@ void run_bench(BenchArgs& args) {
         pipeline::PreparedScene prepared = prepare_for_render(path, args.input);
         check_frame_fits(path, prepared, args.input);
         check_distinct_files(scene_inputs(path, prepared.scene), {args.output, args.report});
+        std::unique_ptr<pipeline::TargetPlan> plan;
+        if (!args.input.target.empty()) {
+            progress.stage(path + ": choosing for --target");
+            args.input.opaque = args.opaque_given;
+            plan = apply_render_target(path, prepared, args.input, args.quiet);
+        }
         progress.stage(path + ": drawing");
         render::MeasureOptions options;
         options.modes = modes;
@@ -219,6 +304,10 @@ void run_bench(BenchArgs& args) {
         options.keep_frames = !args.report.empty();
         SceneResult r;
         r.path = path;
+        if (plan) {
+            r.target = plan->profile.name;
+            predict_modes(prepared, options, plan->profile, renderer ? std::vector<render::Mode>{} : modes_in_order(modes), &r);
+        }
         r.elements = prepared.scene.elements.size();
         try {
             if (renderer)
@@ -231,6 +320,12 @@ void run_bench(BenchArgs& args) {
         if (!args.report.empty()) {
             progress.stage(path + ": report");
             run.scenes.push_back(scene_report(path, prepared, args.input, renderer ? nullptr : &r.rt, renderer ? &r.m : nullptr));
+            if (!r.predicted.empty()) {
+                // Same order: predict_modes predicted rt.modes' modes.
+                report::SceneReport& sr = run.scenes.back();
+                sr.target = r.target;
+                for (std::size_t mi = 0; mi < sr.rows.size() && mi < r.predicted.size(); ++mi) sr.rows[mi].predicted_ms = r.predicted[mi];
+            }
             r.covered = run.scenes.back().covered;
             // The frames live on in the report; drop them here.
             for (auto& mode : r.m.modes) mode.frame = {};
@@ -275,6 +370,12 @@ void run_bench(BenchArgs& args) {
                     "# offedge: of those, pixels farther than 1/64 px from every triangle edge and texel edge (rounding cannot explain them).\n";
         } else {
             text = header + runtime_table(results);
+            if (!args.input.target.empty()) {
+                char line[256];
+                std::snprintf(line, sizeof line, "# --target %s: pred ms is the cost model's prediction (docs/cost-model.md); error against cpu ms; median |error| %.1f%%\n",
+                              results.empty() ? "" : results.front().target.c_str(), 100 * median_prediction_error(results));
+                text += line;
+            }
             text += "# Obj: draw calls; Tri: triangles; raster: fragments rasterized with the depth test off / viewport pixels;\n"
                     "# OD: fragments shaded (passing the depth test, GL_SAMPLES_PASSED) / all viewport pixels\n"
                     "#   (empty pixels count 0, so OD < 1 when the scene leaves pixels uncovered);\n"

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "cli.h"
+#include "target_common.h"
 #include "depthcull/io.h"
 #include "depthcull/pipeline.h"
 #include "depthcull/overdraw.h"
@@ -27,6 +28,7 @@ struct OptimizeArgs {
     bool timing = true;
     bool quiet = false;
     CLI::Option* filter_option = nullptr;
+    std::string target;
 };
 
 // The overdraw rows of --stats (depthcull/overdraw.h, no GL): fragments over
@@ -97,6 +99,10 @@ void run_optimize(OptimizeArgs& args) {
                      prepared.scene.elements.size());
     ReconstructOptions options = args.reconstruct;
     options.opaque_polygons = args.opaque;
+    prepare.progress = nullptr;
+    const auto plan = apply_target(args.target, args.scene, prepared, prepare, &options, args.quiet);
+    // The JSON meshes' "animated" vertex runs come from the element spans.
+    options.element_spans = !prepared.scene.animations.empty();
     SceneMeshes meshes;
     switch (reconstruct_scene(prepared.scene, prepared.analysis, options, &meshes)) {
     case ReconstructStatus::ok: break;
@@ -109,7 +115,12 @@ void run_optimize(OptimizeArgs& args) {
         std::fprintf(stderr, "depthcull: warning: %s: %" PRId64 " depth levels need a 24-bit depth buffer (16-bit holds %" PRId64 ")\n",
                      args.scene.c_str(), meshes.stats.depth_levels, kMaxDepthLevels16);
 
-    if (!args.binary.empty()) io::write_meshes_binary(args.binary, prepared.scene, meshes, args.timing);
+    if (!args.binary.empty()) {
+        io::write_meshes_binary(args.binary, prepared.scene, meshes, args.timing);
+        if (!prepared.scene.animations.empty())
+            std::fprintf(stderr, "warning: %s: binary meshes do not carry the scene's %zu animations (the JSON meshes do: -o)\n",
+                         args.binary.c_str(), prepared.scene.animations.size());
+    }
     // No -o on a terminal: 100 KB of JSON on the screen helps nobody; say
     // where it goes instead (-o - still prints it; a pipe gets it as before).
     const bool hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();
@@ -155,6 +166,7 @@ void add_optimize_command(CLI::App& app) {
     cmd->add_option("--binary", args->binary, "Also (or only) write the binary meshes form here");
     add_cache_options(*cmd, args->cache);
     add_reconstruct_options(*cmd, args->reconstruct);
+    add_target_option(*cmd, args->target);
     cmd->add_flag("!--no-opaque", args->opaque, "No opaque pass: boundary polygons only");
     cmd->add_flag("--cull", args->reconstruct.cull_to_viewport,
                   "Drop elements entirely outside the viewport (meshes for that one camera position)");

@@ -9,6 +9,7 @@
 
 #ifdef DEPTHCULL_HAVE_RENDER
 #include "render_common.h"
+#include "target_common.h"
 #endif
 
 namespace depthcull::cli {
@@ -65,6 +66,7 @@ void run_render(RenderArgs& args) {
         throw UsageError("render: nothing to do: give -o FRAME.png, --heatmap HEAT.png or --compare");
     check_distinct_files({args.scene}, {args.output, args.heatmap});
     pipeline::PreparedScene prepared = prepare_for_render(args.scene, args.input);
+    const auto plan = apply_render_target(args.scene, prepared, args.input, false);
     check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.heatmap});
     check_frame_fits(args.scene, prepared, args.input);
     const SceneMeshes meshes = meshes_for(args.mode, prepared, args);

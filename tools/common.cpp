@@ -119,6 +119,11 @@ void add_viewport_option(CLI::App& cmd, io::LoadOptions& options) {
            },
            "Camera rectangle x,y,w,h in world units (default: the scene's viewport)")
         ->type_name("X,Y,W,H");
+    // What a map reader approximates or leaves out: one line each on
+    // stderr, or an error with --strict.
+    options.warning = [](const std::string& line) { std::fprintf(stderr, "warning: %s\n", line.c_str()); };
+    options.note = [](const std::string& line) { std::fprintf(stderr, "note: %s\n", line.c_str()); };
+    cmd.add_flag("--strict", options.strict, "Refuse a map feature we approximate or leave out instead of warning");
 }
 
 

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     depthcull::cli::add_import_command(app);
     depthcull::cli::add_atlas_command(app);
     depthcull::cli::add_report_command(app);
+    depthcull::cli::add_calibrate_command(app);
     for (int i = 0; i < argc; ++i) {
         // For reports: the command that made them, shell-quoted where needed.
         std::string arg = argv[i];

@@ -1,6 +1,7 @@
 // Only in builds with the renderer (DEPTHCULL_BUILD_RENDER).
 #ifdef DEPTHCULL_HAVE_RENDER
 #include "render_common.h"
+#include "target_common.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,7 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
     cmd.add_flag("!--no-opaque", in.opaque, "Optimized without the opaque pass: boundary polygons only");
     add_viewport_option(cmd, in.prepare.load);
     add_analysis_options(cmd, in.prepare.analyze);
+    add_target_option(cmd, in.target);
     in.filter_option = cmd.get_option("--filter");
     cmd.add_option("-j,--threads", in.prepare.threads, "Worker threads for the analysis (0: all cores)")->capture_default_str();
     cmd.add_option("--gl", in.platform,
@@ -27,11 +29,15 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
         ->default_str("auto");
 }
 
-pipeline::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& in) {
+pipeline::PrepareOptions prepare_options(const RenderInput& in) {
     pipeline::PrepareOptions prepare = in.prepare;
     if (in.filter_option && in.filter_option->count()) prepare.filter_override = prepare.analyze.filter;
     prepare.cache_dir = in.cache.directory();
-    return pipeline::prepare_scene(scene, prepare);
+    return prepare;
+}
+
+pipeline::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& in) {
+    return pipeline::prepare_scene(scene, prepare_options(in));
 }
 
 ReconstructOptions reconstruct_options(const RenderInput& in) {
@@ -104,6 +110,7 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
         {"sort", in.reconstruct.sort == SortMethod::batch ? "batch" : in.reconstruct.sort == SortMethod::paper ? "paper" : "none"},
         {"cache", in.cache.off ? "off" : in.cache.directory()},
     };
+    if (!in.target.empty()) o.push_back({"target", in.target});
     if (in.prepare.load.has_viewport) {
         const Viewport& v = in.prepare.load.viewport;
         o.push_back({"viewport", str(v.x) + "," + str(v.y) + "," + std::to_string(v.width) + "," + std::to_string(v.height)});

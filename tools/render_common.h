@@ -20,12 +20,15 @@ struct RenderInput {
     bool opaque = true;
     render::GlPlatform platform = render::GlPlatform::automatic;
     CLI::Option* filter_option = nullptr;
+    std::string target;        // --target PROFILE (target_common.h)
 };
 
 // --cache, --no-cache, --graph, --sort, --no-opaque, --viewport, the
 // analysis options, -j, --gl.
 void add_render_input_options(CLI::App& command, RenderInput& input);
 
+// The prepare options the input stands for (--filter an override, the cache).
+pipeline::PrepareOptions prepare_options(const RenderInput& input);
 pipeline::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& input);
 ReconstructOptions reconstruct_options(const RenderInput& input);
 std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared);

@@ -27,6 +27,11 @@ struct Error : std::runtime_error {
 // RGB, RGBA), converted to RGBA8. Rejects images over kMaxImageSide /
 // kMaxImageTexels.
 Image load_png(const std::string& path);
+// Any image we read, told by its content (not its name): PNG, JPEG (no
+// alpha: every texel fully opaque) or WebP (lossy or lossless, with or
+// without alpha), as RGBA8; the same limits as load_png.
+Image load_image(const std::string& path);
+Image decode_image(const void* data, std::size_t size, const std::string& name);
 // The pixels a SceneImage stands for: its file decoded, its colour key
 // (SceneImage::trans) applied.
 Image load_scene_image(const SceneImage& image);
@@ -53,15 +58,25 @@ bool same_file(const std::string& a, const std::string& b);
 bool valid_utf8(std::string_view text);
 
 // Scene loading, by extension: .json (our scene format), .tmx / .tmx.gz
-// (Tiled). Image sizes are filled in; images are not kept.
+// (Tiled); a PNG or a directory of PNGs (recursive) is a contact sheet: each
+// image once, in rows of up to 1024 px, 4 px apart, in path order. Image sizes are filled in; images are not kept.
 // Tiled maps (src/io/tiled_map.cpp): orthogonal, isometric, staggered and
 // hexagonal; every layer encoding; external and gzipped tilesets; tile
-// objects and templates; drawn in Tiled's order. A tileset image's trans
+// objects and templates; drawn in Tiled's order. JSON maps, tilesets and
+// templates (.tmj, .tsj, .tj; a .json is told by content). Animated tiles
+// are drawn at their first frame and recorded in Scene::animations. A tileset image's trans
 // colour key is kept on its SceneImage (has_trans, trans) and applied at
 // decode (load_scene_image); loading writes no file.
 struct LoadOptions {
     bool has_viewport = false; // --viewport x,y,w,h
     Viewport viewport;
+    // What a reader approximates or leaves out (a Tiled feature we do not
+    // draw), one line each naming the file, the layer and the feature:
+    // passed to `warning` (nothing when empty), or an io::Error when
+    // `strict`. Notes (`note`) say how to read the result (parallax layers
+    // placed for this camera only) and never fail.
+    std::function<void(const std::string&)> warning, note;
+    bool strict = false;
 };
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 
@@ -72,7 +87,9 @@ Scene load_scene(const std::string& path, const LoadOptions& options = {});
 std::string scene_to_json_text(const Scene& scene, const std::string& output_path);
 void write_scene_json(const std::string& path, const Scene& scene); // atomic
 
-// ---- TexturePacker atlases (JSON hash and array forms)
+// ---- Atlases: TexturePacker JSON (hash, array, and the multipack form
+// {"textures": [{image, size, frames}, ...]} Phaser 3 reads) and cocos2d-x
+// .plist sprite frames (formats 2 and 3), told by content
 
 struct AtlasFrame {
     std::string name;
@@ -81,20 +98,36 @@ struct AtlasFrame {
     bool trimmed = false;
     Rect sprite_source;      // spriteSourceSize: where the trimmed frame sits in the untrimmed sprite
     int source_w = 0, source_h = 0; // sourceSize: the untrimmed sprite
+    int page = 0;            // index into Atlas::pages
 };
 
+struct AtlasPage {
+    std::string image_path;  // resolved relative to the atlas file
+    int width = 0, height = 0; // as the atlas states it (0: not stated)
+};
+
+enum class AtlasForm { json_hash, json_array, json_multipack, cocos2d_plist };
+
 struct Atlas {
-    std::string path;        // the .json
-    std::string image_path;  // meta.image, resolved relative to the .json
-    int width = 0, height = 0; // meta.size when given
-    std::vector<AtlasFrame> frames; // in file order
+    std::string path;        // the .json or .plist
+    AtlasForm form = AtlasForm::json_hash;
+    int plist_format = 0;    // cocos2d_plist: metadata.format (2 or 3)
+    std::vector<AtlasPage> pages; // one but for a multipack
+    std::string image_path;  // pages[0].image_path
+    int width = 0, height = 0; // pages[0]'s stated size
+    std::vector<AtlasFrame> frames; // in file order (page by page)
     // Frame index by name (load_texturepacker fills it); find() searches
     // linearly when it does not describe `frames`.
     std::unordered_map<std::string, std::size_t> by_name;
     const AtlasFrame* find(const std::string& name) const;
 };
 
+// Any of the forms above, told by content (a plist starts with '<').
+// Frames whose spriteSourceSize w/h differ from the frame's (Aseprite, some
+// Flash exporters) are read as Phaser and PixiJS read them: the frame's
+// size is the trimmed sprite's, spriteSourceSize x/y its offset.
 Atlas load_texturepacker(const std::string& path);
+inline Atlas load_atlas(const std::string& path) { return load_texturepacker(path); }
 
 // Where an element showing `frame` samples the page and how it is placed:
 // `sprite_transform` maps the untrimmed sprite's texel space (origin at
@@ -114,15 +147,38 @@ FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>&
 // and "triangles" (index triples into both, by ear clipping). Every other
 // field is kept as read, in its order; fully transparent frames get empty
 // lists. Engines that read TexturePacker polygons (cocos2d-x, PixiJS,
-// Defold) then draw our tighter polygons.
+// Defold) then draw our tighter polygons. A multipack gets them in every
+// page's frames. atlas_polygons_plist writes a cocos2d-x format 3 plist
+// instead (what a plist input, or pipeline::AtlasPolygonOptions::plist,
+// gets) with "triangles", "vertices" and "verticesUV" (space-separated
+// integers, as SpriteFrameCache reads them), so cocos2d-x makes polygon
+// sprites.
 struct AtlasPolygonStats {
     int frames = 0;
     std::int64_t vertices = 0, triangles = 0;
     double frame_area = 0;   // summed frame rects (what quads would draw)
     double polygon_area = 0; // summed boundary polygon areas
+    // plist output: frames whose polygons have vertices off the integer
+    // grid that could not be rounded keeping every texel inside (written
+    // as their frame rectangle instead).
+    int rectangle_frames = 0;
 };
 std::string atlas_polygons_json(const std::string& path, const Atlas& atlas, const std::vector<ImageAnalysis>& frames,
                                 AtlasPolygonStats* stats = nullptr);
+// The same polygons as a cocos2d-x format 3 plist (one page: `page`, the
+// atlas' only page; `filter` the one the frames were analyzed for, used
+// to check rounded polygons still hold every texel).
+std::string atlas_polygons_plist(const std::string& path, const Atlas& atlas, ImageView page, const std::vector<ImageAnalysis>& frames,
+                                 Filter filter, AtlasPolygonStats* stats = nullptr);
+
+// Godot: a text scene (.tscn, Godot 3's format 2) holding one Polygon2D
+// that draws `frame` through `boundary` (its boundary polygons in page
+// texels): "texture" the page at `texture_path` (res://..., or relative to
+// the scene's directory), "polygon" the vertices in the untrimmed sprite's
+// coordinates (origin its top-left), "uv" the same points in page texels,
+// "polygons" one index triple per triangle of our ear clipping. A fully
+// transparent frame gets empty arrays (it draws nothing).
+std::string godot_polygon_scene(const AtlasFrame& frame, const std::vector<Polygon>& boundary, const std::string& texture_path);
 
 // ---- Optimized meshes out (docs/mesh-format.md)
 

@@ -121,6 +121,7 @@ struct ModeRow {
     double overdraw = 0;        // fragments shaded / viewport pixels
     double ms = 0, cpu_ms = 0;  // median per frame; negative: not measured
     std::int64_t pixels_differ = -1; // against overpaint; negative: not compared
+    double predicted_ms = -1;   // the cost model's (--target); negative: none
 };
 
 struct ImageRow {
@@ -153,6 +154,7 @@ struct SceneReport {
     std::vector<ImageRow> images_table;
     std::size_t images_not_shown = 0;
     std::string analysis; // e.g. "12 images analyzed, 30 from the cache"
+    std::string target;   // --target profile name, when predicted_ms is given
 };
 
 struct RunReport {

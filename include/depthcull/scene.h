@@ -38,7 +38,13 @@ struct SceneImage {
     // on disk does not say so, so scene and mesh files carry the key.
     bool has_trans = false;
     std::uint32_t trans = 0;
+    // A solid colour and no file (Tiled's map backgroundcolor): path is
+    // empty, every texel is 0xRRGGBB and opaque, kFillImageSide square (big
+    // enough that its opaque polygon passes the worth-it area threshold).
+    bool has_fill = false;
+    std::uint32_t fill = 0;
 };
+inline constexpr int kFillImageSide = 16;
 
 // Paper 2: an element is an image (a rect of it) placed on screen.
 struct Element {
@@ -49,6 +55,23 @@ struct Element {
     std::array<double, 6> transform{1, 0, 0, 1, 0, 0};
     std::array<float, 4> color{1, 1, 1, 1}; // multiplier, 0..1
     Blend blend = Blend::alpha;
+    // Index into Scene::animations, or -1: the element shows those frames
+    // in turn (its image and rect are frame 0's). Its analysis covers every
+    // frame: boundary polygons hold the union of the frames' non-transparent
+    // texels, opaque polygons only texels opaque in all of them, so the
+    // optimized meshes draw any frame correctly with the UVs moved to it.
+    int animation = -1;
+};
+
+// An animation (Tiled's animated tiles): frames of one size, each a rect of
+// an image shown for duration_ms.
+struct AnimationFrame {
+    int image = 0; // index into Scene::images
+    Rect rect;
+    int duration_ms = 0;
+};
+struct Animation {
+    std::vector<AnimationFrame> frames;
 };
 
 // Elements in painter's order: elements[0] is farthest back.
@@ -57,6 +80,7 @@ struct Scene {
     Filter filter = Filter::nearest; // how the renderer samples textures
     std::vector<SceneImage> images;
     std::vector<Element> elements;
+    std::vector<Animation> animations; // what Element::animation indexes
 };
 
 // Screen position of texel-space point p (relative to the rect's top-left).

@@ -105,14 +105,17 @@ public:
     // before it is summed, or collide): every count fits in the bytes
     // left, so nothing is allocated for data that is not there, and every
     // vertex is finite and within the rect grown by one texel (linear
-    // filtering's half-texel margin, with room to spare).
+    // filtering's half-texel margin, with room to spare); every polygon has
+    // 3 vertices at least, as the analysis makes them. The vertex total is
+    // summed in 64 bits: 32 would wrap past the limit.
     bool polygons(std::vector<Polygon>& list, Rect rect) {
-        std::uint32_t count = 0, total = 0;
+        std::uint32_t count = 0;
+        std::uint64_t total = 0;
         if (!get(count) || count > kMaxCachedVertices || count > left() / sizeof(std::uint32_t)) return false;
         list.resize(count);
         for (Polygon& p : list) {
             std::uint32_t n = 0;
-            if (!get(n) || (total += n) > kMaxCachedVertices || n > left() / (2 * sizeof(double))) return false;
+            if (!get(n) || n < 3 || (total += n) > kMaxCachedVertices || n > left() / (2 * sizeof(double))) return false;
             p.resize(n);
             for (Vec2& v : p) {
                 if (!get(v.x) || !get(v.y)) return false;

@@ -12,18 +12,34 @@
 
 namespace depthcull::io {
 
-Scene load_scene_json(const std::string& path, const LoadOptions& options); // scene_json.cpp
-Scene load_tiled_map(const std::string& path, const LoadOptions& options);  // tiled.cpp
+// The readers over a file's bytes: `path` names it in errors, picks the
+// format (as load_scene does) and resolves the relative paths it names.
+Scene scene_json_from_text(std::string_view text, const std::string& path, const LoadOptions& options); // scene_json.cpp
+Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options); // tiled_map.cpp, gzipped or not
+// load_scene over bytes already read (the fuzz harnesses): the same
+// checks, and io::Error the only exception.
+Scene load_scene_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options = {}); // load_scene.cpp
+// load_texturepacker over the JSON's text.
+Atlas texturepacker_from_text(std::string_view text, const std::string& path); // texturepacker.cpp
 
 // Width and height from the PNG signature and IHDR chunk, without decoding;
 // io::Error when the file is missing, not a PNG, or over our size limits.
 void png_size(const std::string& path, int* width, int* height); // png.cpp
+// A directory of PNGs (recursive) or one PNG as a scene: each image once,
+// in rows without overlap (sprite_folder.cpp).
+bool is_sprite_source(const std::string& path);
+Scene load_sprite_folder(const std::string& path, const LoadOptions& options);
+// The same for any image load_image reads (PNG, JPEG, WebP), told by content.
+void image_size(const std::string& path, int* width, int* height); // image_formats.cpp
 
 // io::Error "<where>: ..." unless the viewport is finite, within
 // limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).
 void check_viewport(const Viewport& viewport, const std::string& where);
 
 bool ends_with(const std::string& s, const std::string& suffix);
+
+// cocos2d-x sprite frames (.plist, formats 2 and 3) as an Atlas (cocos2d_plist.cpp).
+Atlas load_cocos2d_plist(const std::string& path);
 
 // io::Error unless `path` is a regular file within kMaxFileBytes.
 void check_input_file(const std::string& path); // file.cpp

@@ -1,5 +1,7 @@
 #include <cmath>
 
+#include <nlohmann/json.hpp>
+
 #include "depthcull/limits.h"
 #include "io/formats.h"
 
@@ -16,13 +18,69 @@ void check_viewport(const Viewport& v, const std::string& where) {
         throw Error(where + ": width and height must be 1.." + std::to_string(kMaxImageSide) + " (kMaxImageSide)");
 }
 
-Scene load_scene(const std::string& path, const LoadOptions& options) {
+namespace {
+
+// A .json scene is ours or a Tiled map: decided by the first top-level key
+// that only one of them has, reading no further than that key.
+struct FirstKeySax : nlohmann::json_sax<nlohmann::json> {
+    int depth = 0;
+    int verdict = 0; // 1: Tiled map, -1: our scene
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t, const string_t&) override { return true; }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool start_object(std::size_t) override { return ++depth, true; }
+    bool end_object() override { return --depth, true; }
+    bool start_array(std::size_t) override { return ++depth, true; }
+    bool end_array() override { return --depth, true; }
+    bool key(string_t& k) override {
+        if (depth != 1) return true;
+        if (k == "layers" || k == "tilesets" || k == "tiledversion" || k == "orientation") verdict = 1;
+        else if (k == "elements" || k == "images") verdict = -1;
+        return verdict == 0;
+    }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+};
+
+bool is_tiled_json(std::string_view text) {
+    FirstKeySax sax;
+    nlohmann::json::sax_parse(text, &sax);
+    return sax.verdict == 1;
+}
+
+bool is_tiled(const std::string& path) {
+    for (const char* ext : {".tmx", ".tmx.gz", ".tmj", ".tmj.gz", ".json.gz"}) // .json.gz: Tiled's gzipped JSON maps
+        if (ends_with(path, ext)) return true;
+    return false;
+}
+
+// `bytes` reads the file: load_scene reads it only once the format is known.
+template <class Bytes>
+Scene load(const std::string& path, const LoadOptions& options, Bytes&& bytes) {
     if (options.has_viewport) check_viewport(options.viewport, path + ": --viewport");
     return guarded(path, [&] {
-        if (ends_with(path, ".tmx") || ends_with(path, ".tmx.gz")) return load_tiled_map(path, options);
-        if (ends_with(path, ".json")) return load_scene_json(path, options);
-        throw Error(path + ": unknown scene format (expected .json, .tmx or .tmx.gz)");
+        if (is_tiled(path)) return tiled_map_from_bytes(bytes(), path, options);
+        if (ends_with(path, ".json")) {
+            // A .json scene is ours or a Tiled map: its first telling key decides.
+            const auto text = bytes();
+            return is_tiled_json(text) ? tiled_map_from_bytes(text, path, options) : scene_json_from_text(text, path, options);
+        }
+        if (is_sprite_source(path)) return load_sprite_folder(path, options);
+        throw Error(path + ": unknown scene format (expected .json, .tmx, .tmj, either gzipped, a PNG or a directory of PNGs)");
     });
+}
+
+} // namespace
+
+Scene load_scene(const std::string& path, const LoadOptions& options) {
+    return load(path, options, [&] { return read_file(path); });
+}
+
+Scene load_scene_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options) {
+    return load(path, options, [&] { return bytes; });
 }
 
 } // namespace depthcull::io

@@ -34,9 +34,10 @@ std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneM
     o.bytes.append("DCMESH\0\0", 8);
     o.put(std::uint32_t(1)); // format version
     // Bit 1: image entries carry a colour key (set only when one has one,
-    // so files without keys stay as version 1 wrote them). Bit 2: made for
-    // linear filtering (clear: nearest, as version 1 files were).
-    const bool keys = std::any_of(images.begin(), images.end(), [](const SceneImage& img) { return img.has_trans; });
+    // so files without keys stay as version 1 wrote them; a fill colour is
+    // carried in the same word). Bit 2: made for linear filtering (clear:
+    // nearest, as version 1 files were).
+    const bool keys = std::any_of(images.begin(), images.end(), [](const SceneImage& img) { return img.has_trans || img.has_fill; });
     o.put(std::uint32_t((meshes.depth_test ? 1 : 0) | (keys ? 2 : 0) | (meshes.filter == Filter::linear ? 4 : 0)));
     o.put(meshes.viewport.x);
     o.put(meshes.viewport.y);
@@ -53,7 +54,7 @@ std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneM
         o.pad4();
         o.put(std::int32_t(img.width));
         o.put(std::int32_t(img.height));
-        if (keys) o.put(std::uint32_t(img.has_trans ? kColourKeyed | img.trans : 0));
+        if (keys) o.put(std::uint32_t(img.has_fill ? kSolidFill | img.fill : img.has_trans ? kColourKeyed | img.trans : 0));
     }
     for (const Draw& d : meshes.draws) {
         o.put(std::uint32_t(d.image));

@@ -16,7 +16,6 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "the binary mesh reader assumes a little-endian host");
 
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 4 + 4 + 4 + 4 + 6 * 8 + 8;
 // The fewest bytes an image entry (two empty strings, sizes) and a draw
 // header take: what a count must leave room for.
 constexpr std::size_t kMinImageBytes = 4 + 4 + 4 + 4;
@@ -116,8 +115,11 @@ SceneImage read_image(Reader& in, const std::string& base_dir, bool colour_keys)
     if (colour_keys) {
         const std::size_t at = in.pos;
         const auto key = in.get<std::uint32_t>("an image colour key");
-        if (key & ~(kColourKeyed | 0xffffffu)) in.fail(at, "colour key " + std::to_string(key) + " has unknown bits");
+        if ((key & ~(kColourKeyed | kSolidFill | 0xffffffu)) || ((key & kColourKeyed) && (key & kSolidFill)))
+            in.fail(at, "colour key " + std::to_string(key) + " has unknown bits");
         img.has_trans = key & kColourKeyed;
+        img.has_fill = key & kSolidFill;
+        if (img.has_fill) img.fill = key & 0xffffffu, img.path.clear();
         img.trans = key & 0xffffffu;
     }
     return img;
@@ -152,14 +154,16 @@ Draw read_draw(Reader& in, std::size_t image_count, std::size_t* total_vertices,
 
     const std::size_t vertices_at = in.pos;
     d.vertices.resize(std::size_t(vertex_count) * kVertexFloats);
-    std::memcpy(d.vertices.data(), in.bytes.data() + in.pos, d.vertices.size() * 4);
+    // Not for an empty draw: memcpy from or to the null data() of an empty
+    // vector is undefined even for 0 bytes.
+    if (!d.vertices.empty()) std::memcpy(d.vertices.data(), in.bytes.data() + in.pos, d.vertices.size() * 4);
     in.pos += d.vertices.size() * 4;
     for (std::size_t k = 0; k < d.vertices.size(); ++k)
         if (const char* problem = vertex_float_problem(k, d.vertices[k]))
             in.fail(vertices_at + 4 * k, "vertex " + std::to_string(k / kVertexFloats) + " value " + std::to_string(k % kVertexFloats) + " " + problem);
     const std::size_t indices_at = in.pos;
     d.indices.resize(index_count);
-    std::memcpy(d.indices.data(), in.bytes.data() + in.pos, d.indices.size() * 4);
+    if (!d.indices.empty()) std::memcpy(d.indices.data(), in.bytes.data() + in.pos, d.indices.size() * 4);
     in.pos += d.indices.size() * 4;
     for (std::size_t k = 0; k < d.indices.size(); ++k)
         if (d.indices[k] >= vertex_count)
@@ -167,13 +171,7 @@ Draw read_draw(Reader& in, std::size_t image_count, std::size_t* total_vertices,
     return d;
 }
 
-} // namespace
-
-bool is_binary_meshes(std::string_view bytes) { return bytes.substr(0, 8) == std::string_view("DCMESH\0\0", 8); }
-
-LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
-  // bad_alloc and the like: ours, naming the file.
-  return guarded(name, [&] {
+LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
     Reader in{bytes, name};
     LoadedMeshes out;
     std::uint32_t image_count = 0, draw_count = 0;
@@ -186,7 +184,14 @@ LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name,
     for (std::uint32_t i = 0; i < draw_count; ++i) out.meshes.draws.push_back(read_draw(in, image_count, &total_vertices, &total_indices));
     if (in.left()) in.fail(in.pos, std::to_string(in.left()) + " bytes after the last draw");
     return out;
-  });
+}
+
+} // namespace
+
+bool is_binary_meshes(std::string_view bytes) { return bytes.substr(0, 8) == std::string_view("DCMESH\0\0", 8); }
+
+LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
+    return guarded(name, [&] { return read_binary(bytes, name, base_dir); });
 }
 
 LoadedMeshes read_meshes_binary(const std::string& path) {

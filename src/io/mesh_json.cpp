@@ -61,7 +61,7 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
         check_utf8(img.id, output_name(output_path) + ": image id");
         append_string(s, img.id);
         s += ", \"path\": ";
-        std::string path = output_relative_path(img.path, output_path);
+        std::string path = img.has_fill ? std::string() : output_relative_path(img.path, output_path);
         check_utf8(path, output_name(output_path) + ": image \"" + img.id + "\": path");
         append_string(s, path);
         s += ", \"width\": ";
@@ -71,6 +71,10 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
         if (img.has_trans) {
             s += ", \"trans\": ";
             append_string(s, colour_key_text(img.trans));
+        }
+        if (img.has_fill) {
+            s += ", \"fill\": ";
+            append_string(s, colour_key_text(img.fill));
         }
         s += "}";
     }
@@ -116,7 +120,50 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
 }
 
 std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
-    return meshes_to_json(scene.images, meshes, output_path, timing);
+    std::string s = meshes_to_json(scene.images, meshes, output_path, timing);
+    if (scene.animations.empty()) return s;
+    // Animations (docs/mesh-format.md): the frames, and which vertex runs
+    // of which draws show an animated element, so an engine moves their
+    // UVs from frame 0's rect to the current frame's.
+    std::string a = ",\n \"animations\": [";
+    for (std::size_t i = 0; i < scene.animations.size(); ++i) {
+        a += i ? ",\n  {\"frames\": [" : "\n  {\"frames\": [";
+        const auto& frames = scene.animations[i].frames;
+        for (std::size_t k = 0; k < frames.size(); ++k) {
+            const AnimationFrame& f = frames[k];
+            a += k ? ", " : "";
+            a += "{\"image\": " + std::to_string(f.image) + ", \"rect\": [" + std::to_string(f.rect.x) + ", " + std::to_string(f.rect.y) + ", " +
+                 std::to_string(f.rect.w) + ", " + std::to_string(f.rect.h) + "], \"duration\": " + std::to_string(f.duration_ms) + "}";
+        }
+        a += "]}";
+    }
+    a += "],\n \"animated\": [";
+    bool first_run = true;
+    for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
+        const Draw& draw = meshes.draws[d];
+        if (draw.element_spans.empty() && draw.vertex_count() > 0)
+            throw Error(output_path + ": meshes of an animated scene need their element spans (ReconstructOptions::element_spans)");
+        const std::vector<ElementSpan>& spans = draw.element_spans;
+        for (std::size_t j = 0; j < spans.size();) {
+            // Adjacent spans of one element are one run.
+            std::size_t next = j + 1;
+            while (next < spans.size() && spans[next].element == spans[j].element) ++next;
+            const std::size_t first = spans[j].first_vertex, end = next < spans.size() ? spans[next].first_vertex : draw.vertex_count();
+            const std::uint32_t element = spans[j].element;
+            const int animation = element < scene.elements.size() ? scene.elements[element].animation : -1;
+            if (animation >= 0 && end > first) {
+                a += first_run ? "\n  " : ",\n  ";
+                first_run = false;
+                a += "{\"draw\": " + std::to_string(d) + ", \"first_vertex\": " + std::to_string(first) + ", \"vertex_count\": " +
+                     std::to_string(end - first) + ", \"animation\": " + std::to_string(animation) + "}";
+            }
+            j = next;
+        }
+    }
+    a += "]";
+    // Before the closing "}}\n" of stats and document.
+    s.insert(s.size() - 2, a);
+    return s;
 }
 
 void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {

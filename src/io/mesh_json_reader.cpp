@@ -87,6 +87,11 @@ SceneImage read_image(const Context& ctx, const json& v, const std::string& wher
         img.has_trans = true;
         img.trans = parse_colour_key(string(ctx, v["trans"], at(where, "trans")), ctx.name + ": " + at(where, "trans"));
     }
+    if (v.contains("fill")) {
+        img.has_fill = true;
+        img.fill = parse_colour_key(string(ctx, v["fill"], at(where, "fill")), ctx.name + ": " + at(where, "fill"));
+        img.path.clear();
+    }
     return img;
 }
 
@@ -161,20 +166,18 @@ SceneStats read_stats(const Context& ctx, const json& v) {
     return st;
 }
 
-} // namespace
-
-namespace {
-
-LoadedMeshes parse_meshes_json(std::string_view text, const std::string& name, const std::string& base_dir) {
+LoadedMeshes read_json(std::string_view text, const std::string& name, const std::string& base_dir) {
     const Context ctx{name};
+    json doc;
     // Deep nesting would overflow the parser's stack: refuse it first.
     check_json_depth(text, name);
-    json doc;
     try {
         doc = json::parse(text);
     } catch (const json::parse_error& e) {
         // nlohmann counts bytes from 1; our offsets (as the binary reader's) from 0.
         throw Error(name + ": byte " + std::to_string(e.byte ? e.byte - 1 : 0) + ": not valid JSON (" + exception_text(e) + ")");
+    } catch (const json::exception& e) { // out_of_range for numbers like 1e400
+        throw Error(name + ": not valid JSON (" + exception_text(e) + ")");
     }
     if (!doc.is_object()) ctx.fail("top level", "expected a JSON object with \"images\" and \"draws\"");
     LoadedMeshes out;
@@ -207,8 +210,7 @@ LoadedMeshes parse_meshes_json(std::string_view text, const std::string& name, c
 } // namespace
 
 LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir) {
-    // Numbers like 1e400 (json::out_of_range), bad_alloc: ours, naming the file.
-    return guarded(name, [&] { return parse_meshes_json(text, name, base_dir); });
+    return guarded(name, [&] { return read_json(text, name, base_dir); });
 }
 
 LoadedMeshes read_meshes_json(const std::string& path) {

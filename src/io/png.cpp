@@ -94,7 +94,19 @@ void apply_colour_key(Image& image, std::uint32_t rgb) {
 }
 
 Image load_scene_image(const SceneImage& image) {
-    Image out = load_png(image.path);
+    if (image.has_fill) {
+        Image solid;
+        solid.width = solid.height = kFillImageSide;
+        solid.rgba.resize(std::size_t(kFillImageSide) * kFillImageSide * 4);
+        for (std::size_t i = 0; i < solid.rgba.size(); i += 4) {
+            solid.rgba[i] = std::uint8_t(image.fill >> 16);
+            solid.rgba[i + 1] = std::uint8_t(image.fill >> 8);
+            solid.rgba[i + 2] = std::uint8_t(image.fill);
+            solid.rgba[i + 3] = 255;
+        }
+        return solid;
+    }
+    Image out = load_image(image.path);
     if (image.has_trans) apply_colour_key(out, image.trans);
     return out;
 }

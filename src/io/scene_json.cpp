@@ -95,6 +95,7 @@ Blend parse_blend(const Context& ctx, const json& v) {
 struct ImageEntry {
     bool is_atlas = false;
     Atlas atlas;
+    std::vector<int> page_images; // a multipack's pages: scene image per page (page 0: the entry's own)
 };
 
 Element parse_element(const Context& ctx, const json& v, const Scene& scene, const std::map<std::string, int>& ids,
@@ -105,7 +106,8 @@ Element parse_element(const Context& ctx, const json& v, const Scene& scene, con
     auto it = ids.find(id);
     if (it == ids.end()) ctx.fail("unknown image id \"" + id + "\"");
     e.image = it->second;
-    const SceneImage& img = scene.images[std::size_t(e.image)];
+    const SceneImage* page = &scene.images[std::size_t(e.image)];
+    const SceneImage& img = *page;
     if (v.contains("transform")) {
         e.transform = number_array<6>(ctx, v["transform"], "transform");
         // Far beyond any screen, and keeps every product finite.
@@ -126,6 +128,10 @@ Element parse_element(const Context& ctx, const json& v, const Scene& scene, con
         if (!v["frame"].is_string()) ctx.fail("\"frame\" must be a string");
         const AtlasFrame* frame = entry.atlas.find(v["frame"].get<std::string>());
         if (!frame) ctx.fail("atlas \"" + id + "\" has no frame \"" + v["frame"].get<std::string>() + "\"");
+        if (!entry.page_images.empty()) {
+            e.image = entry.page_images[std::size_t(frame->page)];
+            page = &scene.images[std::size_t(e.image)];
+        }
         FramePlacement placed = place_frame(*frame, e.transform);
         e.rect = placed.rect;
         e.transform = placed.transform;
@@ -137,7 +143,7 @@ Element parse_element(const Context& ctx, const json& v, const Scene& scene, con
     } else {
         e.rect = {0, 0, img.width, img.height};
     }
-    if (!ImageView{nullptr, img.width, img.height, 0}.contains(e.rect) || e.rect.empty())
+    if (!ImageView{nullptr, page->width, page->height, 0}.contains(e.rect) || e.rect.empty())
         ctx.fail("rect " + std::to_string(e.rect.x) + "," + std::to_string(e.rect.y) + "," + std::to_string(e.rect.w) + "," +
                  std::to_string(e.rect.h) + " is outside the " + std::to_string(img.width) + "x" + std::to_string(img.height) +
                  " image \"" + id + "\"");
@@ -164,11 +170,10 @@ Viewport bounding_viewport(const Scene& scene) {
 
 } // namespace
 
-Scene load_scene_json(const std::string& path, const LoadOptions& options) {
+Scene scene_json_from_text(std::string_view text, const std::string& path, const LoadOptions& options) {
     Context ctx{path, ""};
     json doc;
     try {
-        std::string text = read_file(path);
         check_json_depth(text, path);
         doc = json::parse(text);
     } catch (const json::exception& e) {
@@ -205,6 +210,9 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
             entries[i].is_atlas = true;
             entries[i].atlas = load_texturepacker(resolve(base, string_field(c, v, "atlas")));
             img.path = entries[i].atlas.image_path;
+        } else if (v.contains("fill")) {
+            img.has_fill = true;
+            img.fill = parse_colour_key(string_field(c, v, "fill"), path + ": image " + std::to_string(i));
         } else {
             img.path = resolve(base, string_field(c, v, "path"));
         }
@@ -213,15 +221,70 @@ Scene load_scene_json(const std::string& path, const LoadOptions& options) {
             img.trans = parse_colour_key(string_field(c, v, "trans"), path + ": image " + std::to_string(i));
         }
         try {
-            png_size(img.path, &img.width, &img.height);
+            if (img.has_fill) img.width = img.height = kFillImageSide;
+            else image_size(img.path, &img.width, &img.height);
         } catch (const Error& e) {
             c.fail(e.what());
         }
         scene.images.push_back(std::move(img));
     }
+    // A multipack atlas's other pages: images "<id>#<page>" after the listed ones.
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        ImageEntry& entry = entries[i];
+        if (!entry.is_atlas || entry.atlas.pages.size() < 2) continue;
+        entry.page_images.push_back(int(i));
+        for (std::size_t k = 1; k < entry.atlas.pages.size(); ++k) {
+            SceneImage img;
+            img.id = scene.images[i].id + "#" + std::to_string(k);
+            if (!ids.emplace(img.id, int(scene.images.size())).second)
+                ctx.fail("image id \"" + img.id + "\" (page " + std::to_string(k) + " of atlas \"" + scene.images[i].id + "\") is taken");
+            img.path = entry.atlas.pages[k].image_path;
+            image_size(img.path, &img.width, &img.height);
+            entry.page_images.push_back(int(scene.images.size()));
+            scene.images.push_back(std::move(img));
+        }
+    }
+    // Animations: frames of one size, each an image rect and a duration.
+    if (doc.contains("animations")) {
+        const json& animations = doc["animations"];
+        if (!animations.is_array() || animations.size() > kMaxElements) ctx.fail("\"animations\" must be an array");
+        for (std::size_t i = 0; i < animations.size(); ++i) {
+            Context c{path, "animation " + std::to_string(i) + ": "};
+            const json& a = animations[i];
+            if (!a.is_object() || !a.contains("frames") || !a["frames"].is_array() || a["frames"].empty() || a["frames"].size() > 65536)
+                c.fail("must be an object with a non-empty \"frames\" array");
+            Animation animation;
+            for (const json& f : a["frames"]) {
+                if (!f.is_object()) c.fail("frame must be an object");
+                const std::string& id = string_field(c, f, "image");
+                auto it = ids.find(id);
+                if (it == ids.end()) c.fail("unknown image id \"" + id + "\"");
+                const SceneImage& img = scene.images[std::size_t(it->second)];
+                if (!f.contains("rect") || !f["rect"].is_array() || f["rect"].size() != 4) c.fail("frame \"rect\" must be [x, y, w, h]");
+                const json& r = f["rect"];
+                Rect rect{integer(c, r[0], "rect"), integer(c, r[1], "rect"), integer(c, r[2], "rect"), integer(c, r[3], "rect")};
+                if (rect.empty() || !ImageView{nullptr, img.width, img.height, 0}.contains(rect)) c.fail("frame rect is outside image \"" + id + "\"");
+                if (!animation.frames.empty() && (rect.w != animation.frames[0].rect.w || rect.h != animation.frames[0].rect.h))
+                    c.fail("frames differ in size");
+                int duration = f.contains("duration") ? integer(c, f["duration"], "duration") : 0;
+                if (duration < 0) c.fail("negative duration");
+                animation.frames.push_back({it->second, rect, duration});
+            }
+            scene.animations.push_back(std::move(animation));
+        }
+    }
     scene.elements.reserve(elements.size());
-    for (std::size_t i = 0; i < elements.size(); ++i)
-        scene.elements.push_back(parse_element({path, "element " + std::to_string(i) + ": "}, elements[i], scene, ids, entries));
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+        Context c{path, "element " + std::to_string(i) + ": "};
+        scene.elements.push_back(parse_element(c, elements[i], scene, ids, entries));
+        if (elements[i].contains("animation")) {
+            Element& e = scene.elements.back();
+            e.animation = integer(c, elements[i]["animation"], "animation");
+            if (e.animation < 0 || std::size_t(e.animation) >= scene.animations.size()) c.fail("\"animation\" names no animation");
+            const AnimationFrame& first = scene.animations[std::size_t(e.animation)].frames.front();
+            if (first.image != e.image || first.rect != e.rect) c.fail("an animated element shows its animation's first frame (image and rect)");
+        }
+    }
 
     if (options.has_viewport) scene.viewport = options.viewport;
     else if (doc.contains("viewport")) scene.viewport = parse_viewport(ctx, doc["viewport"]);

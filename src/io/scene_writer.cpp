@@ -69,6 +69,11 @@ std::string scene_to_json_text(const Scene& scene, const std::string& output_pat
     doc["filter"] = scene.filter == Filter::linear ? "linear" : "nearest";
     Json images = Json::array();
     for (const SceneImage& image : scene.images) {
+        if (image.has_fill) {
+            check_utf8(image.id, output_name(output_path) + ": image id");
+            images.push_back({{"id", image.id}, {"fill", colour_key_text(image.fill)}});
+            continue;
+        }
         std::string path = portable_path(image.path, base);
         check_utf8(image.id, output_name(output_path) + ": image id");
         check_utf8(path, output_name(output_path) + ": image \"" + image.id + "\": path");
@@ -87,13 +92,27 @@ std::string scene_to_json_text(const Scene& scene, const std::string& output_pat
         for (double v : e.transform) transform.push_back(number(v));
         Json color = Json::array();
         for (float v : e.color) color.push_back(number(v));
-        elements.push_back({{"image", scene.images[std::size_t(e.image)].id},
-                            {"rect", {e.rect.x, e.rect.y, e.rect.w, e.rect.h}},
-                            {"transform", std::move(transform)},
-                            {"color", std::move(color)},
-                            {"blend", blend_name(e.blend)}});
+        Json entry = {{"image", scene.images[std::size_t(e.image)].id},
+                      {"rect", {e.rect.x, e.rect.y, e.rect.w, e.rect.h}},
+                      {"transform", std::move(transform)},
+                      {"color", std::move(color)},
+                      {"blend", blend_name(e.blend)}};
+        if (e.animation >= 0) entry["animation"] = e.animation;
+        elements.push_back(std::move(entry));
     }
     doc["elements"] = std::move(elements);
+    if (!scene.animations.empty()) {
+        Json animations = Json::array();
+        for (const Animation& a : scene.animations) {
+            Json frames = Json::array();
+            for (const AnimationFrame& f : a.frames)
+                frames.push_back({{"image", scene.images.at(std::size_t(f.image)).id},
+                                  {"rect", {f.rect.x, f.rect.y, f.rect.w, f.rect.h}},
+                                  {"duration", f.duration_ms}});
+            animations.push_back({{"frames", std::move(frames)}});
+        }
+        doc["animations"] = std::move(animations);
+    }
     // One element per line: readable diffs, and far smaller than dump(2).
     std::string text = "{\n";
     bool first = true;

@@ -10,9 +10,13 @@
 //   coordinates: the sprite's top-left corner is the stored top-right one).
 // - "spriteSourceSize" {x, y}: where the trimmed sprite's top-left lies in
 //   the untrimmed sprite of "sourceSize" {w, h}.
-// Multipack files with a top-level "textures" list are refused (load each
-// page's own JSON); "meta.related_multi_packs" needs nothing: each page's
-// JSON stands alone.
+// - Multipack (Phaser 3's default): {"textures": [{"image", "size",
+//   "frames": [...]}, ...]}, frames named uniquely across pages;
+//   "meta.related_multi_packs" needs nothing: each page's JSON stands alone.
+// - spriteSourceSize w/h differing from the frame's (Aseprite, some Flash
+//   exporters): the frame's size is the trimmed sprite's, as Phaser and
+//   PixiJS read it.
+// cocos2d-x plists are read in cocos2d_plist.cpp.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -84,11 +88,10 @@ AtlasFrame read_frame(const std::string& name, const Json& f, const std::string&
         if (!it->is_object()) throw Error(here + " is not an object");
         frame.sprite_source.x = int_field(*it, "x", here, -kMaxImageSide, kMaxImageSide);
         frame.sprite_source.y = int_field(*it, "y", here, -kMaxImageSide, kMaxImageSide);
-        int sw = int_field(*it, "w", here, 1, kMaxImageSide, false, w);
-        int sh = int_field(*it, "h", here, 1, kMaxImageSide, false, h);
-        if (sw != w || sh != h)
-            throw Error(here + ": size " + std::to_string(sw) + "x" + std::to_string(sh) + " differs from the frame's " +
-                        std::to_string(w) + "x" + std::to_string(h));
+        // Its w / h are checked as numbers but not used: engines take the
+        // trimmed size from "frame".
+        (void)int_field(*it, "w", here, 0, kMaxImageSide, false, w);
+        (void)int_field(*it, "h", here, 0, kMaxImageSide, false, h);
     }
     frame.source_w = w;
     frame.source_h = h;
@@ -151,8 +154,7 @@ struct FrameOrder final : nlohmann::json_sax<Json> {
 };
 
 // The document, and in *frame_order the hash form's frame names in file order.
-Json parse_json_file(const std::string& path, std::vector<std::string>* frame_order) {
-    std::string text = read_file(path);
+Json parse_json_text(std::string_view text, const std::string& path, std::vector<std::string>* frame_order) {
     check_json_depth(text, path);
     FrameOrder order(frame_order);
     try {
@@ -169,12 +171,16 @@ Json parse_json_file(const std::string& path, std::vector<std::string>* frame_or
 
 namespace {
 
-Atlas read_texturepacker(const std::string& path) {
+Atlas read_multipack(const std::string& path, const Json& doc);
+
+Atlas read_texturepacker(std::string_view text, const std::string& path) {
+    // A cocos2d-x .plist (XML) rather than TexturePacker JSON.
+    if (std::size_t first = text.substr(0, 256).find_first_not_of(" \t\r\n"); first != std::string_view::npos && text[first] == '<')
+        return load_cocos2d_plist(path);
     std::vector<std::string> order;
-    Json doc = parse_json_file(path, &order);
+    Json doc = parse_json_text(text, path, &order);
     if (!doc.is_object()) throw Error(path + ": not a TexturePacker atlas (top level is not an object)");
-    if (doc.contains("textures") && !doc.contains("frames"))
-        throw Error(path + ": multipack atlases (\"textures\") are not supported; load each page's JSON (hash or array form)");
+    if (doc.contains("textures") && !doc.contains("frames")) return read_multipack(path, doc);
     auto frames = doc.find("frames");
     if (frames == doc.end() || !(frames->is_object() || frames->is_array()))
         throw Error(path + ": not a TexturePacker atlas (no \"frames\" object or array)");
@@ -192,6 +198,8 @@ Atlas read_texturepacker(const std::string& path) {
         atlas.width = int_field(*size, "w", path + ": meta.size", 1, kMaxImageSide);
         atlas.height = int_field(*size, "h", path + ": meta.size", 1, kMaxImageSide);
     }
+    atlas.pages.push_back({atlas.image_path, atlas.width, atlas.height});
+    atlas.form = frames->is_object() ? AtlasForm::json_hash : AtlasForm::json_array;
 
     auto add = [&](const std::string& name, const Json& f) {
         std::string where = path + ": frame '" + name + "'";
@@ -220,10 +228,59 @@ Atlas read_texturepacker(const std::string& path) {
     return atlas;
 }
 
+Atlas read_multipack(const std::string& path, const Json& doc) {
+    const Json& textures = doc["textures"];
+    if (!textures.is_array() || textures.empty()) throw Error(path + ": \"textures\" must be a non-empty array of pages");
+    Atlas atlas;
+    atlas.path = path;
+    atlas.form = AtlasForm::json_multipack;
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::size_t total = 0;
+    for (std::size_t k = 0; k < textures.size(); ++k) {
+        const std::string where = path + ": textures[" + std::to_string(k) + "]";
+        const Json& t = textures[k];
+        if (!t.is_object()) throw Error(where + " is not an object");
+        auto image = t.find("image");
+        if (image == t.end() || !image->is_string() || image->get<std::string>().empty()) throw Error(where + ": \"image\" is missing");
+        AtlasPage page{(dir / image->get<std::string>()).lexically_normal().string(), 0, 0};
+        if (auto size = t.find("size"); size != t.end() && size->is_object()) {
+            page.width = int_field(*size, "w", where + ": size", 1, kMaxImageSide);
+            page.height = int_field(*size, "h", where + ": size", 1, kMaxImageSide);
+        }
+        auto frames = t.find("frames");
+        if (frames == t.end() || !frames->is_array()) throw Error(where + ": \"frames\" must be an array");
+        total += frames->size();
+        if (total > kMaxFrames) throw Error(path + ": more than " + std::to_string(kMaxFrames) + " frames");
+        for (std::size_t i = 0; i < frames->size(); ++i) {
+            const Json& f = (*frames)[i];
+            auto name = f.is_object() ? f.find("filename") : f.end();
+            if (name == f.end() || !name->is_string()) throw Error(where + ": frame " + std::to_string(i) + ": missing \"filename\"");
+            std::string here = path + ": frame '" + name->get<std::string>() + "'";
+            if (!atlas.by_name.emplace(name->get<std::string>(), atlas.frames.size()).second) throw Error(here + ": duplicate frame name");
+            AtlasFrame frame = read_frame(name->get<std::string>(), f, here);
+            frame.page = int(k);
+            const Rect& r = frame.frame;
+            if (page.width > 0 && (r.x + r.w > page.width || r.y + r.h > page.height))
+                throw Error(here + ": texels " + std::to_string(r.x) + "," + std::to_string(r.y) + " " + std::to_string(r.w) + "x" +
+                            std::to_string(r.h) + " lie outside the " + std::to_string(page.width) + "x" + std::to_string(page.height) + " page");
+            atlas.frames.push_back(std::move(frame));
+        }
+        atlas.pages.push_back(std::move(page));
+    }
+    atlas.image_path = atlas.pages[0].image_path;
+    atlas.width = atlas.pages[0].width;
+    atlas.height = atlas.pages[0].height;
+    return atlas;
+}
+
 } // namespace
 
 Atlas load_texturepacker(const std::string& path) {
-    return guarded(path, [&] { return read_texturepacker(path); });
+    return guarded(path, [&] { return read_texturepacker(read_file(path), path); });
+}
+
+Atlas texturepacker_from_text(std::string_view text, const std::string& path) {
+    return guarded(path, [&] { return read_texturepacker(text, path); });
 }
 
 FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>& t) {

@@ -8,7 +8,10 @@
 // A frame with several boundary polygons (disjoint parts) lists all their
 // vertices and triangles together. Each polygon is ear-clipped
 // (triangulate_polygon), not fanned: boundary polygons may be concave.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 
 #include <nlohmann/json.hpp>
 
@@ -59,14 +62,136 @@ void add_polygons(Json& out, const AtlasFrame& frame, const std::vector<Polygon>
     out["triangles"] = std::move(triangles);
 }
 
-std::string polygons_json(const std::string& path, const Atlas& atlas, const std::vector<ImageAnalysis>& frame_analyses,
-                          AtlasPolygonStats* stats_out) {
+// ---- cocos2d-x format 3 plist with polygons
+
+void xml_escape(std::string& out, const std::string& text) {
+    for (char c : text) {
+        if (c == '&') out += "&amp;";
+        else if (c == '<') out += "&lt;";
+        else if (c == '>') out += "&gt;";
+        else out += c;
+    }
+}
+
+std::string int_text(double v) { return std::to_string(std::llround(v)); }
+
+// cocos2d-x parses "vertices" and "verticesUV" as integers (atoi). Our
+// polygons' vertices lie on the texel grid or are rounded onto it when that
+// keeps every texel inside and the polygons triangulable; otherwise the
+// frame's rectangle is written (counted in rectangle_frames).
+std::vector<Polygon> integer_polygons(ImageView page, const AtlasFrame& frame, const std::vector<Polygon>& polygons, Filter filter,
+                                      bool* fell_back) {
+    *fell_back = false;
+    bool integral = true;
+    std::vector<Polygon> rounded = polygons;
+    for (Polygon& p : rounded)
+        for (Vec2& v : p) {
+            Vec2 r{std::round(v.x), std::round(v.y)};
+            if (r.x != v.x || r.y != v.y) integral = false;
+            v = {std::clamp(r.x, double(frame.frame.x), double(frame.frame.x + frame.frame.w)),
+                 std::clamp(r.y, double(frame.frame.y), double(frame.frame.y + frame.frame.h))};
+        }
+    if (integral) return rounded;
+    bool good = rounded.size() == 1 && count_uncontained_texels(page, frame.frame, rounded, filter) == 0;
+    for (const Polygon& p : rounded) {
+        std::vector<std::uint32_t> t = p.size() >= 3 ? triangulate_polygon(p) : std::vector<std::uint32_t>{};
+        if (t.size() != 3 * (p.size() - 2)) good = false;
+    }
+    if (good) return rounded;
+    *fell_back = true;
+    const Rect& r = frame.frame;
+    return {{{double(r.x), double(r.y)}, {double(r.x + r.w), double(r.y)}, {double(r.x + r.w), double(r.y + r.h)}, {double(r.x), double(r.y + r.h)}}};
+}
+
+std::string plist_text(const Atlas& atlas, const std::vector<ImageAnalysis>& analyses, ImageView page, Filter filter,
+                       AtlasPolygonStats& stats) {
+    std::string s = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                    "<!DOCTYPE plist PUBLIC \"-//Apple Computer//DTD PLIST 1.0//EN\" \"http://www.apple.com/DTDs/PropertyList-1.0.dtd\">\n"
+                    "<plist version=\"1.0\">\n<dict>\n\t<key>frames</key>\n\t<dict>\n";
+    auto key = [&](const char* indent, const std::string& k) {
+        s += indent;
+        s += "<key>";
+        xml_escape(s, k);
+        s += "</key>\n";
+    };
+    auto str = [&](const char* indent, const std::string& v) {
+        s += indent;
+        s += "<string>";
+        xml_escape(s, v);
+        s += "</string>\n";
+    };
+    for (std::size_t i = 0; i < atlas.frames.size(); ++i) {
+        const AtlasFrame& f = atlas.frames[i];
+        const int w = f.rotated ? f.frame.h : f.frame.w, h = f.rotated ? f.frame.w : f.frame.h;
+        // cocos2d-x's spriteOffset: trimmed centre minus untrimmed centre, y up.
+        double ox = f.sprite_source.x + w / 2.0 - f.source_w / 2.0, oy = f.source_h / 2.0 - (f.sprite_source.y + h / 2.0);
+        char offset[64];
+        std::snprintf(offset, sizeof offset, "{%g,%g}", ox, oy);
+        key("\t\t", f.name);
+        s += "\t\t<dict>\n\t\t\t<key>aliases</key>\n\t\t\t<array/>\n";
+        key("\t\t\t", "spriteOffset");
+        str("\t\t\t", offset);
+        key("\t\t\t", "spriteSize");
+        str("\t\t\t", "{" + std::to_string(w) + "," + std::to_string(h) + "}");
+        key("\t\t\t", "spriteSourceSize");
+        str("\t\t\t", "{" + std::to_string(f.source_w) + "," + std::to_string(f.source_h) + "}");
+        key("\t\t\t", "textureRect");
+        str("\t\t\t", "{{" + std::to_string(f.frame.x) + "," + std::to_string(f.frame.y) + "},{" + std::to_string(w) + "," + std::to_string(h) + "}}");
+        key("\t\t\t", "textureRotated");
+        s += f.rotated ? "\t\t\t<true/>\n" : "\t\t\t<false/>\n";
+        bool fell_back = false;
+        std::vector<Polygon> polygons =
+            analyses[i].boundary.empty() ? std::vector<Polygon>{} : integer_polygons(page, f, analyses[i].boundary, filter, &fell_back);
+        stats.rectangle_frames += fell_back;
+        std::string triangles, vertices, uv;
+        std::uint32_t base = 0;
+        for (const Polygon& polygon : polygons) {
+            std::vector<std::uint32_t> indices = triangulate_polygon(polygon);
+            for (const Vec2& p : polygon) {
+                Vec2 q = page_to_sprite(f, p);
+                vertices += (vertices.empty() ? "" : " ") + int_text(q.x) + " " + int_text(q.y);
+                uv += (uv.empty() ? "" : " ") + int_text(p.x) + " " + int_text(p.y);
+            }
+            for (std::uint32_t index : indices) triangles += (triangles.empty() ? "" : " ") + std::to_string(base + index);
+            base += std::uint32_t(polygon.size());
+            stats.vertices += std::int64_t(polygon.size());
+            stats.triangles += std::int64_t(indices.size() / 3);
+            stats.polygon_area += area(polygon);
+        }
+        key("\t\t\t", "triangles");
+        str("\t\t\t", triangles);
+        key("\t\t\t", "vertices");
+        str("\t\t\t", vertices);
+        key("\t\t\t", "verticesUV");
+        str("\t\t\t", uv);
+        s += "\t\t</dict>\n";
+        stats.frames += 1;
+        stats.frame_area += double(f.frame.w) * f.frame.h;
+    }
+    std::string image = std::filesystem::path(atlas.image_path).filename().string();
+    s += "\t</dict>\n\t<key>metadata</key>\n\t<dict>\n\t\t<key>format</key>\n\t\t<integer>3</integer>\n"
+         "\t\t<key>pixelFormat</key>\n\t\t<string>RGBA8888</string>\n\t\t<key>premultiplyAlpha</key>\n\t\t<false/>\n";
+    key("\t\t", "realTextureFileName");
+    str("\t\t", image);
+    key("\t\t", "size");
+    str("\t\t", "{" + std::to_string(page.width) + "," + std::to_string(page.height) + "}");
+    key("\t\t", "textureFileName");
+    str("\t\t", image);
+    s += "\t</dict>\n</dict>\n</plist>\n";
+    return s;
+}
+
+void check_frame_count(const std::string& path, const Atlas& atlas, const std::vector<ImageAnalysis>& frame_analyses) {
     if (frame_analyses.size() != atlas.frames.size())
         throw Error(path + ": " + std::to_string(frame_analyses.size()) + " frame analyses for " + std::to_string(atlas.frames.size()) +
                     " frames");
-    Json doc = Json::parse(read_file(path));
-    Json& frames = doc["frames"];
+}
+
+std::string polygons_json(const std::string& path, const Atlas& atlas, const std::vector<ImageAnalysis>& frame_analyses,
+                          AtlasPolygonStats* stats_out) {
+    check_frame_count(path, atlas, frame_analyses);
     AtlasPolygonStats stats;
+    Json doc = Json::parse(read_file(path));
     std::size_t index = 0;
     auto visit = [&](Json& f) {
         const AtlasFrame& frame = atlas.frames[index];
@@ -75,12 +200,28 @@ std::string polygons_json(const std::string& path, const Atlas& atlas, const std
         stats.frames += 1;
         stats.frame_area += double(frame.frame.w) * frame.frame.h;
     };
-    if (frames.is_object())
+    if (atlas.form == AtlasForm::json_multipack) {
+        for (Json& texture : doc["textures"])
+            for (Json& f : texture["frames"]) visit(f);
+    } else if (Json& frames = doc["frames"]; frames.is_object()) {
         for (auto& [name, f] : frames.items()) visit(f);
-    else
+    } else {
         for (Json& f : frames) visit(f);
+    }
     if (stats_out) *stats_out = stats;
     return doc.dump(1, '\t') + "\n";
+}
+
+std::string polygons_plist(const std::string& path, const Atlas& atlas, ImageView page, const std::vector<ImageAnalysis>& frame_analyses,
+                           Filter filter, AtlasPolygonStats* stats_out) {
+    check_frame_count(path, atlas, frame_analyses);
+    if (atlas.pages.size() > 1)
+        throw Error(path + ": a cocos2d-x plist holds one page; this multipack has " + std::to_string(atlas.pages.size()) +
+                    " (write JSON, or one plist per page)");
+    AtlasPolygonStats stats;
+    std::string text = plist_text(atlas, frame_analyses, page, filter, stats);
+    if (stats_out) *stats_out = stats;
+    return text;
 }
 
 } // namespace
@@ -88,6 +229,11 @@ std::string polygons_json(const std::string& path, const Atlas& atlas, const std
 std::string atlas_polygons_json(const std::string& path, const Atlas& atlas, const std::vector<ImageAnalysis>& frames,
                                 AtlasPolygonStats* stats) {
     return guarded(path, [&] { return polygons_json(path, atlas, frames, stats); });
+}
+
+std::string atlas_polygons_plist(const std::string& path, const Atlas& atlas, ImageView page, const std::vector<ImageAnalysis>& frames,
+                                 Filter filter, AtlasPolygonStats* stats) {
+    return guarded(path, [&] { return polygons_plist(path, atlas, page, frames, filter, stats); });
 }
 
 } // namespace depthcull::io

@@ -1,7 +1,8 @@
 // Tiled layer data: the cell grids of tile layers in every encoding Tiled
-// writes (CSV, base64 with no / zlib / gzip compression, and the old XML
-// <tile gid> form), and the chunks of infinite maps.
+// writes (CSV, base64 with no / zlib / gzip / zstd compression, and the old
+// XML <tile gid> form), and the chunks of infinite maps.
 #include <zlib.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <charconv>
@@ -52,6 +53,36 @@ std::vector<std::uint32_t> parse_csv(std::string_view text, std::size_t count, c
     return gids;
 }
 
+// A zstd stream -> bytes, streamed so a frame claiming a huge size
+// allocates nothing beyond max_bytes (Tiled writes single frames, but
+// concatenated frames are valid zstd too).
+std::string unzstd_bytes(std::string_view data, std::size_t max_bytes, const std::string& where) {
+    ZSTD_DCtx* z = ZSTD_createDCtx();
+    if (!z) throw Error(where + ": zstd initialisation failed");
+    std::string out;
+    char buffer[65536];
+    ZSTD_inBuffer in{data.data(), data.size(), 0};
+    std::size_t last = 0;
+    while (true) {
+        ZSTD_outBuffer o{buffer, sizeof buffer, 0};
+        last = ZSTD_decompressStream(z, &o, &in);
+        if (ZSTD_isError(last)) {
+            std::string message = ZSTD_getErrorName(last);
+            ZSTD_freeDCtx(z);
+            throw Error(where + ": corrupt zstd data (" + message + ")");
+        }
+        if (out.size() + o.pos > max_bytes) {
+            ZSTD_freeDCtx(z);
+            throw Error(where + ": decompressed data is larger than the expected " + std::to_string(max_bytes - 1) + " bytes");
+        }
+        out.append(buffer, o.pos);
+        if (in.pos == in.size && o.pos < o.size) break;
+    }
+    ZSTD_freeDCtx(z);
+    if (last != 0) throw Error(where + ": corrupt zstd data (truncated)");
+    return out;
+}
+
 // The cells of one <data> or <chunk> node: `count` gids.
 std::vector<std::uint32_t> decode_cells(pugi::xml_node node, const std::string& encoding, const std::string& compression,
                                         std::size_t count, const std::string& where) {
@@ -78,6 +109,8 @@ std::vector<std::uint32_t> decode_cells(pugi::xml_node node, const std::string& 
         bytes.assign(raw.begin(), raw.end());
     } else if (compression == "zlib" || compression == "gzip") {
         bytes = inflate_bytes(std::string_view(reinterpret_cast<const char*>(raw.data()), raw.size()), count * 4 + 1, where);
+    } else if (compression == "zstd") {
+        bytes = unzstd_bytes(std::string_view(reinterpret_cast<const char*>(raw.data()), raw.size()), count * 4 + 1, where);
     } else {
         throw Error(where + ": unsupported compression '" + compression + "'");
     }
@@ -144,12 +177,13 @@ std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const st
     return out;
 }
 
-std::string read_maybe_gzipped(const std::string& path) {
-    std::string bytes = read_file(path);
+std::string maybe_gunzip(std::string_view bytes, const std::string& path) {
     if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f && static_cast<unsigned char>(bytes[1]) == 0x8b)
         return inflate_bytes(bytes, kMaxXmlBytes, path);
-    return bytes;
+    return std::string(bytes);
 }
+
+std::string read_maybe_gzipped(const std::string& path) { return maybe_gunzip(read_file(path), path); }
 
 std::vector<std::uint8_t> decode_base64(std::string_view text, const std::string& where) {
     std::vector<std::uint8_t> out;

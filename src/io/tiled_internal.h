@@ -2,7 +2,7 @@
 //   tiled_data.cpp      layer data: CSV, XML, base64, zlib / gzip, chunks
 //   tiled_tilesets.cpp  tilesets (inline and .tsx), tile rects, images, trans keys
 //   tiled_layers.cpp    layers and objects -> elements, in Tiled's drawing order
-//   tiled_map.cpp       load_tiled_map: the map, its viewport and culling
+//   tiled_map.cpp       tiled_map_from_bytes: the map, its viewport and culling
 #pragma once
 
 #include <array>
@@ -44,6 +44,7 @@ int int_attr(pugi::xml_node node, const char* name, int fallback, const std::str
 // The file's bytes, gunzipped when it starts with the gzip magic (so
 // .tmx.gz and .tsx.gz need no special naming).
 std::string read_maybe_gzipped(const std::string& path);
+std::string maybe_gunzip(std::string_view bytes, const std::string& path);
 // zlib or gzip stream -> bytes; more than max_bytes is an error.
 std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where);
 std::vector<std::uint8_t> decode_base64(std::string_view text, const std::string& where);
@@ -58,6 +59,17 @@ struct CellGrid {
 // Finite maps: a width x height grid. Infinite maps: the chunks merged into
 // their bounding grid.
 CellGrid read_layer_data(pugi::xml_node layer, int width, int height, bool infinite, const std::string& where);
+
+// ---- tiled_json.cpp: Tiled's JSON forms as the TMX documents they stand for
+
+// Whether the text is JSON (its first non-space character is '{'): Tiled
+// files are told apart by content, so a .tmx naming a .json tileset works.
+bool looks_like_json(std::string_view text);
+// A JSON map (.tmj) -> <map>; a JSON tileset (.tsj) -> <tileset>; a JSON
+// template (.tj) -> <template>. Errors name `path` and the place.
+void json_map_to_xml(std::string_view text, const std::string& path, pugi::xml_document& doc);
+void json_tileset_to_xml(std::string_view text, const std::string& path, pugi::xml_document& doc);
+void json_template_to_xml(std::string_view text, const std::string& path, pugi::xml_document& doc);
 
 // ---- tiled_tilesets.cpp
 
@@ -77,6 +89,7 @@ struct Tileset {
     double offset_x = 0, offset_y = 0;   // <tileoffset>
     Alignment alignment = Alignment::unspecified;
     bool render_grid_size = false;       // tilerendersize="grid": tiles scaled to the map's grid
+    bool preserve_aspect = false;        // ... with fillmode="preserve-aspect-fit": uniformly, centred in the cell
     // Tiles by local id. An image tileset's grid is computed, not stored (a
     // 16384x16384 image of 1x1 tiles would be a table of 5 GB); tiles named
     // by <tile id> (image collections, animations resolved to their first
@@ -84,6 +97,9 @@ struct Tileset {
     int image = -1; // the image of an image tileset, cut in columns x rows
     int columns = 0, rows = 0, margin = 0, spacing = 0;
     std::map<std::uint32_t, Tile> named;
+    // Animated tiles by local id: every frame's tile and duration (ms); the
+    // tile itself (in `named`) is its first frame.
+    std::map<std::uint32_t, std::vector<std::pair<Tile, int>>> animations;
     std::uint32_t tile_count() const; // one past the largest local id
     Tile tile(std::uint32_t local) const; // image -1: no such tile
 };
@@ -95,6 +111,8 @@ public:
     explicit ImageTable(std::vector<SceneImage>& images) : images_(images) {}
     // `source` is the <image source> attribute, relative to `base_dir`.
     int add(const std::string& base_dir, const std::string& source, const std::string& trans, const std::string& where);
+    // A solid-colour image (SceneImage::has_fill): the map's background.
+    int add_fill(std::uint32_t rgb);
     int width(int index) const { return images_[std::size_t(index)].width; }
     int height(int index) const { return images_[std::size_t(index)].height; }
 
@@ -107,6 +125,10 @@ private:
 // An external tileset's path: `source` relative to `base_dir`, or its
 // gzipped twin when only that exists (Debian gzips example tilesets).
 std::string resolve_tsx(const std::string& base_dir, const std::string& source);
+
+// An external tileset (.tsx, gzipped or not) from its bytes; `tsx` names
+// it and resolves its images.
+Tileset tileset_from_bytes(std::string_view bytes, const std::string& tsx, std::uint32_t firstgid, ImageTable& images);
 
 // All <tileset> children of the map, sorted by firstgid.
 std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images);
@@ -137,7 +159,11 @@ struct MapInfo {
     bool stagger_even = false; // staggerindex="even"
     int hex_side = 0;          // hexsidelength (0 for staggered maps)
     bool hex_rotation = false; // orientation="hexagonal": gid bits 29 / 28 turn tiles 60 / 120 degrees
+    double parallax_origin_x = 0, parallax_origin_y = 0; // parallaxoriginx / y
 };
+
+// Tiled colours: "#AARRGGBB" or "#RRGGBB" (the '#' optional), rgba 0..1.
+std::array<double, 4> parse_color(const std::string& text, const std::string& where);
 
 // Top-left corner on screen of cell (col, row) of a hexagonal or staggered
 // map (Tiled's HexagonalRenderer::tileToScreenCoords).
@@ -148,6 +174,7 @@ struct LayerState {
     double offset_x = 0, offset_y = 0;
     double opacity = 1;
     std::array<double, 4> tint{1, 1, 1, 1}; // Tiled's effective tint colour, rgba 0..1 (product over groups)
+    double parallax_x = 1, parallax_y = 1;  // effective parallax factor (product over groups)
 };
 
 struct Emitter {
@@ -157,7 +184,19 @@ struct Emitter {
     const Viewport* cull = nullptr; // drop elements that miss it
     Scene& scene;
     std::int64_t cells = 0; // tile-layer cells read so far (limits::kMaxMapCells)
+    const LoadOptions* options = nullptr; // warnings, notes, strict
+    std::set<std::string> warned;         // one line per (place, feature)
+    std::map<std::pair<const Tileset*, std::uint32_t>, int> animation_index; // into Scene::animations
 };
+
+// The Scene::animations index of a tile's animation, or -1 when it has
+// none (or frames of different sizes, which is warned about).
+int animation_of(Emitter& out, const Tileset& tileset, std::uint32_t local, const std::string& where);
+
+// One warning line naming the place and the feature (io::Error with
+// LoadOptions::strict); each distinct line once per map.
+void warn(Emitter& out, const std::string& line);
+void note(Emitter& out, const std::string& line);
 
 // Walks the layers under `parent` (groups recursively, at most
 // limits::kMaxNestingDepth deep) in Tiled's drawing order and appends

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <cstdio>
 #include <numbers>
 
 #include "io/tiled_internal.h"
@@ -81,7 +82,8 @@ Affine place_in_box(double w, double h, double x, double y, double bw, double bh
 
 double clamp01(double v) { return v < 0 ? 0 : v > 1 ? 1 : v; }
 
-// Tiled colours: "#AARRGGBB" or "#RRGGBB" (the '#' optional).
+} // namespace
+
 std::array<double, 4> parse_color(const std::string& text, const std::string& where) {
     std::string_view hex = text;
     if (!hex.empty() && hex[0] == '#') hex.remove_prefix(1);
@@ -96,6 +98,39 @@ std::array<double, 4> parse_color(const std::string& text, const std::string& wh
     return {double((v >> 16) & 255) / 255.0, double((v >> 8) & 255) / 255.0, double(v & 255) / 255.0, a};
 }
 
+void warn(Emitter& out, const std::string& line) {
+    if (out.options && out.options->strict) throw Error(line + " (--strict)");
+    if (!out.warned.insert(line).second) return;
+    if (out.options && out.options->warning) out.options->warning(line);
+}
+
+int animation_of(Emitter& out, const Tileset& tileset, std::uint32_t local, const std::string& where) {
+    auto it = tileset.animations.find(local);
+    if (it == tileset.animations.end()) return -1;
+    auto [slot, fresh] = out.animation_index.try_emplace({&tileset, local}, -1);
+    if (!fresh) return slot->second;
+    const auto& frames = it->second;
+    Animation animation;
+    for (const auto& [tile, duration] : frames) {
+        if (tile.rect.w != frames.front().first.rect.w || tile.rect.h != frames.front().first.rect.h) {
+            warn(out, where + ": animated tile " + std::to_string(local) + " of tileset '" + tileset.name +
+                          "' has frames of different sizes: drawn at its first frame, not animated");
+            return -1;
+        }
+        animation.frames.push_back({tile.image, tile.rect, duration});
+    }
+    slot->second = int(out.scene.animations.size());
+    out.scene.animations.push_back(std::move(animation));
+    return slot->second;
+}
+
+void note(Emitter& out, const std::string& line) {
+    if (!out.warned.insert(line).second) return;
+    if (out.options && out.options->note) out.options->note(line);
+}
+
+namespace {
+
 // Offsets, opacity and tint of `layer` on top of its parents'.
 LayerState child_state(pugi::xml_node layer, const LayerState& parent, const std::string& where) {
     LayerState s = parent;
@@ -105,6 +140,11 @@ LayerState child_state(pugi::xml_node layer, const LayerState& parent, const std
     if (!(std::fabs(s.offset_x) <= limits::kMaxCoordinate && std::fabs(s.offset_y) <= limits::kMaxCoordinate) || !std::isfinite(opacity))
         throw Error(where + ": offset or opacity is not a finite number within +-1e9 (kMaxCoordinate)");
     s.opacity *= clamp01(opacity);
+    double px = layer.attribute("parallaxx").as_double(1), py = layer.attribute("parallaxy").as_double(1);
+    if (!(std::fabs(px) <= limits::kMaxCoordinate && std::fabs(py) <= limits::kMaxCoordinate))
+        throw Error(where + ": parallaxx / parallaxy is not a finite number within +-1e9 (kMaxCoordinate)");
+    s.parallax_x *= px;
+    s.parallax_y *= py;
     if (pugi::xml_attribute tint = layer.attribute("tintcolor")) {
         auto c = parse_color(tint.as_string(), where);
         for (int i = 0; i < 4; ++i) s.tint[std::size_t(i)] *= c[std::size_t(i)];
@@ -141,6 +181,14 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
     const Rect& r = ref.tile.rect;
     double bw = ref.tileset->render_grid_size ? m.tile_width : r.w;
     double bh = ref.tileset->render_grid_size ? m.tile_height : r.h;
+    double fit_x = 0, fit_y = 0; // preserve-aspect-fit: the scaled tile centred in the cell
+    if (ref.tileset->preserve_aspect) {
+        const double scale = std::min(bw / r.w, bh / r.h);
+        fit_x = (bw - r.w * scale) / 2;
+        fit_y = (bh - r.h * scale) / 2;
+        bw = r.w * scale;
+        bh = r.h * scale;
+    }
     // The cell's bottom-left corner on screen.
     double x, y;
     if (m.orientation == Orientation::orthogonal) {
@@ -155,8 +203,8 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
         x = double(col - row) * m.tile_width / 2 + origin_x - m.tile_width / 2.0;
         y = double(col + row) * m.tile_height / 2 + m.tile_height;
     }
-    x += s.offset_x + ref.tileset->offset_x * bw / r.w;
-    y += s.offset_y + ref.tileset->offset_y * bh / r.h;
+    x += s.offset_x + ref.tileset->offset_x * bw / r.w + fit_x;
+    y += s.offset_y + ref.tileset->offset_y * bh / r.h - fit_y;
     Element e;
     e.image = ref.tile.image;
     e.rect = r;
@@ -172,6 +220,7 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
         e.transform = place_in_box(r.w, r.h, x, y - bh, bw, bh, flags, true);
     }
     e.color = color;
+    e.animation = animation_of(out, *ref.tileset, (raw & kGidMask) - ref.tileset->firstgid, where);
     push(out, e, where);
 }
 
@@ -256,6 +305,7 @@ void emit_object(Emitter& out, const TileObject& o, const LayerState& s, const s
     e.transform = place_in_box(r.w, r.h, bx, by, w, h, o.gid & ~kGidMask, false);
     if (o.rotation != 0) e.transform = compose(rotation_about(o.rotation, px, py), e.transform);
     e.color = color;
+    e.animation = animation_of(out, *ref.tileset, (o.gid & kGidMask) - ref.tileset->firstgid, o.where);
     push(out, e, o.where);
 }
 
@@ -274,8 +324,12 @@ void load_template(const std::string& source, const Emitter& out, const std::str
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw Error(where + ": template '" + source + "' not found (" + path + ")");
     std::string text = read_maybe_gzipped(path);
-    pugi::xml_parse_result ok = t.doc.load_buffer(text.data(), text.size());
-    if (!ok) throw Error(path + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+    if (looks_like_json(text)) {
+        json_template_to_xml(text, path, t.doc);
+    } else {
+        pugi::xml_parse_result ok = t.doc.load_buffer(text.data(), text.size());
+        if (!ok) throw Error(path + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+    }
     t.object = t.doc.child("template").child("object");
     if (!t.object) throw Error(path + ": no <template><object> element");
     std::uint32_t raw = t.object.attribute("gid").as_uint(0);
@@ -315,7 +369,12 @@ void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, 
         TileObject o;
         o.where = here;
         o.gid = node.attribute("gid") ? node.attribute("gid").as_uint(0) : template_gid;
-        if ((o.gid & kGidMask) == 0) continue; // shapes, points, text: not images
+        if ((o.gid & kGidMask) == 0) {
+            // Shapes and points are editor geometry engines do not draw as
+            // images; text is drawn by Tiled, not by us.
+            if (node.child("text") || base.child("text")) warn(out, where + ": text objects are not drawn");
+            continue;
+        }
         if (o.gid & kRotateHex120) throw Error(here + ": the hexagonal 120-degree rotation flag is not supported");
         TileRef ref = find_tile(out.tilesets, o.gid & kGidMask, here);
         o.x = node.attribute("x").as_double(0);
@@ -340,16 +399,38 @@ void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, 
 void emit_image_layer(pugi::xml_node layer, const LayerState& s, Emitter& out, const std::string& where) {
     pugi::xml_node image = layer.child("image");
     if (!image || !image.attribute("source") || !*image.attribute("source").as_string()) return; // Tiled allows an empty image layer
-    if (layer.attribute("repeatx").as_int(0) || layer.attribute("repeaty").as_int(0))
-        throw Error(where + ": repeating image layers are not supported");
     std::string dir = std::filesystem::path(out.info.where).parent_path().string();
     int index = out.images.add(dir, image.attribute("source").as_string(), image.attribute("trans").as_string(), where);
-    Element e;
-    e.image = index;
-    e.rect = {0, 0, out.images.width(index), out.images.height(index)};
-    e.transform = {1, 0, 0, 1, s.offset_x, s.offset_y};
-    e.color = element_color(s);
-    push(out, e, where);
+    const int w = out.images.width(index), h = out.images.height(index);
+    bool repeat_x = layer.attribute("repeatx").as_int(0) != 0, repeat_y = layer.attribute("repeaty").as_int(0) != 0;
+    if ((repeat_x || repeat_y) && !out.cull) {
+        warn(out, where + ": repeating image layer drawn once (an infinite map needs --viewport to repeat it)");
+        repeat_x = repeat_y = false;
+    }
+    // A repeating layer is the image tiled without end along the axis, as
+    // Tiled draws it: the copies that meet the camera, in raster order.
+    auto span = [](bool repeat, double origin, int side, double view0, int view_side, long long* k0, long long* k1) {
+        if (!repeat) {
+            *k0 = *k1 = 0;
+            return;
+        }
+        *k0 = (long long)std::floor((view0 - origin) / side);
+        *k1 = (long long)std::ceil((view0 + view_side - origin) / side) - 1;
+    };
+    long long x0, x1, y0, y1;
+    span(repeat_x, s.offset_x, w, out.cull ? out.cull->x : 0, out.cull ? out.cull->width : 0, &x0, &x1);
+    span(repeat_y, s.offset_y, h, out.cull ? out.cull->y : 0, out.cull ? out.cull->height : 0, &y0, &y1);
+    if ((x1 - x0 + 1) * (y1 - y0 + 1) > kMaxElements)
+        throw Error(where + ": the repeated image needs more than " + std::to_string(kMaxElements) + " elements (kMaxMapElements)");
+    for (long long ky = y0; ky <= y1; ++ky)
+        for (long long kx = x0; kx <= x1; ++kx) {
+            Element e;
+            e.image = index;
+            e.rect = {0, 0, w, h};
+            e.transform = {1, 0, 0, 1, s.offset_x + double(kx) * w, s.offset_y + double(ky) * h};
+            e.color = element_color(s);
+            push(out, e, where);
+        }
 }
 
 } // namespace
@@ -394,10 +475,31 @@ void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out, i
         if (!visible(layer)) continue;
         LayerState s = child_state(layer, state, where);
         if (s.opacity == 0) continue; // draws nothing
+        // Tiled 1.11's layer blend modes: drawn as normal (alpha) blending.
+        if (std::string mode = layer.attribute("mode").as_string("normal"); mode != "normal")
+            warn(out, where + ": layer blend mode '" + mode + "' is drawn as normal");
+        if (kind == "group") {
+            emit_layers(layer, s, out, depth + 1);
+            continue;
+        }
+        if (s.parallax_x != 1 || s.parallax_y != 1) {
+            // Tiled's MapScene::parallaxOffset: a layer moves by (1 - factor)
+            // times the camera centre's distance from the parallax origin.
+            if (!out.cull) {
+                warn(out, where + ": parallax factor ignored (an infinite map needs --viewport to place it)");
+            } else {
+                double cx = out.cull->x + out.cull->width / 2.0, cy = out.cull->y + out.cull->height / 2.0;
+                s.offset_x += (1 - s.parallax_x) * (cx - out.info.parallax_origin_x);
+                s.offset_y += (1 - s.parallax_y) * (cy - out.info.parallax_origin_y);
+                char text[160];
+                std::snprintf(text, sizeof text, ": parallax layer placed for the camera centred at %g,%g: meshes are valid for this camera only",
+                              cx, cy);
+                note(out, where + text);
+            }
+        }
         if (kind == "layer") emit_tile_layer(layer, s, out, where);
         else if (kind == "objectgroup") emit_object_group(layer, s, out, where);
-        else if (kind == "imagelayer") emit_image_layer(layer, s, out, where);
-        else emit_layers(layer, s, out, depth + 1);
+        else emit_image_layer(layer, s, out, where);
     }
 }
 

@@ -60,6 +60,10 @@ tiled::MapInfo read_map_info(pugi::xml_node map, const std::string& path) {
     else if (order == "left-up") info.render_order = tiled::RenderOrder::left_up;
     else throw Error(path + ": unknown renderorder '" + order + "'");
     info.infinite = map.attribute("infinite").as_int(0) != 0;
+    info.parallax_origin_x = map.attribute("parallaxoriginx").as_double(0);
+    info.parallax_origin_y = map.attribute("parallaxoriginy").as_double(0);
+    if (!(std::fabs(info.parallax_origin_x) <= limits::kMaxCoordinate && std::fabs(info.parallax_origin_y) <= limits::kMaxCoordinate))
+        throw Error(path + ": parallaxoriginx / parallaxoriginy is not a finite number within +-1e9 (kMaxCoordinate)");
     info.tile_width = positive_attr(map, "tilewidth", path, kMaxImageSide);
     info.tile_height = positive_attr(map, "tileheight", path, kMaxImageSide);
     if (info.infinite) {
@@ -100,7 +104,11 @@ bool default_viewport(const tiled::MapInfo& info, Viewport* v) {
             h = last.y + th;
         }
     }
-    *v = {0, 0, int(std::min<double>(w, kDefaultViewportMax)), int(std::min<double>(h, kDefaultViewportMax))};
+    // At least 1 texel a side: hexagonal maps round the tile size down to
+    // even, so 1-texel-high tiles make a 0-high map (a viewport no scene
+    // may have).
+    auto side = [](double extent) { return int(std::clamp(extent, 1.0, double(kDefaultViewportMax))); };
+    *v = {0, 0, side(w), side(h)};
     return true;
 }
 
@@ -118,12 +126,16 @@ Viewport drawn_extent(const Scene& scene) {
 
 } // namespace
 
-Scene load_tiled_map(const std::string& path, const LoadOptions& options) {
-    std::string text = tiled::read_maybe_gzipped(path);
+Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options) {
+    std::string text = tiled::maybe_gunzip(bytes, path);
     if (text.size() > tiled::kMaxXmlBytes) throw Error(path + ": map is larger than 256 MiB (kMaxXmlBytes)");
     pugi::xml_document doc;
-    pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
-    if (!ok) throw Error(path + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+    if (tiled::looks_like_json(text)) {
+        tiled::json_map_to_xml(text, path, doc);
+    } else {
+        pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
+        if (!ok) throw Error(path + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+    }
     pugi::xml_node map = doc.child("map");
     if (!map) throw Error(path + ": no <map> element (not a Tiled map)");
     tiled::MapInfo info = read_map_info(map, path);
@@ -138,6 +150,7 @@ Scene load_tiled_map(const std::string& path, const LoadOptions& options) {
     if (options.has_viewport) viewport = options.viewport;
     else known = default_viewport(info, &viewport);
     tiled::Emitter out{info, tilesets, images, known ? &viewport : nullptr, scene};
+    out.options = &options;
     tiled::emit_layers(map, tiled::LayerState{}, out);
     scene.viewport = known ? viewport : drawn_extent(scene);
     if (!known) {
@@ -146,6 +159,21 @@ Scene load_tiled_map(const std::string& path, const LoadOptions& options) {
             Box b = tiled::element_bounds(e);
             return b.x1 <= v.x || b.y1 <= v.y || b.x0 >= v.x + v.width || b.y0 >= v.y + v.height;
         });
+    }
+    // The map's background colour: what Tiled clears to, drawn first as an
+    // opaque element covering the camera (its alpha, when not 255, is the
+    // element's colour alpha).
+    if (pugi::xml_attribute bg = map.attribute("backgroundcolor"); bg && *bg.as_string()) {
+        auto c = tiled::parse_color(bg.as_string(), path + ": backgroundcolor");
+        auto byte = [](double v) { return std::uint32_t(std::lround(v * 255)); };
+        int index = images.add_fill(byte(c[0]) << 16 | byte(c[1]) << 8 | byte(c[2]));
+        Element e;
+        e.image = index;
+        e.rect = {0, 0, kFillImageSide, kFillImageSide};
+        const Viewport& v = scene.viewport;
+        e.transform = {double(v.width) / kFillImageSide, 0, 0, double(v.height) / kFillImageSide, v.x, v.y};
+        e.color = {1, 1, 1, float(c[3])};
+        if (c[3] > 0) scene.elements.insert(scene.elements.begin(), e);
     }
     // Images no element uses stay listed: the scene names every tileset image
     // so that ids do not depend on the viewport.

@@ -1,7 +1,8 @@
 // Tiled tilesets: inline and external (.tsx, also gzipped), image tilesets
 // cut into tiles by tile size, margin and spacing, image-collection
 // tilesets, animations (drawn at their first frame, as Tiled shows a map at
-// time zero), and the trans colour key.
+// time zero, and recorded as Scene::animations so every frame is analyzed
+// and an engine can animate the meshes), and the trans colour key.
 //
 // The trans key: Tiled makes texels of the key colour transparent when it
 // loads the image; the PNG on disk does not say so. The key travels on the
@@ -95,8 +96,10 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
     std::string render_size = node.attribute("tilerendersize").as_string("tile");
     std::string fill = node.attribute("fillmode").as_string("stretch");
     if (render_size != "tile" && render_size != "grid") throw Error(where + ": unknown tilerendersize '" + render_size + "'");
-    if (render_size == "grid" && fill != "stretch") throw Error(where + ": fillmode '" + fill + "' is not supported (only stretch)");
+    if (fill != "stretch" && fill != "preserve-aspect-fit")
+        throw Error(where + ": fillmode '" + fill + "' is not supported (only stretch and preserve-aspect-fit)");
     ts.render_grid_size = render_size == "grid";
+    ts.preserve_aspect = ts.render_grid_size && fill == "preserve-aspect-fit";
     if (pugi::xml_node offset = node.child("tileoffset")) {
         ts.offset_x = offset.attribute("x").as_double(0);
         ts.offset_y = offset.attribute("y").as_double(0);
@@ -130,18 +133,27 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
     }
     // Animations: the first frame is what Tiled shows at time zero (looked
     // up among the still tiles, before any animation is resolved).
-    std::vector<std::pair<std::uint32_t, Tile>> animated;
+    std::vector<std::pair<std::uint32_t, std::vector<std::pair<Tile, int>>>> animated;
     for (pugi::xml_node tile : node.children("tile")) {
-        pugi::xml_node frame = tile.child("animation").child("frame");
-        if (!frame) continue;
+        if (!tile.child("animation").child("frame")) continue;
         std::string here = where + ": tile " + tile.attribute("id").as_string() + ": animation";
         int id = int_attr(tile, "id", -1, here);
-        int first = int_attr(frame, "tileid", -1, here);
-        Tile still = first < 0 ? Tile{} : ts.tile(std::uint32_t(first));
-        if (still.image < 0) throw Error(here + ": frame names no tile (" + std::to_string(first) + ")");
-        animated.emplace_back(std::uint32_t(id), still);
+        std::vector<std::pair<Tile, int>> frames;
+        for (pugi::xml_node frame : tile.child("animation").children("frame")) {
+            if (frames.size() >= 65536) throw Error(here + ": more than 65536 frames");
+            int tile_id = int_attr(frame, "tileid", -1, here);
+            Tile still = tile_id < 0 ? Tile{} : ts.tile(std::uint32_t(tile_id));
+            if (still.image < 0) throw Error(here + ": frame names no tile (" + std::to_string(tile_id) + ")");
+            int duration = int_attr(frame, "duration", 0, here);
+            if (duration < 0) throw Error(here + ": negative frame duration");
+            frames.emplace_back(still, duration);
+        }
+        animated.emplace_back(std::uint32_t(id), std::move(frames));
     }
-    for (const auto& [id, still] : animated) ts.named[id] = still;
+    for (auto& [id, frames] : animated) {
+        ts.named[id] = frames.front().first;
+        ts.animations[id] = std::move(frames);
+    }
     return ts;
 }
 
@@ -160,7 +172,7 @@ int ImageTable::add(const std::string& base_dir, const std::string& source, cons
         image.has_trans = true;
         image.trans = parse_colour_key(trans, where);
     }
-    png_size(path, &image.width, &image.height);
+    image_size(path, &image.width, &image.height);
     // Ids: the file stem, numbered when two files share a stem.
     std::string stem = resolved.stem().string();
     if (stem.empty()) stem = "image";
@@ -174,12 +186,44 @@ int ImageTable::add(const std::string& base_dir, const std::string& source, cons
     return index;
 }
 
+int ImageTable::add_fill(std::uint32_t rgb) {
+    std::string key = "\nfill " + colour_key_text(rgb);
+    if (auto it = by_key_.find(key); it != by_key_.end()) return it->second;
+    SceneImage image;
+    image.has_fill = true;
+    image.fill = rgb;
+    image.width = image.height = kFillImageSide;
+    image.id = "background";
+    for (int n = 2; ids_.count(image.id); ++n) image.id = "background-" + std::to_string(n);
+    ids_.insert(image.id);
+    images_.push_back(std::move(image));
+    by_key_.emplace(key, int(images_.size()) - 1);
+    return int(images_.size()) - 1;
+}
+
 std::string resolve_tsx(const std::string& base_dir, const std::string& source) {
     std::string tsx = (fs::path(base_dir) / source).lexically_normal().string();
     // Debian (dh_compress) gzips example tilesets but not the files naming them.
     std::error_code ec;
     if (!fs::exists(tsx, ec) && fs::exists(tsx + ".gz", ec)) tsx += ".gz";
     return tsx;
+}
+
+Tileset tileset_from_bytes(std::string_view bytes, const std::string& tsx, std::uint32_t firstgid, ImageTable& images) {
+    std::string text = maybe_gunzip(bytes, tsx);
+    pugi::xml_document doc;
+    if (looks_like_json(text)) {
+        json_tileset_to_xml(text, tsx, doc); // .tsj, or .json by content
+    } else {
+        pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
+        if (!ok) throw Error(tsx + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
+    }
+    pugi::xml_node root = doc.child("tileset");
+    if (!root) throw Error(tsx + ": no <tileset> element");
+    std::string here = tsx + (root.attribute("name") ? ": tileset '" + std::string(root.attribute("name").as_string()) + "'" : "");
+    Tileset ts = parse_tileset(root, firstgid, tsx, here, images);
+    ts.source = tsx;
+    return ts;
 }
 
 std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images) {
@@ -193,15 +237,7 @@ std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_pa
         if (firstgid < 1 || firstgid > kGidMask) throw Error(where + ": firstgid missing or out of range");
         if (pugi::xml_attribute source = node.attribute("source")) {
             std::string tsx = resolve_tsx(dir_of(map_path), source.as_string());
-            pugi::xml_document doc;
-            std::string text = read_maybe_gzipped(tsx);
-            pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
-            if (!ok) throw Error(tsx + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
-            pugi::xml_node root = doc.child("tileset");
-            if (!root) throw Error(tsx + ": no <tileset> element");
-            std::string here = tsx + (root.attribute("name") ? ": tileset '" + std::string(root.attribute("name").as_string()) + "'" : "");
-            tilesets.push_back(parse_tileset(root, std::uint32_t(firstgid), tsx, here, images));
-            tilesets.back().source = tsx;
+            tilesets.push_back(tileset_from_bytes(read_file(tsx), tsx, std::uint32_t(firstgid), images));
         } else {
             tilesets.push_back(parse_tileset(node, std::uint32_t(firstgid), map_path, where, images));
         }

@@ -81,7 +81,6 @@ struct StoredQuad {
 // every quad is popped once per step.
 using Key = std::uint64_t;
 inline Key make_key(i64 bound, int index) { return Key(bound) << 32 | Key(~std::uint32_t(index)); }
-inline i64 key_bound(Key k) { return i64(k >> 32); }
 inline int key_index(Key k) { return int(~std::uint32_t(k)); }
 
 // A 4-ary max-heap of keys with an in-place update of the top: the lazy

@@ -1,6 +1,7 @@
-// pipeline::atlas_with_polygons: a TexturePacker atlas loaded, every frame
-// analyzed (through the cache, on threads), the polygons written by
-// io::atlas_polygons_json. Frames in parallel, results by index: the text
+// pipeline::atlas_with_polygons: an atlas loaded (any io::load_texturepacker
+// form), every frame analyzed on its page (through the cache, on threads),
+// the polygons written by io::atlas_polygons_json or, for a plist,
+// io::atlas_polygons_plist. Frames in parallel, results by index: the text
 // is the same for any thread count.
 #include <atomic>
 
@@ -17,25 +18,37 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
     AtlasAnalysis& result = analysis_out ? *analysis_out : local;
     result.atlas = io::load_texturepacker(path); // validates every frame
     const io::Atlas& atlas = result.atlas;
-    result.page = io::load_png(atlas.image_path);
-    const Image& page = result.page;
-    if (atlas.width > 0 && (atlas.width != page.width || atlas.height != page.height))
-        throw io::Error(path + ": meta.size " + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) + " differs from " +
-                        atlas.image_path + " (" + std::to_string(page.width) + "x" + std::to_string(page.height) + ")");
+    const bool plist = options.plist || atlas.form == io::AtlasForm::cocos2d_plist;
+    // Refused before any frame is analyzed.
+    if (plist && atlas.pages.size() > 1)
+        throw io::Error(path + ": a cocos2d-x plist holds one page; this multipack has " + std::to_string(atlas.pages.size()) +
+                        " (write JSON, or one plist per page)");
+    result.pages.clear();
+    for (const io::AtlasPage& p : atlas.pages) {
+        result.pages.push_back(io::load_image(p.image_path));
+        const Image& page = result.pages.back();
+        if (p.width > 0 && (p.width != page.width || p.height != page.height))
+            throw io::Error(path + ": page size " + std::to_string(p.width) + "x" + std::to_string(p.height) + " differs from " +
+                            p.image_path + " (" + std::to_string(page.width) + "x" + std::to_string(page.height) + ")");
+    }
+    result.page = result.pages.front();
     for (const io::AtlasFrame& frame : atlas.frames)
-        if (!page.view().contains(frame.frame))
-            throw io::Error(path + ": frame '" + frame.name + "': texels lie outside the page " + atlas.image_path);
+        if (!result.pages[std::size_t(frame.page)].view().contains(frame.frame))
+            throw io::Error(path + ": frame '" + frame.name + "': texels lie outside the page " +
+                            atlas.pages[std::size_t(frame.page)].image_path);
     result.frames.assign(atlas.frames.size(), {});
     std::vector<std::uint8_t> hit(atlas.frames.size(), 0);
     std::atomic<std::size_t> done{0};
     parallel_for(atlas.frames.size(), options.threads, [&](std::size_t i) {
         bool from_cache = false;
-        result.frames[i] = analyze_cached(page.view(), atlas.frames[i].frame, options.analyze, options.cache_dir, &from_cache);
+        result.frames[i] = analyze_cached(result.pages[std::size_t(atlas.frames[i].page)].view(), atlas.frames[i].frame, options.analyze,
+                                          options.cache_dir, &from_cache);
         hit[i] = from_cache;
         if (options.progress) options.progress(++done, atlas.frames.size());
     });
     result.cache_hits = 0;
     for (std::uint8_t h : hit) result.cache_hits += h;
+    if (plist) return io::atlas_polygons_plist(path, atlas, result.page.view(), result.frames, options.analyze.filter, stats);
     return io::atlas_polygons_json(path, atlas, result.frames, stats);
 }
 

@@ -95,7 +95,9 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     std::vector<std::size_t> to_decode;
     for (std::size_t i = 0; i < scene.images.size(); ++i) {
         const SceneImage& img = scene.images[i];
-        auto [it, fresh] = first_with_path.emplace(img.path + (img.has_trans ? "\n" + io::colour_key_text(img.trans) : std::string()), i);
+        auto [it, fresh] = first_with_path.emplace(img.has_fill ? "\nfill " + io::colour_key_text(img.fill)
+                                                                : img.path + (img.has_trans ? "\n" + io::colour_key_text(img.trans) : std::string()),
+                                                   i);
         canon[i] = it->second;
         if (fresh) to_decode.push_back(i);
     }
@@ -113,14 +115,20 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
         if (canon[i] != i) out.images[i] = out.images[canon[i]];
 
     // Distinct (file, rect) in order of first use: deterministic indices.
+    // An animated element's analysis is its animation's (all frames).
     std::map<std::tuple<std::size_t, int, int, int, int>, std::size_t> distinct;
     std::vector<std::size_t> element_slot(scene.elements.size());
     std::vector<std::pair<std::size_t, Rect>> work;
+    std::vector<int> work_animation;
     for (std::size_t i = 0; i < scene.elements.size(); ++i) {
         const Element& e = scene.elements[i];
         std::size_t file = canon[std::size_t(e.image)];
-        auto [it, fresh] = distinct.emplace(std::make_tuple(file, e.rect.x, e.rect.y, e.rect.w, e.rect.h), work.size());
-        if (fresh) work.push_back({file, e.rect});
+        auto key = e.animation >= 0 ? std::make_tuple(SIZE_MAX, e.animation, 0, 0, 0) : std::make_tuple(file, e.rect.x, e.rect.y, e.rect.w, e.rect.h);
+        auto [it, fresh] = distinct.emplace(key, work.size());
+        if (fresh) {
+            work.push_back({file, e.rect});
+            work_animation.push_back(e.animation);
+        }
         element_slot[i] = it->second;
     }
     std::vector<ImageAnalysis>& analyses = out.analysis.images;
@@ -129,7 +137,10 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     std::atomic<std::size_t> done{0};
     parallel_for(work.size(), options.threads, [&](std::size_t k) {
         bool from_cache = false;
-        analyses[k] = analyze_cached(out.images[work[k].first].view(), work[k].second, analyze, options.cache_dir, &from_cache);
+        if (work_animation[k] >= 0)
+            analyses[k] = analyze_animation(out.images, scene.animations[std::size_t(work_animation[k])], analyze, options.cache_dir, &from_cache);
+        else
+            analyses[k] = analyze_cached(out.images[work[k].first].view(), work[k].second, analyze, options.cache_dir, &from_cache);
         hit[k] = from_cache;
         if (options.progress) options.progress(++done, work.size());
     });

@@ -188,7 +188,9 @@ std::string report_html(const RunReport& run) {
              " elements, " + integer(std::int64_t(r.images)) + " distinct images / tiles; covered " + fmt("%.1f", 100 * r.covered) +
              "% of the viewport" + (r.analysis.empty() ? "" : "; " + html_escape(r.analysis)) + "</p>\n";
         h += "<table class=\"table2\"><tr><th>mode</th><th>draw calls</th><th>triangles</th><th>overdraw</th><th>ideal overdraw</th>"
-             "<th>overdraw / ideal</th><th>ms per frame (wall)</th><th>ms per frame (CPU)</th><th>pixels differing from overpaint</th></tr>\n";
+             "<th>overdraw / ideal</th><th>ms per frame (wall)</th><th>ms per frame (CPU)</th>" +
+             (r.target.empty() ? std::string() : "<th>predicted ms (--target " + html_escape(r.target) + ")</th>") +
+             "<th>pixels differing from overpaint</th></tr>\n";
         const char* names[] = {"overpaint", "meshes", "optimized"};
         const char* labels[] = {"overpaint", "meshes only", "optimized"};
         for (const ModeRow& m : r.rows) {
@@ -200,6 +202,7 @@ std::string report_html(const RunReport& run) {
                  fmt("%.3f", r.ideal_overdraw) + "</td><td class=\"n\">" +
                  (r.ideal_overdraw > 0 ? fmt("%.2f", m.overdraw / r.ideal_overdraw) : "-") + "</td><td class=\"n\">" +
                  (m.ms >= 0 ? fmt("%.3f", m.ms) : "-") + "</td><td class=\"n\">" + (m.cpu_ms >= 0 ? fmt("%.3f", m.cpu_ms) : "-") +
+                 (r.target.empty() ? std::string() : "</td><td class=\"n\">" + (m.predicted_ms >= 0 ? fmt("%.3f", m.predicted_ms) : "-")) +
                  "</td><td class=\"n\">" + (m.pixels_differ >= 0 ? integer(m.pixels_differ) : "-") + "</td></tr>\n";
         }
         h += "</table>\n";

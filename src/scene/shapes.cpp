@@ -19,6 +19,7 @@
 #include <map>
 
 #include "scene/internal.h"
+#include "scene/placement.h"
 
 namespace depthcull::detail {
 
@@ -36,21 +37,11 @@ Polygon rect_polygon(const Rect& r) {
     return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
 }
 
-namespace {
-
-bool inside_rect(const std::vector<Polygon>& polygons, const Rect& r) {
-    for (const Polygon& p : polygons)
-        for (const Vec2& v : p)
-            if (v.x < r.x || v.y < r.y || v.x > double(r.x) + r.w || v.y > double(r.y) + r.h) return false;
-    return true;
-}
-
-bool is_integer(double v) { return std::floor(v) == v; }
-
 // True when the element's rect lands on whole screen pixels along the
 // axes (flips and quarter turns allowed): then no pixel centre lies on the
 // rect's edge, so every pixel the rect covers samples a texel inside it.
 bool pixel_aligned(const Scene& scene, const Element& e) {
+    auto is_integer = [](double v) { return std::floor(v) == v; };
     const auto& m = e.transform;
     bool axis_aligned = (m[1] == 0 && m[2] == 0) || (m[0] == 0 && m[3] == 0);
     if (!axis_aligned || !is_integer(scene.viewport.x) || !is_integer(scene.viewport.y)) return false;
@@ -58,6 +49,15 @@ bool pixel_aligned(const Scene& scene, const Element& e) {
         Vec2 p = apply(m, c);
         if (!is_integer(p.x) || !is_integer(p.y)) return false;
     }
+    return true;
+}
+
+namespace {
+
+bool inside_rect(const std::vector<Polygon>& polygons, const Rect& r) {
+    for (const Polygon& p : polygons)
+        for (const Vec2& v : p)
+            if (v.x < r.x || v.y < r.y || v.x > double(r.x) + r.w || v.y > double(r.y) + r.h) return false;
     return true;
 }
 

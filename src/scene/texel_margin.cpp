@@ -29,6 +29,7 @@
 #include <cmath>
 
 #include "scene/internal.h"
+#include "scene/placement.h"
 
 namespace depthcull::detail {
 
@@ -92,6 +93,8 @@ Vec2 outward_normal(const Polygon& p, std::size_t i) {
     return len > 0 ? Vec2{d.y / len, -d.x / len} : Vec2{0, 0};
 }
 
+} // namespace
+
 // True when GL rasterizes the element's polygons without snapping error:
 // a transform of power-of-two scales (1/8 .. 8) and quarter turns or
 // flips, moved by a multiple of 1/256 pixel. Polygon vertices (on the half
@@ -111,8 +114,6 @@ bool snaps_exactly(const std::array<double, 6>& m) {
     return axis_aligned && power_of_two_or_zero(m[0]) && power_of_two_or_zero(m[1]) && power_of_two_or_zero(m[2]) &&
            power_of_two_or_zero(m[3]) && on_subpixel_grid(m[4]) && on_subpixel_grid(m[5]);
 }
-
-} // namespace
 
 void MeshBuilder::add_convex_piece(Draw& d, std::uint32_t element, const Polygon& piece, float z) {
     const Polygon p = clip_to_rect(piece, scene_.elements[element].rect);

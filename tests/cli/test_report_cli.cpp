@@ -70,6 +70,26 @@ TEST(ReportCli, WritesOneSelfContainedPage) {
     EXPECT_EQ(q.err, "");
 }
 
+// A new user's first command: the game's sprite folder, no scene yet. The
+// folder is laid out as a contact sheet (io::load_sprite_folder) and
+// reported like any scene: Table 2, frames, heatmaps, a row per sprite.
+TEST(ReportCli, ASpriteFolderIsReportedAsAContactSheet) {
+    fs::path dir = scratch("folder");
+    auto r = run_cli("report " + shq(example("art")) + " -o " + shq(dir / "r.html") + " --frames 0 --warmup 0 --no-cache -q");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string html = slurp(dir / "r.html");
+    EXPECT_EQ(count(html, "<table class=\"table2\">"), 1u);
+    EXPECT_EQ(count(html, "<table class=\"images\">"), 1u);
+    EXPECT_NE(html.find("tree.png"), std::string::npos);
+    // One PNG alone works too; an empty folder is a one-line error.
+    auto one = run_cli("render " + shq(example("art/tree.png")) + " --mode optimized -o " + shq(dir / "tree-frame.png") + " --no-cache");
+    EXPECT_EQ(one.status, 0) << one.err;
+    fs::create_directories(dir / "empty");
+    auto empty = run_cli("optimize " + shq(dir / "empty") + " -o " + shq(dir / "m.json") + " --no-cache");
+    EXPECT_EQ(empty.status, 1);
+    EXPECT_NE(empty.err.find("no PNG images"), std::string::npos) << empty.err;
+}
+
 TEST(ReportCli, BenchWritesTheSameReport) {
     fs::path dir = scratch("bench");
     auto r = run_cli("bench " + shq(example("meadow.json")) + " --frames 1 --warmup 0 --report " + shq(dir / "b.html"));

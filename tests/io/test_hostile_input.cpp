@@ -374,6 +374,8 @@ TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
     corrupt([](ImageAnalysis& a) { a.stats.opaque_texels = -1; });
     corrupt([](ImageAnalysis& a) { a.stats.nontransparent_texels = 1 << 30; }); // more than the rect holds
     corrupt([](ImageAnalysis& a) { a.stats.boundary_area = INFINITY; });
+    corrupt([](ImageAnalysis& a) { a.boundary[0].resize(2); });             // no polygon has fewer than 3 vertices
+    corrupt([](ImageAnalysis& a) { a.opaque.push_back({}); });
 }
 
 TEST(HostileCache, CountsBeyondTheBytesLeftAreRefusedBeforeAllocating) {

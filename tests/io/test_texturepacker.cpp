@@ -150,7 +150,7 @@ TEST(TexturePacker, Errors) {
         {"junk", "{\"frames\": [", "parse error"},
         {"no_frames", "{\"meta\": {\"image\": \"a.png\"}}", "no \"frames\""},
         {"no_image", "{\"frames\": {}}", "meta.image"},
-        {"multipack", "{\"textures\": [{\"image\": \"a.png\", \"frames\": []}]}", "multipack"},
+        {"multipack", "{\"textures\": []}", "\"textures\" must be a non-empty array of pages"},
         {"bad_rect", "{\"frames\": {\"a\": {\"frame\": {\"x\": 0, \"y\": 0, \"w\": -3, \"h\": 2}}}, \"meta\": {\"image\": \"a.png\"}}",
          "frame 'a': frame: \"w\" = -3 is outside"},
         {"outside", "{\"frames\": {\"a\": {\"frame\": {\"x\": 30, \"y\": 0, \"w\": 4, \"h\": 2}}}, \"meta\": {\"image\": \"a.png\", \"size\": {\"w\": 32, \"h\": 32}}}",

@@ -1,0 +1,185 @@
+// Images by content, not by name: PNG (libpng), JPEG (libjpeg-turbo) and
+// WebP (libwebp), all converted to RGBA8. JPEG has no alpha, so its texels
+// are fully opaque (alpha 255), which the opaque-polygon analysis exploits;
+// WebP without an alpha chunk decodes to alpha 255 the same way.
+#include <csetjmp>
+#include <cstddef>
+#include <cstdio>
+
+#include <jpeglib.h> // after <cstdio>: it uses FILE and size_t
+#include <webp/decode.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "depthcull/io.h"
+#include "io/formats.h"
+
+namespace depthcull::io {
+
+namespace {
+
+enum class Format { png, jpeg, webp, unknown };
+
+Format sniff(const unsigned char* b, std::size_t n) {
+    if (n >= 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0) return Format::png;
+    if (n >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff) return Format::jpeg;
+    if (n >= 12 && std::memcmp(b, "RIFF", 4) == 0 && std::memcmp(b + 8, "WEBP", 4) == 0) return Format::webp;
+    return Format::unknown;
+}
+
+std::string size_problem(long long w, long long h) {
+    if (w <= 0 || h <= 0 || w > kMaxImageSide || h > kMaxImageSide || w * h > kMaxImageTexels)
+        return "image size " + std::to_string(w) + "x" + std::to_string(h) + " is outside the supported 1.." +
+               std::to_string(kMaxImageSide) + " per side";
+    return {};
+}
+
+// libjpeg reports errors through error_exit, which must not return: we
+// longjmp back to the caller, whose frame holds no C++ objects needing
+// destruction between setjmp and the jump.
+struct JpegError {
+    jpeg_error_mgr mgr;
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX];
+};
+
+void jpeg_error_exit(j_common_ptr cinfo) {
+    auto* err = reinterpret_cast<JpegError*>(cinfo->err);
+    (*cinfo->err->format_message)(cinfo, err->message);
+    std::longjmp(err->jump, 1);
+}
+
+void jpeg_silent(j_common_ptr, int) {}
+
+// Decodes into `pixels` (resized by the caller after the header through
+// `on_size`); returns false with `err.message` set on a libjpeg error.
+bool jpeg_decode(const unsigned char* data, std::size_t size, bool header_only, int* width, int* height,
+                 std::vector<std::uint8_t>* rgb, JpegError& err, const char** problem) {
+    jpeg_decompress_struct cinfo;
+    cinfo.err = jpeg_std_error(&err.mgr);
+    err.mgr.error_exit = jpeg_error_exit;
+    err.mgr.emit_message = jpeg_silent;
+    if (setjmp(err.jump)) {
+        jpeg_destroy_decompress(&cinfo);
+        return false;
+    }
+    jpeg_create_decompress(&cinfo);
+    jpeg_mem_src(&cinfo, data, static_cast<unsigned long>(size));
+    jpeg_read_header(&cinfo, TRUE);
+    *width = int(cinfo.image_width);
+    *height = int(cinfo.image_height);
+    if (header_only || !size_problem(cinfo.image_width, cinfo.image_height).empty()) {
+        jpeg_destroy_decompress(&cinfo);
+        return true;
+    }
+    cinfo.out_color_space = JCS_EXT_RGBA; // libjpeg-turbo: alpha filled with 255
+    jpeg_start_decompress(&cinfo);
+    if (cinfo.output_components != 4) {
+        *problem = "unexpected JPEG output components";
+        jpeg_destroy_decompress(&cinfo);
+        return false;
+    }
+    std::size_t stride = std::size_t(cinfo.output_width) * 4;
+    if (rgb->size() != stride * cinfo.output_height) {
+        *problem = "JPEG output size changed";
+        jpeg_destroy_decompress(&cinfo);
+        return false;
+    }
+    while (cinfo.output_scanline < cinfo.output_height) {
+        JSAMPROW row = rgb->data() + stride * cinfo.output_scanline;
+        jpeg_read_scanlines(&cinfo, &row, 1);
+    }
+    jpeg_finish_decompress(&cinfo);
+    jpeg_destroy_decompress(&cinfo);
+    return true;
+}
+
+void jpeg_size(const std::string& bytes, const std::string& name, int* w, int* h) {
+    JpegError err{};
+    const char* problem = nullptr;
+    if (!jpeg_decode(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), true, w, h, nullptr, err, &problem))
+        throw Error(name + ": corrupt JPEG (" + std::string(problem ? problem : err.message) + ")");
+}
+
+Image decode_jpeg(const void* data, std::size_t size, const std::string& name) {
+    int w = 0, h = 0;
+    JpegError err{};
+    const char* problem = nullptr;
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    if (!jpeg_decode(bytes, size, true, &w, &h, nullptr, err, &problem))
+        throw Error(name + ": corrupt JPEG (" + std::string(err.message) + ")");
+    if (std::string p = size_problem(w, h); !p.empty()) throw Error(name + ": " + p);
+    Image image;
+    image.width = w;
+    image.height = h;
+    guarded(name, [&] { image.rgba.resize(std::size_t(w) * std::size_t(h) * 4); });
+    if (!jpeg_decode(bytes, size, false, &w, &h, &image.rgba, err, &problem))
+        throw Error(name + ": corrupt JPEG (" + std::string(problem ? problem : err.message) + ")");
+    return image;
+}
+
+void webp_size(const void* data, std::size_t size, const std::string& name, int* w, int* h) {
+    if (!WebPGetInfo(static_cast<const std::uint8_t*>(data), size, w, h)) throw Error(name + ": corrupt WebP (bad header)");
+}
+
+Image decode_webp(const void* data, std::size_t size, const std::string& name) {
+    int w = 0, h = 0;
+    webp_size(data, size, name, &w, &h);
+    if (std::string p = size_problem(w, h); !p.empty()) throw Error(name + ": " + p);
+    Image image;
+    image.width = w;
+    image.height = h;
+    guarded(name, [&] { image.rgba.resize(std::size_t(w) * std::size_t(h) * 4); });
+    if (!WebPDecodeRGBAInto(static_cast<const std::uint8_t*>(data), size, image.rgba.data(), image.rgba.size(), w * 4))
+        throw Error(name + ": corrupt WebP (decoding failed)");
+    return image;
+}
+
+[[noreturn]] void unknown_format(const std::string& name) {
+    throw Error(name + " is not a PNG, JPEG or WebP image");
+}
+
+} // namespace
+
+Image decode_image(const void* data, std::size_t size, const std::string& name) {
+    switch (sniff(static_cast<const unsigned char*>(data), size)) {
+    case Format::png: return decode_png(data, size, name);
+    case Format::jpeg: return decode_jpeg(data, size, name);
+    case Format::webp: return decode_webp(data, size, name);
+    case Format::unknown: break;
+    }
+    unknown_format(name);
+}
+
+Image load_image(const std::string& path) {
+    std::string bytes = read_file(path);
+    return decode_image(bytes.data(), bytes.size(), path);
+}
+
+void image_size(const std::string& path, int* width, int* height) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw Error("cannot open image " + path + " (No such file or directory)");
+    check_input_file(path);
+    unsigned char head[16] = {};
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw Error("cannot open image " + path);
+        in.read(reinterpret_cast<char*>(head), sizeof head);
+        Format f = sniff(head, std::size_t(in.gcount()));
+        if (f == Format::png) return png_size(path, width, height);
+        if (f == Format::unknown) unknown_format(path);
+    }
+    // JPEG and WebP headers: the sizes lie after variable-length segments
+    // (EXIF can precede a JPEG's frame header), so read the file.
+    std::string bytes = read_file(path);
+    int w = 0, h = 0;
+    if (sniff(head, sizeof head) == Format::jpeg) jpeg_size(bytes, path, &w, &h);
+    else webp_size(bytes.data(), bytes.size(), path, &w, &h);
+    if (std::string p = size_problem(w, h); !p.empty()) throw Error(path + ": " + p);
+    *width = w;
+    *height = h;
+}
+
+} // namespace depthcull::io

@@ -1,0 +1,41 @@
+// Animated elements (Element::animation): one analysis for all frames, so
+// the optimized meshes of frame 0 draw every frame correctly once an engine
+// moves the UVs to it. The analysis runs on an image combining the frames'
+// alpha (0 where every frame is transparent, 255 where every frame is
+// opaque, 128 elsewhere): its boundary polygons then hold the union of the
+// frames' non-transparent texels and its opaque polygons only texels
+// opaque in all of them. Polygons are moved onto frame 0's rect.
+#include "depthcull/pipeline.h"
+
+namespace depthcull::pipeline {
+
+ImageAnalysis analyze_animation(const std::vector<Image>& images, const Animation& animation, const AnalyzeOptions& options,
+                                const std::string& cache_dir, bool* hit) {
+    const AnimationFrame& first = animation.frames.front();
+    const int w = first.rect.w, h = first.rect.h;
+    Image combined;
+    combined.width = w;
+    combined.height = h;
+    combined.rgba.assign(std::size_t(w) * std::size_t(h) * 4, 0);
+    std::vector<std::uint8_t> any(std::size_t(w) * std::size_t(h), 0), all(std::size_t(w) * std::size_t(h), 1);
+    for (const AnimationFrame& f : animation.frames) {
+        ImageView view = images[std::size_t(f.image)].view();
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::uint8_t a = view.alpha(f.rect.x + x, f.rect.y + y);
+                const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+                any[i] |= a != 0;
+                all[i] &= a == 255;
+            }
+    }
+    for (std::size_t i = 0; i < any.size(); ++i) combined.rgba[4 * i + 3] = all[i] ? 255 : any[i] ? 128 : 0;
+    ImageAnalysis a = analyze_cached(combined.view(), {0, 0, w, h}, options, cache_dir, hit);
+    const double dx = first.rect.x, dy = first.rect.y;
+    for (auto* polygons : {&a.boundary, &a.opaque})
+        for (Polygon& p : *polygons)
+            for (Vec2& v : p) v = {v.x + dx, v.y + dy};
+    a.rect = first.rect;
+    return a;
+}
+
+} // namespace depthcull::pipeline

@@ -1,0 +1,22 @@
+// Internal to the library (src/scene, and src/cost, which must predict
+// what reconstruction does): how GL will place an element's vertices.
+// Kept apart from scene/internal.h so the cost model sees only these.
+#pragma once
+
+#include <array>
+
+#include "depthcull/scene.h"
+
+namespace depthcull::detail {
+
+// True when GL rasterizes the element's polygons without snapping error
+// (power-of-two scales, quarter turns or flips, moved by a multiple of
+// 1/256 pixel): such elements need no texel skirt (texel_margin.cpp).
+bool snaps_exactly(const std::array<double, 6>& transform);
+
+// True when the element's rect lands on whole screen pixels along the
+// axes: a wholly opaque rect can then be its own opaque polygon
+// (shapes.cpp).
+bool pixel_aligned(const Scene& scene, const Element& e);
+
+} // namespace depthcull::detail

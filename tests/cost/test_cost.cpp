@@ -1,0 +1,263 @@
+// The cost model (issue 14): the Table 2 fit, profiles, features and the
+// --target choice's determinism and guarantees.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "depthcull/cost.h"
+#include "depthcull/target.h"
+
+namespace depthcull {
+namespace {
+
+std::string data(const std::string& name) { return std::string(DEPTHCULL_SOURCE_DIR) + "/tests/data/" + name; }
+
+TEST(Table2Fit, ReproducesThePapersFit) {
+    const std::vector<Table2Row> rows = io::read_table2_tsv(data("paper-table2.tsv"));
+    ASSERT_EQ(rows.size(), 57u); // 19 scenes x 3 modes
+    Table2Fit fit;
+    ASSERT_TRUE(fit_table2(rows, &fit));
+    EXPECT_NEAR(fit.ms, 12.75, 0.01);
+    EXPECT_NEAR(fit.ms_per_draw * 1000, 1.7, 0.01);      // us per draw call
+    EXPECT_NEAR(fit.ms_per_triangle * 1000, 0.08, 0.001); // us per triangle
+    EXPECT_NEAR(fit.ms_per_overdraw, 3.51, 0.01);
+    EXPECT_NEAR(fit.r2, 0.857, 0.002);
+    // The built-in ipad1 profile is this fit.
+    CostProfile ipad;
+    ASSERT_TRUE(builtin_profile("ipad1", &ipad));
+    EXPECT_NEAR(ipad.frame_us, fit.profile.frame_us, 1e-6);
+    EXPECT_NEAR(ipad.draw_call_us, fit.profile.draw_call_us, 1e-9);
+    EXPECT_NEAR(ipad.triangle_us, fit.profile.triangle_us, 1e-9);
+    EXPECT_NEAR(ipad.fragment_blend_ns, fit.profile.fragment_blend_ns, 1e-9);
+    // Predicting a Table 2 row through the features gives the fit's value.
+    FrameFeatures f;
+    f.pixels = 1024 * 768;
+    f.draw_calls = 47;
+    f.triangles = 25404;
+    f.blend_fragments = std::int64_t(3.9 * 1024 * 768);
+    EXPECT_NEAR(predict_ms(ipad, f), fit.ms + 47 * fit.ms_per_draw + 25404 * fit.ms_per_triangle + 3.9 * fit.ms_per_overdraw, 1e-3);
+}
+
+TEST(Profiles, BuiltinsAreCompleteAndRoundTrip) {
+    for (const std::string& name : builtin_profile_names()) {
+        CostProfile p;
+        ASSERT_TRUE(builtin_profile(name, &p)) << name;
+        std::string what;
+        EXPECT_TRUE(profile_is_complete(p, &what)) << name << ": " << what;
+        const CostProfile back = io::profile_from_json(io::profile_to_json(p), name);
+        EXPECT_EQ(io::profile_to_json(back), io::profile_to_json(p));
+        EXPECT_GE(min_opaque_area(p), 1);
+    }
+    CostProfile p;
+    EXPECT_FALSE(builtin_profile("nope", &p));
+}
+
+TEST(Profiles, BadFilesGetOneLineErrors) {
+    auto error_of = [](const std::string& text) {
+        try {
+            io::profile_from_json(text, "p.json");
+        } catch (const io::Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    CostProfile llvm;
+    ASSERT_TRUE(builtin_profile("llvmpipe", &llvm));
+    const std::string good = io::profile_to_json(llvm);
+    EXPECT_EQ(error_of(good), "");
+    EXPECT_NE(error_of("{"), "");
+    EXPECT_EQ(error_of("[]"), "p.json: a profile is a JSON object");
+    std::string missing = good;
+    missing.replace(missing.find("\"triangle_us\""), 13, "\"triangle_xx\"");
+    EXPECT_NE(error_of(missing).find("\"triangle_us\" missing"), std::string::npos);
+    std::string negative = good;
+    negative.insert(negative.find("\"draw_call_us\": ") + 16, "-");
+    EXPECT_NE(error_of(negative).find("draw_call_us"), std::string::npos);
+    for (const std::string& e : {error_of("{"), error_of(missing), error_of(negative)}) EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    EXPECT_THROW(io::resolve_target("nosuchprofile"), io::Error);
+}
+
+TEST(Features, CountsPassesAndRejection) {
+    SceneMeshes m;
+    m.viewport = {0, 0, 10, 10};
+    m.depth_test = true;
+    auto quad = [](Draw& d, float x0, float y0, float x1, float y1, float z) {
+        const auto b = std::uint32_t(d.vertex_count());
+        for (auto [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x1, y1}, std::pair{x0, y1}})
+            d.vertices.insert(d.vertices.end(), {x, y, z, 0, 0, 1, 1, 1, 1});
+        d.indices.insert(d.indices.end(), {b, b + 1, b + 2, b, b + 2, b + 3});
+    };
+    Draw o;
+    o.pass = Pass::opaque;
+    quad(o, 0, 0, 5, 10, 0.5f); // 50 pixels written
+    Draw b;
+    b.pass = Pass::blend;
+    b.image = 1;
+    quad(b, 0, 0, 10, 10, 0.25f); // 50 rejected behind it, 50 shaded
+    m.draws = {o, b};
+    const FrameFeatures f = frame_features(m);
+    EXPECT_EQ(f.pixels, 100);
+    EXPECT_EQ(f.draw_calls, 2);
+    EXPECT_EQ(f.texture_switches, 2);
+    EXPECT_EQ(f.triangles, 4);
+    EXPECT_EQ(f.opaque_fragments, 50);
+    EXPECT_EQ(f.blend_fragments, 50);
+    EXPECT_EQ(f.rejected_fragments, 50);
+    EXPECT_TRUE(f.depth_clear);
+}
+
+TEST(LeastSquares, ExactLine) {
+    std::vector<std::vector<double>> x{{1, 0}, {1, 1}, {1, 2}};
+    std::vector<double> b;
+    double r2 = 0;
+    ASSERT_TRUE(least_squares(x, {1, 3, 5}, &b, &r2));
+    EXPECT_NEAR(b[0], 1, 1e-12);
+    EXPECT_NEAR(b[1], 2, 1e-12);
+    EXPECT_NEAR(r2, 1, 1e-12);
+    EXPECT_FALSE(least_squares({{1, 1}, {1, 1}}, {1, 2}, &b));
+}
+
+} // namespace
+} // namespace depthcull
+
+// ---- Through the command line: calibration, determinism, pixel identity.
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace depthcull {
+namespace {
+
+std::string cli() { return DEPTHCULL_CLI_PATH; }
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string temp(const std::string& name) { return ::testing::TempDir() + "depthcull_cost_" + name; }
+
+TEST(Calibrate, QuickCalibrationWritesACompleteFiniteProfile) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    const std::string out = temp("profile.json");
+    std::remove(out.c_str());
+    const int rc = std::system((cli() + " calibrate --quick -q -o " + out + " 2>" + temp("cal.err")).c_str());
+    if (rc != 0 && slurp(temp("cal.err")).find("no OpenGL") != std::string::npos) GTEST_SKIP() << "no GL here";
+    ASSERT_EQ(rc, 0) << slurp(temp("cal.err"));
+    const CostProfile p = io::load_profile(out); // every term present, finite, >= 0
+    std::string what;
+    EXPECT_TRUE(profile_is_complete(p, &what)) << what;
+    EXPECT_GT(p.fragment_blend_ns, 0);
+    EXPECT_GT(p.triangle_us + p.triangle_perimeter_ns_per_pixel, 0);
+    // And it is usable as a target.
+    const std::string meshes = temp("cal-meshes.json");
+    EXPECT_EQ(std::system((cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --target " + out + " -o " + meshes).c_str()), 0);
+}
+
+TEST(Target, ChoicesAreDeterministicForAProfile) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    for (const char* target : {"llvmpipe", "ipad1"}) {
+        std::string outputs[2];
+        for (int k = 0; k < 2; ++k) {
+            const std::string out = temp(std::string("det-") + target + std::to_string(k) + ".json");
+            const std::string cmd = cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --no-timing -j " +
+                                    std::to_string(k + 1) + " --target " + target + " -o " + out;
+            ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+            outputs[k] = slurp(out);
+        }
+        EXPECT_FALSE(outputs[0].empty());
+        EXPECT_EQ(outputs[0], outputs[1]) << target;
+    }
+}
+
+TEST(Target, PixelIdentityHoldsForEveryTarget) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    for (const char* target : {"llvmpipe", "ipad1"}) {
+        const std::string out = temp(std::string("bench-") + target + ".json");
+        const std::string cmd = cli() + " bench " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --frames 0 --json --target " +
+                                target + " -o " + out + " 2>" + temp("bench.err");
+        const int rc = std::system(cmd.c_str());
+        if (rc != 0 && slurp(temp("bench.err")).find("no OpenGL") != std::string::npos) GTEST_SKIP() << "no GL here";
+        ASSERT_EQ(rc, 0) << slurp(temp("bench.err"));
+        const nlohmann::json doc = nlohmann::json::parse(slurp(out));
+        for (const auto& scene : doc["scenes"])
+            for (const auto& mode : scene["modes"]) {
+                EXPECT_EQ(mode["pixels_differ_elsewhere"].get<long long>(), 0) << target << " " << mode["mode"];
+                EXPECT_GT(mode["predicted_ms"].get<double>(), 0) << target;
+            }
+    }
+}
+
+// The per-element fallback (choose.cpp step 5) only keeps what predicts
+// faster, so for every profile, including ones where opaque polygons or
+// boundary edges cost more than they save, the output is predicted no
+// slower than meshes only.
+TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    CostProfile base;
+    ASSERT_TRUE(builtin_profile("llvmpipe", &base));
+    CostProfile rejected_dear = base, edges_dear = base;
+    rejected_dear.name = "rejected-dear";
+    rejected_dear.fragment_rejected_ns = 10 * base.fragment_blend_ns;
+    edges_dear.name = "edges-dear";
+    edges_dear.triangle_perimeter_ns_per_pixel = 200;
+    edges_dear.triangle_us = 20;
+    std::vector<std::string> targets = {"llvmpipe", "ipad1"};
+    for (const CostProfile& p : {rejected_dear, edges_dear}) {
+        targets.push_back(temp(p.name + ".json"));
+        io::save_profile(targets.back(), p);
+    }
+    for (const std::string& target : targets) {
+        const std::string err = temp("never-slower.err");
+        const std::string cmd = cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache --target " + target +
+                                " -o " + temp("never-slower.json") + " 2>" + err;
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+        const std::string text = slurp(err);
+        double predicted = 0, overpaint = 0, meshes = 0;
+        const std::size_t at = text.find("predicted ");
+        ASSERT_NE(at, std::string::npos) << text;
+        ASSERT_EQ(std::sscanf(text.c_str() + at, "predicted %lf ms (overpaint %lf, meshes only %lf)", &predicted, &overpaint, &meshes), 3) << text;
+        EXPECT_LE(predicted, meshes + 1e-9) << target << ": " << text;
+    }
+}
+
+// analyze --target: per image the chosen budget (or the plain rect) and
+// MIN_OPAQUE_AREA from the profile, the same for any thread count.
+TEST(Target, AnalyzeReportsThePerImageChoice) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    for (const char* target : {"llvmpipe", "ipad1"}) {
+        std::string outputs[2];
+        for (int k = 0; k < 2; ++k) {
+            const std::string out = temp(std::string("analyze-") + target + std::to_string(k) + ".json");
+            const std::string cmd = cli() + " analyze " + DEPTHCULL_SOURCE_DIR + "/examples/art --no-cache -q --no-timing -j " +
+                                    std::to_string(k + 1) + " --target " + target + " -o " + out;
+            ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+            outputs[k] = slurp(out);
+        }
+        EXPECT_EQ(outputs[0], outputs[1]) << target;
+        CostProfile p;
+        ASSERT_TRUE(builtin_profile(target, &p));
+        const nlohmann::json doc = nlohmann::json::parse(outputs[0]);
+        ASSERT_FALSE(doc["images"].empty());
+        for (const auto& image : doc["images"]) {
+            ASSERT_TRUE(image.contains("target")) << image["path"];
+            const auto& t = image["target"];
+            EXPECT_EQ(t["profile"], target);
+            EXPECT_EQ(t["min_opaque_area"].get<int>(), min_opaque_area(p));
+            const int budget = t["max_vertices"].get<int>();
+            EXPECT_EQ(t["rect"].get<bool>(), budget == 0);
+            EXPECT_TRUE(budget == 0 || budget == 4 || budget == 6 || budget == 8 || budget == 10) << budget;
+            if (budget > 0) {
+                for (const auto& poly : image["boundary"]) EXPECT_LE(int(poly.size()), budget) << image["path"];
+            }
+        }
+    }
+}
+
+} // namespace
+} // namespace depthcull

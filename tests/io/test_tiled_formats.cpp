@@ -1,0 +1,461 @@
+// Tiled's other formats (issue 15): JSON maps and tilesets written by Tiled
+// 1.8.2 (tests/data/tiled/*.tmj, *.tsj), zstd layer data, repeating image
+// layers, the background colour, parallax at the chosen camera, warnings
+// and --strict; images by content (PNG, JPEG, WebP).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <nlohmann/json.hpp>
+
+#include "depthcull/io.h"
+#include "depthcull/pipeline.h"
+#include "testing/corpus.h"
+
+using namespace depthcull;
+namespace fs = std::filesystem;
+
+namespace {
+
+using T = std::array<double, 6>;
+
+std::string data(const std::string& name) { return test::source_path("tests/data/tiled/" + name); }
+
+void expect_element(const Scene& s, std::size_t i, const std::string& image, Rect rect, T transform,
+                    std::array<float, 4> color = {1, 1, 1, 1}) {
+    ASSERT_LT(i, s.elements.size());
+    const Element& e = s.elements[i];
+    EXPECT_EQ(s.images.at(std::size_t(e.image)).id, image) << "element " << i;
+    EXPECT_EQ(e.rect, rect) << "element " << i;
+    for (int k = 0; k < 6; ++k) EXPECT_DOUBLE_EQ(e.transform[std::size_t(k)], transform[std::size_t(k)]) << "element " << i << " transform[" << k << "]";
+    for (int k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(e.color[std::size_t(k)], color[std::size_t(k)]) << "element " << i << " color[" << k << "]";
+}
+
+// The flips map of test_tiled.cpp: gids 1, 2|H, 0 / 3|V, 4|D, 2.
+void expect_flips_map(const Scene& s) {
+    ASSERT_EQ(s.images.size(), 1u);
+    EXPECT_EQ(s.images[0].id, "tiles");
+    EXPECT_EQ(s.images[0].width, 12);
+    EXPECT_EQ(s.viewport.width, 12);
+    EXPECT_EQ(s.viewport.height, 8);
+    ASSERT_EQ(s.elements.size(), 5u);
+    expect_element(s, 0, "tiles", {1, 1, 4, 4}, {1, 0, 0, 1, 0, 0});
+    expect_element(s, 1, "tiles", {6, 1, 4, 4}, {-1, 0, 0, 1, 8, 0});
+    expect_element(s, 2, "tiles", {1, 6, 4, 4}, {1, 0, 0, -1, 0, 8});
+    expect_element(s, 3, "tiles", {6, 6, 4, 4}, {0, 1, 1, 0, 4, 4});
+    expect_element(s, 4, "tiles", {6, 1, 4, 4}, {1, 0, 0, 1, 8, 4});
+}
+
+struct TempDir {
+    fs::path dir;
+    TempDir() {
+        dir = fs::temp_directory_path() / ("dc_tiled_formats_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir);
+    }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::string path = (dir / name).string();
+        std::ofstream(path, std::ios::binary) << text;
+        return path;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+};
+
+std::string error_of(const std::function<void()>& fn) {
+    try {
+        fn();
+    } catch (const io::Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+// A 3x2 map of 4x4 cells (viewport 12x8) with `body` after the tiles tileset.
+std::string map_xml(const std::string& body, const std::string& map_attrs = "", const std::string& tileset_body = "") {
+    return "<?xml version=\"1.0\"?><map version=\"1.10\" orientation=\"orthogonal\" width=\"3\" height=\"2\" tilewidth=\"4\" tileheight=\"4\" " +
+           map_attrs + "><tileset firstgid=\"1\" name=\"tiles\" tilewidth=\"4\" tileheight=\"4\" spacing=\"1\" margin=\"1\"><image source=\"" +
+           data("tiles.png") + "\"/>" + tileset_body + "</tileset>" + body + "</map>";
+}
+
+} // namespace
+
+// ---- JSON maps and tilesets, as Tiled 1.8.2 exported them from csv.tmx
+
+TEST(TiledJson, MapTmj) { expect_flips_map(io::load_scene(data("csv.tmj"))); }
+TEST(TiledJson, MapJsonToldByContent) { expect_flips_map(io::load_scene(data("flips_map.json"))); }
+TEST(TiledJson, TmxWithJsonTileset) { expect_flips_map(io::load_scene(data("external_json.tmx"))); }
+TEST(TiledJson, TmjWithJsonTileset) { expect_flips_map(io::load_scene(data("external_json.tmj"))); }
+
+TEST(TiledJson, ZstdLayerData) {
+    expect_flips_map(io::load_scene(data("zstd.tmx")));  // made with the zstd tool
+    expect_flips_map(io::load_scene(data("zstd.tmj")));  // re-compressed by Tiled 1.8.2
+}
+
+TEST(TiledJson, OldTilesObjectAndBadJson) {
+    TempDir t;
+    // Tiled before 1.2 wrote "tiles" as an object keyed by id.
+    std::string map = t.write("old.tmj", R"({"width":1,"height":1,"tilewidth":3,"tileheight":5,"orientation":"orthogonal",
+        "tilesets":[{"firstgid":1,"name":"c","tilewidth":3,"tileheight":5,"tiles":{"0":{"image":")" + data("a.png") + R"("}}}],
+        "layers":[{"type":"tilelayer","name":"l","width":1,"height":1,"data":[1]}]})");
+    Scene s = io::load_scene(map);
+    ASSERT_EQ(s.elements.size(), 1u);
+    expect_element(s, 0, "a", {0, 0, 3, 5}, {1, 0, 0, 1, 0, 0});
+    std::string bad = t.write("bad.tmj", R"({"width":1,"height":1,"tilewidth":3,"tileheight":5,"layers":[{"type":"pie"}]})");
+    EXPECT_EQ(error_of([&] { io::load_scene(bad); }), bad + ": layer '': unknown layer type 'pie'");
+    std::string broken = t.write("broken.tmj", "{\"layers\": [");
+    EXPECT_NE(error_of([&] { io::load_scene(broken); }).find(broken + ": JSON error: "), std::string::npos);
+    std::string gid = t.write("gid.tmj", R"({"width":1,"height":1,"tilewidth":3,"tileheight":5,"layers":[{"type":"tilelayer","width":1,"height":1,"data":[-1]}]})");
+    EXPECT_EQ(error_of([&] { io::load_scene(gid); }), gid + ": layer '': \"data\" holds a value that is not a gid (a whole number 0..4294967295)");
+}
+
+TEST(TiledJson, CorruptZstdIsOneLine) {
+    TempDir t;
+    std::string map = t.write("z.tmx", map_xml("<layer name=\"g\" width=\"3\" height=\"2\"><data encoding=\"base64\" compression=\"zstd\">AAAAAAAA</data></layer>"));
+    std::string e = error_of([&] { io::load_scene(map); });
+    EXPECT_EQ(e.rfind(map + ": layer 'g': corrupt zstd data (", 0), 0u) << e;
+}
+
+// ---- image layers, background, parallax
+
+TEST(TiledLayers, RepeatingImageLayerTilesTheCamera) {
+    TempDir t;
+    // a.png is 3x5; the camera 0,0,12,8; offset x 1: copies at x = -2, 1, 4, 7, 10.
+    std::string map = t.write("r.tmx", map_xml("<imagelayer name=\"sky\" offsetx=\"1\" repeatx=\"1\"><image source=\"" + data("a.png") + "\"/></imagelayer>"));
+    Scene s = io::load_scene(map);
+    ASSERT_EQ(s.elements.size(), 5u);
+    for (int k = 0; k < 5; ++k) expect_element(s, std::size_t(k), "a", {0, 0, 3, 5}, {1, 0, 0, 1, -2.0 + 3 * k, 0});
+    std::string both = t.write("rb.tmx", map_xml("<imagelayer name=\"sky\" repeatx=\"1\" repeaty=\"1\"><image source=\"" + data("a.png") + "\"/></imagelayer>"));
+    s = io::load_scene(both);
+    ASSERT_EQ(s.elements.size(), 8u); // 4 columns (0..11) x 2 rows (0..9)
+    expect_element(s, 0, "a", {0, 0, 3, 5}, {1, 0, 0, 1, 0, 0});
+    expect_element(s, 7, "a", {0, 0, 3, 5}, {1, 0, 0, 1, 9, 5});
+}
+
+TEST(TiledLayers, BackgroundColourIsAnOpaqueFirstElement) {
+    TempDir t;
+    std::string map = t.write("bg.tmx", map_xml("<layer name=\"g\" width=\"3\" height=\"2\"><data encoding=\"csv\">1,0,0,0,0,0</data></layer>",
+                                                "backgroundcolor=\"#102030\""));
+    Scene s = io::load_scene(map);
+    ASSERT_EQ(s.elements.size(), 2u);
+    expect_element(s, 0, "background", {0, 0, kFillImageSide, kFillImageSide}, {12.0 / kFillImageSide, 0, 0, 8.0 / kFillImageSide, 0, 0});
+    const SceneImage& bg = s.images.at(std::size_t(s.elements[0].image));
+    EXPECT_TRUE(bg.has_fill);
+    EXPECT_EQ(bg.fill, 0x102030u);
+    EXPECT_TRUE(bg.path.empty());
+    Image pixels = io::load_scene_image(bg);
+    ASSERT_EQ(pixels.width, kFillImageSide);
+    EXPECT_EQ(pixels.rgba[0], 0x10);
+    EXPECT_EQ(pixels.rgba[1], 0x20);
+    EXPECT_EQ(pixels.rgba[2], 0x30);
+    EXPECT_EQ(pixels.rgba[3], 255);
+    // Our scene JSON carries it ("fill", no path) and reads it back.
+    std::string text = io::scene_to_json_text(s, (t.dir / "scene.json").string());
+    EXPECT_NE(text.find("{\"id\":\"background\",\"fill\":\"102030\"}"), std::string::npos) << text;
+    std::string scene = t.write("scene.json", text);
+    Scene back = io::load_scene(scene);
+    ASSERT_EQ(back.images.size(), s.images.size());
+    EXPECT_TRUE(back.images[std::size_t(back.elements[0].image)].has_fill);
+    EXPECT_EQ(back.images[std::size_t(back.elements[0].image)].fill, 0x102030u);
+    // ARGB: the alpha is the element's.
+    std::string argb = t.write("argb.tmx", map_xml("", "backgroundcolor=\"#80102030\""));
+    s = io::load_scene(argb);
+    ASSERT_EQ(s.elements.size(), 1u);
+    EXPECT_FLOAT_EQ(s.elements[0].color[3], float(0x80) / 255.0f);
+}
+
+TEST(TiledLayers, ParallaxAtTheCameraWithANote) {
+    TempDir t;
+    std::string map = t.write("p.tmx", map_xml("<group name=\"far\" parallaxx=\"0\"><imagelayer name=\"hills\" parallaxy=\"0.25\" offsetx=\"2\">"
+                                               "<image source=\"" + data("a.png") + "\"/></imagelayer></group>", "parallaxoriginx=\"4\""));
+    io::LoadOptions options;
+    options.has_viewport = true;
+    options.viewport = {50, 20, 12, 8}; // centre 56, 24
+    std::vector<std::string> notes, warnings;
+    options.note = [&](const std::string& line) { notes.push_back(line); };
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    options.strict = true; // a note is not a warning
+    Scene s = io::load_scene(map, options);
+    ASSERT_EQ(s.elements.size(), 1u);
+    // Factors: x 0 (the group's, fixed to the camera), y 0.25.
+    // x: 2 + (1 - 0) * (56 - 4) = 54; y: (1 - 0.25) * (24 - 0) = 18.
+    expect_element(s, 0, "a", {0, 0, 3, 5}, {1, 0, 0, 1, 54, 18});
+    ASSERT_EQ(notes.size(), 1u);
+    EXPECT_EQ(notes[0], map + ": image layer 'hills': parallax layer placed for the camera centred at 56,24: meshes are valid for this camera only");
+    EXPECT_TRUE(warnings.empty());
+}
+
+TEST(TiledLayers, UnsupportedFeaturesWarnOnceOrFailWithStrict) {
+    TempDir t;
+    std::string map = t.write("w.tmx", map_xml("<layer name=\"g\" width=\"3\" height=\"2\"><data encoding=\"csv\">1,1,0,0,0,0</data></layer>"
+                                               "<objectgroup name=\"labels\"><object id=\"7\" x=\"1\" y=\"1\"><text>hi</text></object></objectgroup>",
+                                               "", "<tile id=\"0\"><animation><frame tileid=\"1\" duration=\"100\"/></animation></tile>"));
+    io::LoadOptions options;
+    std::vector<std::string> warnings;
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    Scene s = io::load_scene(map, options);
+    EXPECT_EQ(s.elements.size(), 2u);
+    EXPECT_EQ(s.animations.size(), 1u); // animated tiles are recorded, not warned about
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], map + ": object layer 'labels': text objects are not drawn");
+    options.strict = true;
+    EXPECT_EQ(error_of([&] { io::load_scene(map, options); }), map + ": object layer 'labels': text objects are not drawn (--strict)");
+}
+
+// ---- images by content
+
+TEST(ImageFormats, WebpLosslessEqualsThePng) {
+    Image png = io::load_png(data("a.png"));
+    Image webp = io::load_image(data("a_lossless.webp"));
+    EXPECT_EQ(webp.width, png.width);
+    EXPECT_EQ(webp.height, png.height);
+    EXPECT_EQ(webp.rgba, png.rgba);
+}
+
+TEST(ImageFormats, JpegAndOpaqueWebpAreFullyOpaque) {
+    for (const char* name : {"opaque.jpg", "opaque.webp"}) {
+        Image image = io::load_image(data(name));
+        ASSERT_EQ(image.width, 4) << name;
+        ASSERT_EQ(image.height, 3) << name;
+        for (std::size_t i = 3; i < image.rgba.size(); i += 4) EXPECT_EQ(image.rgba[i], 255) << name;
+        EXPECT_GT(image.rgba[0], 200) << name;                      // red on the left
+        EXPECT_GT(image.rgba[std::size_t(3 * 4 + 2)], 200) << name; // blue on the right
+        // The analysis exploits it: the whole image is one opaque polygon.
+        ImageAnalysis a = analyze_image(image.view(), image.view().bounds(), {});
+        EXPECT_EQ(a.stats.opaque_texels, 12) << name;
+    }
+}
+
+TEST(ImageFormats, ToldByContentNotName) {
+    TempDir t;
+    std::string bytes = io::read_file(data("a.png"));
+    std::string misnamed = t.write("really_a_png.jpg", bytes);
+    EXPECT_EQ(io::load_image(misnamed).rgba, io::load_png(data("a.png")).rgba);
+    std::string junk = t.write("junk.png", "hello");
+    EXPECT_EQ(error_of([&] { io::load_image(junk); }), junk + " is not a PNG, JPEG or WebP image");
+    std::string cut = t.write("cut.jpg", io::read_file(data("opaque.jpg")).substr(0, 40));
+    EXPECT_EQ(error_of([&] { io::load_image(cut); }).rfind(cut + ": corrupt JPEG (", 0), 0u);
+    std::string webp = t.write("cut.webp", io::read_file(data("opaque.webp")).substr(0, 20));
+    EXPECT_EQ(error_of([&] { io::load_image(webp); }).rfind(webp + ": corrupt WebP (", 0), 0u);
+}
+
+TEST(ImageFormats, TiledMapWithJpegTiles) {
+    TempDir t;
+    std::string map = t.write("j.tmx", "<map orientation=\"orthogonal\" width=\"1\" height=\"1\" tilewidth=\"4\" tileheight=\"3\">"
+                                       "<tileset firstgid=\"1\" name=\"j\" tilewidth=\"4\" tileheight=\"3\"><image source=\"" + data("opaque.jpg") +
+                                       "\"/></tileset><layer name=\"g\" width=\"1\" height=\"1\"><data encoding=\"csv\">1</data></layer></map>");
+    Scene s = io::load_scene(map);
+    ASSERT_EQ(s.images.size(), 1u);
+    EXPECT_EQ(s.images[0].width, 4);
+    EXPECT_EQ(s.images[0].height, 3);
+}
+
+TEST(TiledLayers, BackgroundFillTravelsInBothMeshForms) {
+    std::vector<SceneImage> images(2);
+    images[0] = {"tiles", data("tiles.png"), 12, 12};
+    images[1].id = "background";
+    images[1].has_fill = true;
+    images[1].fill = 0x3b97d3;
+    images[1].width = images[1].height = kFillImageSide;
+    SceneMeshes meshes;
+    meshes.viewport = {0, 0, 12, 8};
+    std::string text = io::meshes_to_json(images, meshes, "", false);
+    EXPECT_NE(text.find("{\"id\": \"background\", \"path\": \"\", \"width\": 16, \"height\": 16, \"fill\": \"3b97d3\"}"), std::string::npos) << text;
+    for (const io::LoadedMeshes& back : {io::meshes_from_json(text, "m.json"), io::meshes_from_binary(io::meshes_to_binary(images, meshes, "", false), "m.bin")}) {
+        ASSERT_EQ(back.images.size(), 2u);
+        EXPECT_FALSE(back.images[0].has_fill);
+        EXPECT_TRUE(back.images[1].has_fill);
+        EXPECT_EQ(back.images[1].fill, 0x3b97d3u);
+        EXPECT_TRUE(back.images[1].path.empty());
+    }
+}
+
+// ---- animated tiles: every frame drawn correctly, the animation recorded
+
+TEST(TiledAnimation, OneAnalysisCoversEveryFrame) {
+    TempDir t;
+    // Two 16x16 tiles: A opaque in columns 0..11, B in columns 4..15 (and a
+    // translucent texel): the union is the whole tile, the intersection
+    // columns 4..11.
+    Image sheet;
+    sheet.width = 32;
+    sheet.height = 16;
+    sheet.rgba.assign(32 * 16 * 4, 0);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            if (x < 12) sheet.rgba[std::size_t(y * 32 + x) * 4 + 3] = 255;
+            if (x >= 4) sheet.rgba[std::size_t(y * 32 + 16 + x) * 4 + 3] = 255;
+        }
+    sheet.rgba[std::size_t(0 * 32 + 16 + 0) * 4 + 3] = 100; // B's top-left: translucent
+    io::save_png((t.dir / "anim.png").string(), sheet.view());
+    std::string map = t.write("a.tmx", "<map orientation=\"orthogonal\" width=\"1\" height=\"1\" tilewidth=\"16\" tileheight=\"16\">"
+                                       "<tileset firstgid=\"1\" name=\"a\" tilewidth=\"16\" tileheight=\"16\"><image source=\"anim.png\"/>"
+                                       "<tile id=\"0\"><animation><frame tileid=\"0\" duration=\"100\"/><frame tileid=\"1\" duration=\"250\"/></animation></tile>"
+                                       "</tileset><layer name=\"g\" width=\"1\" height=\"1\"><data encoding=\"csv\">1</data></layer></map>");
+    io::LoadOptions options;
+    std::vector<std::string> warnings;
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    pipeline::PrepareOptions prepare;
+    prepare.load = options;
+    pipeline::PreparedScene p = pipeline::prepare_scene(map, prepare);
+    EXPECT_TRUE(warnings.empty());
+    const Scene& s = p.scene;
+    ASSERT_EQ(s.animations.size(), 1u);
+    ASSERT_EQ(s.animations[0].frames.size(), 2u);
+    EXPECT_EQ(s.animations[0].frames[0].rect, (Rect{0, 0, 16, 16}));
+    EXPECT_EQ(s.animations[0].frames[1].rect, (Rect{16, 0, 16, 16}));
+    EXPECT_EQ(s.animations[0].frames[0].duration_ms, 100);
+    EXPECT_EQ(s.animations[0].frames[1].duration_ms, 250);
+    ASSERT_EQ(s.elements.size(), 1u);
+    EXPECT_EQ(s.elements[0].animation, 0);
+    const ImageAnalysis& a = *p.analysis.of(0);
+    EXPECT_EQ(a.rect, (Rect{0, 0, 16, 16}));
+    ASSERT_FALSE(a.opaque.empty());
+    // Each frame, with the polygons moved onto its rect, keeps both guarantees.
+    const Image& image = p.images[0];
+    for (const AnimationFrame& f : s.animations[0].frames) {
+        auto moved = [&](std::vector<Polygon> polygons) {
+            for (Polygon& poly : polygons)
+                for (Vec2& v : poly) v = {v.x + f.rect.x, v.y + f.rect.y};
+            return polygons;
+        };
+        EXPECT_EQ(count_uncontained_texels(image.view(), f.rect, moved(a.boundary), Filter::nearest), 0) << f.rect.x;
+        EXPECT_EQ(count_opaque_violations(image.view(), f.rect, moved(a.opaque), Filter::nearest), 0) << f.rect.x;
+    }
+    for (const Polygon& poly : a.opaque)
+        for (const Vec2& v : poly) {
+            EXPECT_GE(v.x, 4.0);
+            EXPECT_LE(v.x, 12.0);
+        }
+    // Frame 0 alone would have had opaque texels in columns 0..3: not here.
+    ImageAnalysis alone = analyze_image(image.view(), {0, 0, 16, 16}, {});
+    EXPECT_GT(alone.stats.opaque_covered_texels, a.stats.opaque_covered_texels);
+
+    // Recorded in our scene JSON (and read back) and in the meshes JSON.
+    std::string text = io::scene_to_json_text(s, (t.dir / "s.json").string());
+    EXPECT_NE(text.find("\"animation\":0"), std::string::npos) << text;
+    EXPECT_NE(text.find("{\"frames\":[{\"image\":\"anim\",\"rect\":[0,0,16,16],\"duration\":100},{\"image\":\"anim\",\"rect\":[16,0,16,16],\"duration\":250}]}"),
+              std::string::npos) << text;
+    Scene back = io::load_scene(t.write("s.json", text));
+    ASSERT_EQ(back.animations.size(), 1u);
+    EXPECT_EQ(back.animations[0].frames[1].rect, (Rect{16, 0, 16, 16}));
+    EXPECT_EQ(back.animations[0].frames[1].duration_ms, 250);
+    EXPECT_EQ(back.elements[0].animation, 0);
+    SceneMeshes meshes;
+    ReconstructOptions spans;
+    spans.element_spans = true; // the meshes JSON's "animated" runs
+    reconstruct_scene(s, p.analysis, spans, &meshes);
+    std::string mesh_text = io::meshes_to_json(s, meshes, "", false);
+    auto doc = nlohmann::json::parse(mesh_text);
+    ASSERT_EQ(doc["animations"].size(), 1u);
+    EXPECT_EQ(doc["animations"][0]["frames"][1], nlohmann::json::parse(R"({"image": 0, "rect": [16, 0, 16, 16], "duration": 250})"));
+    ASSERT_FALSE(doc["animated"].empty());
+    std::size_t covered = 0;
+    for (const auto& run : doc["animated"]) {
+        EXPECT_EQ(run["animation"], 0);
+        covered += run["vertex_count"].get<std::size_t>();
+    }
+    std::size_t total = 0;
+    for (const auto& d : doc["draws"]) total += d["vertices"].size() / 9;
+    EXPECT_EQ(covered, total); // the only element is animated
+    // The readers still read it (unknown fields are ignored).
+    EXPECT_EQ(io::meshes_from_json(mesh_text, "m.json").meshes.draws.size(), meshes.draws.size());
+}
+
+TEST(TiledAnimation, FramesOfDifferentSizesWarn) {
+    TempDir t;
+    std::string map = t.write("d.tmx", "<map orientation=\"orthogonal\" width=\"1\" height=\"1\" tilewidth=\"4\" tileheight=\"4\">"
+                                       "<tileset firstgid=\"1\" name=\"c\" tilewidth=\"4\" tileheight=\"5\">"
+                                       "<tile id=\"0\"><image source=\"" + data("a.png") + "\"/></tile>"
+                                       "<tile id=\"1\"><image source=\"" + data("tiles.png") + "\"/></tile>"
+                                       "<tile id=\"2\"><image source=\"" + data("a.png") + "\"/><animation><frame tileid=\"0\" duration=\"1\"/><frame tileid=\"1\" duration=\"1\"/></animation></tile>"
+                                       "</tileset><layer name=\"g\" width=\"1\" height=\"1\"><data encoding=\"csv\">3</data></layer></map>");
+    io::LoadOptions options;
+    std::vector<std::string> warnings;
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    Scene s = io::load_scene(map, options);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], map + ": layer 'g': animated tile 2 of tileset 'c' has frames of different sizes: drawn at its first frame, not animated");
+    EXPECT_EQ(s.elements.at(0).animation, -1);
+}
+
+TEST(TiledLayers, FillModePreserveAspectFitCentresTheScaledTile) {
+    TempDir t;
+    // a.png (3x5) as a tile in 4x4 grid cells: scale 0.8 -> 2.4 x 4, centred (0.8 in from the left).
+    std::string map = t.write("f.tmx", "<map orientation=\"orthogonal\" width=\"2\" height=\"1\" tilewidth=\"4\" tileheight=\"4\">"
+                                       "<tileset firstgid=\"1\" name=\"c\" tilewidth=\"3\" tileheight=\"5\" tilerendersize=\"grid\" fillmode=\"preserve-aspect-fit\">"
+                                       "<tile id=\"0\"><image source=\"" + data("a.png") + "\"/></tile></tileset>"
+                                       "<layer name=\"g\" width=\"2\" height=\"1\"><data encoding=\"csv\">0,1</data></layer></map>");
+    Scene s = io::load_scene(map);
+    ASSERT_EQ(s.elements.size(), 1u);
+    expect_element(s, 0, "a", {0, 0, 3, 5}, {0.8, 0, 0, 0.8, 4 + (4 - 2.4) / 2, 0});
+}
+
+TEST(TiledJson, JsonTemplateInAJsonMap) {
+    TempDir t;
+    t.write("t.tj", R"({"type": "template", "tileset": {"firstgid": 1, "source": ")" + data("tiles.tsj") +
+                        R"("}, "object": {"gid": 2, "width": 8, "height": 8}})");
+    std::string map = t.write("m.tmj", R"({"type": "map", "orientation": "orthogonal", "width": 3, "height": 2, "tilewidth": 4, "tileheight": 4,
+        "tilesets": [{"firstgid": 1, "source": ")" + data("tiles.tsj") + R"("}],
+        "layers": [{"type": "objectgroup", "name": "things", "objects": [{"id": 1, "template": "t.tj", "x": 2, "y": 8}]}]})");
+    Scene s = io::load_scene(map);
+    ASSERT_EQ(s.elements.size(), 1u);
+    // gid 2: tile (6,1); the template's 8x8 size scales it 2x; bottom-left at (2, 8).
+    expect_element(s, 0, "tiles", {6, 1, 4, 4}, {2, 0, 0, 2, 2, 0});
+}
+
+TEST(TiledLayers, BlendModesWarn) {
+    TempDir t;
+    std::string map = t.write("m.tmx", map_xml("<layer name=\"g\" mode=\"multiply\" width=\"3\" height=\"2\"><data encoding=\"csv\">1,0,0,0,0,0</data></layer>"));
+    io::LoadOptions options;
+    std::vector<std::string> warnings;
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    io::load_scene(map, options);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], map + ": layer 'g': layer blend mode 'multiply' is drawn as normal");
+}
+
+// Mutated JSON maps, JSON tilesets and plists: a scene or one io::Error
+// line, never a crash or another exception.
+TEST(TiledJson, MutatedFilesFailCleanly) {
+    std::mt19937 rng(4242);
+    TempDir t;
+    fs::copy_file(data("tiles.png"), t.dir / "tiles.png");
+    fs::copy_file(test::source_path("tests/data/atlas/packed/cocos2d-0.png"), t.dir / "cocos2d-0.png");
+    struct Case {
+        std::string file, name;
+    } cases[] = {{data("csv.tmj"), "m.tmj"}, {data("zstd.tmj"), "z.tmj"}, {data("tiles.tsj"), "tiles.tsj"},
+                 {test::source_path("tests/data/atlas/packed/cocos2d-0.plist"), "c.plist"}};
+    // A map naming the (mutated) tileset.
+    std::string tsx_map = t.write("uses_tsj.tmx", "<map orientation=\"orthogonal\" width=\"3\" height=\"2\" tilewidth=\"4\" tileheight=\"4\">"
+                                                  "<tileset firstgid=\"1\" source=\"tiles.tsj\"/><layer name=\"g\" width=\"3\" height=\"2\">"
+                                                  "<data encoding=\"csv\">1,2,3,4,0,0</data></layer></map>");
+    for (const Case& c : cases) {
+        std::string text = io::read_file(c.file);
+        for (int round = 0; round < 60; ++round) {
+            std::string mutated = text;
+            int edits = 1 + int(rng() % 4);
+            for (int k = 0; k < edits; ++k) {
+                std::size_t at = rng() % mutated.size();
+                switch (rng() % 3) {
+                case 0: mutated[at] = char(rng() % 256); break;
+                case 1: mutated.erase(at, 1 + rng() % 8); break;
+                default: mutated.insert(at, 1, "0123456789,:{}[]\"-e."[rng() % 20]); break;
+                }
+                if (mutated.empty()) mutated = "x";
+            }
+            std::string path = t.write(c.name, mutated);
+            try {
+                if (c.name == "c.plist") io::load_atlas(path);
+                else if (c.name == "tiles.tsj") io::load_scene(tsx_map);
+                else io::load_scene(path);
+            } catch (const io::Error& e) {
+                EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+            }
+        }
+    }
+}
