@@ -2,6 +2,7 @@
 // for games that load what the asset build wrote. Every count is checked
 // against the bytes left before anything is allocated for it, so a file
 // cannot make the reader allocate more than the file itself holds.
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <filesystem>
@@ -115,12 +116,17 @@ SceneImage read_image(Reader& in, const std::string& base_dir, bool colour_keys)
     if (colour_keys) {
         const std::size_t at = in.pos;
         const auto key = in.get<std::uint32_t>("an image colour key");
-        if ((key & ~(kColourKeyed | kSolidFill | 0xffffffu)) || ((key & kColourKeyed) && (key & kSolidFill)))
+        // One encoding per value: a word with neither bit is 0.
+        if ((key & ~(kColourKeyed | kSolidFill | 0xffffffu)) || ((key & kColourKeyed) && (key & kSolidFill)) ||
+            (!(key & (kColourKeyed | kSolidFill)) && key))
             in.fail(at, "colour key " + std::to_string(key) + " has unknown bits");
         img.has_trans = key & kColourKeyed;
         img.has_fill = key & kSolidFill;
-        if (img.has_fill) img.fill = key & 0xffffffu, img.path.clear();
-        img.trans = key & 0xffffffu;
+        if (img.has_fill) {
+            if (!img.path.empty()) in.fail(at, "a solid fill image names a path");
+            img.fill = key & 0xffffffu;
+        }
+        if (img.has_trans) img.trans = key & 0xffffffu;
     }
     return img;
 }
@@ -179,6 +185,9 @@ LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const 
     read_header(in, out, &image_count, &draw_count, &colour_keys);
     out.images.reserve(image_count);
     for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image(in, base_dir, colour_keys));
+    // Bit 1 is set exactly when some image has a key or a fill (the writer's rule).
+    if (colour_keys && std::none_of(out.images.begin(), out.images.end(), [](const SceneImage& img) { return img.has_trans || img.has_fill; }))
+        in.fail(12, "flags bit 1 (colour keys) is set but no image has a colour key or fill");
     out.meshes.draws.reserve(draw_count);
     std::size_t total_vertices = 0, total_indices = 0;
     for (std::uint32_t i = 0; i < draw_count; ++i) out.meshes.draws.push_back(read_draw(in, image_count, &total_vertices, &total_indices));

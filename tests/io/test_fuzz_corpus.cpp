@@ -117,6 +117,30 @@ TEST(FuzzRegressions, BinaryMeshesWithAnEmptyDrawRead) {
     EXPECT_THROW(io::meshes_from_binary(crash, "crash.bin"), io::Error);
 }
 
+// fuzz_mesh_binary: flags bit 1 (colour keys) set while no image had a
+// key, or a key word with neither bit 24 nor 25 but colour bits: read,
+// then written back differently (the form has one encoding per value).
+// fuzz/corpus/mesh_binary/crash-keys-flag-without-keys.bin.
+TEST(FuzzRegressions, BinaryColourKeyWordsHaveOneEncoding) {
+    const std::string crash = slurp(kCorpus / "mesh_binary" / "crash-keys-flag-without-keys.bin");
+    try {
+        io::meshes_from_binary(crash, "crash.bin");
+        ADD_FAILURE() << "read";
+    } catch (const io::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("crash.bin: byte"), std::string::npos) << e.what();
+    }
+    std::vector<SceneImage> images{{"a", "a.png", 4, 4}};
+    images[0].has_trans = true;
+    images[0].trans = 0x00ff00;
+    SceneMeshes meshes;
+    meshes.viewport = {0, 0, 8, 8};
+    std::string bytes = io::meshes_to_binary(images, meshes, "");
+    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "k.bin").images, meshes, ""), bytes);
+    // The key word is the file's last 4 bytes here (no draws): drop bit 24.
+    bytes[bytes.size() - 1] = 0;
+    EXPECT_THROW(io::meshes_from_binary(bytes, "k.bin"), io::Error);
+}
+
 // fuzz_mesh_json: a number too large for a double ("9e625610943") made
 // nlohmann throw out_of_range past the reader, which caught parse_error
 // only: a raw library exception instead of io::Error.
