@@ -11,6 +11,7 @@
 #include <algorithm>
 
 #include "boundary/boundary_internal.h"
+#include "common/segments.h"
 
 namespace depthcull::boundary {
 
@@ -38,20 +39,9 @@ void remove_degenerate_vertices(IPolygon& p) {
 
 namespace {
 
-int sign(std::int64_t v) { return (v > 0) - (v < 0); }
-
 bool on_segment(Pt a, Pt b, Pt p) {
     return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
            p.y <= std::max(a.y, b.y);
-}
-
-// Closed segments ab and cd share a point.
-bool segments_touch(Pt a, Pt b, Pt c, Pt d) {
-    int o1 = sign(orient(a, b, c)), o2 = sign(orient(a, b, d));
-    int o3 = sign(orient(c, d, a)), o4 = sign(orient(c, d, b));
-    if (o1 * o2 < 0 && o3 * o4 < 0) return true;
-    return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) ||
-           (o3 == 0 && on_segment(c, d, a)) || (o4 == 0 && on_segment(c, d, b));
 }
 
 } // namespace

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/segments.h"
+
 namespace depthcull {
 
 double signed_area(const Polygon& p) {
@@ -22,32 +24,6 @@ double total_area(const std::vector<Polygon>& polygons) {
     for (const auto& p : polygons) sum += area(p);
     return sum;
 }
-
-namespace {
-
-int sign(double v) { return (v > 0) - (v < 0); }
-
-bool on_segment(Vec2 a, Vec2 b, Vec2 p) {
-    return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
-           p.y <= std::max(a.y, b.y);
-}
-
-// Closed segments ab and cd share at least one point. Exact for grid
-// coordinates (products of small integers or halves are exact in double).
-bool segments_touch(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
-    int o1 = sign(orient(a, b, c)), o2 = sign(orient(a, b, d));
-    int o3 = sign(orient(c, d, a)), o4 = sign(orient(c, d, b));
-    if (o1 != o2 && o3 != o4 && o1 * o2 <= 0 && o3 * o4 <= 0) {
-        if (o1 != 0 || o2 != 0) return true;
-    }
-    if (o1 == 0 && on_segment(a, b, c)) return true;
-    if (o2 == 0 && on_segment(a, b, d)) return true;
-    if (o3 == 0 && on_segment(c, d, a)) return true;
-    if (o4 == 0 && on_segment(c, d, b)) return true;
-    return false;
-}
-
-} // namespace
 
 bool is_simple(const Polygon& p) {
     std::size_t n = p.size();

@@ -17,9 +17,13 @@ inline constexpr std::uint32_t kSolidFill = 1u << 25;
 
 namespace depthcull::io {
 
-// image_path (absolute or relative to the cwd) as seen from the directory
-// of output_path, so the meshes file finds its images wherever it is
-// written; unchanged for stdout.
+// image_path (absolute or relative to the cwd) as the mesh and scene
+// writers write it: relative to the directory of output_path (the cwd for
+// stdout, which is what a reader of the stream resolves against), so the
+// file finds its images wherever it is written, but absolute when the two
+// share no directory below the root, since a path climbing to "/" and down
+// again breaks as soon as either moves. One rule for both writers: before,
+// the mesh writers climbed through "/" and kept stdout paths as given.
 std::string output_relative_path(const std::string& image_path, const std::string& output_path);
 const char* blend_name(Blend b);
 

@@ -172,14 +172,19 @@ void write_meshes_json(const std::string& path, const Scene& scene, const SceneM
 
 std::string output_relative_path(const std::string& image_path, const std::string& output_path) {
     namespace fs = std::filesystem;
-    if (output_path.empty() || output_path == "-") return image_path;
     std::error_code ec;
-    fs::path base = fs::absolute(fs::path(output_path), ec).parent_path();
+    fs::path out_dir = output_path.empty() || output_path == "-" ? fs::path(".") : fs::path(output_path).parent_path();
+    if (out_dir.empty()) out_dir = ".";
+    const fs::path base = fs::absolute(out_dir, ec).lexically_normal();
     if (ec) return image_path;
-    fs::path target = fs::absolute(fs::path(image_path), ec);
+    const fs::path image = fs::absolute(image_path, ec).lexically_normal();
     if (ec) return image_path;
-    fs::path rel = target.lexically_normal().lexically_relative(base.lexically_normal());
-    return rel.empty() ? image_path : rel.generic_string();
+    auto a = image.begin(), b = base.begin();
+    int shared = 0;
+    while (a != image.end() && b != base.end() && *a == *b) ++a, ++b, ++shared;
+    fs::path rel = image.lexically_relative(base);
+    if (rel.empty() || shared < 2) return image.generic_string();
+    return rel.generic_string();
 }
 
 std::string resolve_mesh_path(const std::string& base_dir, const std::string& path) {

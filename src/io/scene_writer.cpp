@@ -7,15 +7,12 @@
 // integral values written as integers.
 #include <charconv>
 #include <cmath>
-#include <filesystem>
 
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
 #include "io/formats.h"
 #include "io/mesh_common.h"
-
-namespace fs = std::filesystem;
 
 namespace depthcull::io {
 
@@ -39,28 +36,9 @@ Json number(float v) {
     return number(d);
 }
 
-std::string portable_path(const std::string& image_path, const fs::path& base_dir) {
-    std::error_code ec;
-    fs::path image = fs::absolute(image_path, ec).lexically_normal();
-    if (ec) return image_path;
-    // Relative only when the two share a directory below the root: a path
-    // climbing to "/" and down again breaks as soon as either moves.
-    auto a = image.begin(), b = base_dir.begin();
-    int shared = 0;
-    while (a != image.end() && b != base_dir.end() && *a == *b) ++a, ++b, ++shared;
-    fs::path rel = image.lexically_relative(base_dir);
-    if (rel.empty() || shared < 2) return image.generic_string();
-    return rel.generic_string();
-}
-
 } // namespace
 
 std::string scene_to_json_text(const Scene& scene, const std::string& output_path) {
-    std::error_code ec;
-    fs::path out_dir = output_path.empty() || output_path == "-" ? fs::path(".") : fs::path(output_path).parent_path();
-    if (out_dir.empty()) out_dir = ".";
-    fs::path base = fs::absolute(out_dir, ec).lexically_normal();
-
     Json doc;
     doc["viewport"] = {{"x", number(scene.viewport.x)},
                        {"y", number(scene.viewport.y)},
@@ -74,7 +52,7 @@ std::string scene_to_json_text(const Scene& scene, const std::string& output_pat
             images.push_back({{"id", image.id}, {"fill", colour_key_text(image.fill)}});
             continue;
         }
-        std::string path = portable_path(image.path, base);
+        std::string path = output_relative_path(image.path, output_path);
         check_utf8(image.id, output_name(output_path) + ": image id");
         check_utf8(path, output_name(output_path) + ": image \"" + image.id + "\": path");
         Json entry = {{"id", image.id}, {"path", std::move(path)}};

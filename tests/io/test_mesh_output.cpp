@@ -30,6 +30,22 @@ SceneMeshes optimize(const pipeline::PreparedScene& p) {
     return m;
 }
 
+// The mesh and scene writers share one path rule: relative to the output's
+// directory, absolute when the two share nothing below "/".
+TEST(MeshOutput, MeshAndSceneWritersRelativiseImagePathsAlike) {
+    SceneDir dir("mesh_paths");
+    pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});
+    SceneMeshes m = optimize(p);
+    std::filesystem::create_directories(dir.path("out"));
+    for (const std::string& out : {dir.path("out/x.json"), std::string("/depthcull-no-such-dir/x.json")}) {
+        nlohmann::json mesh = nlohmann::json::parse(io::meshes_to_json(p.scene, m, out, false));
+        nlohmann::json scene = nlohmann::json::parse(io::scene_to_json_text(p.scene, out));
+        EXPECT_EQ(mesh["images"][0]["path"], scene["images"][0]["path"]);
+    }
+    nlohmann::json far = nlohmann::json::parse(io::meshes_to_json(p.scene, m, "/depthcull-no-such-dir/x.json", false));
+    EXPECT_EQ(far["images"][0]["path"], std::filesystem::absolute(dir.path("art/blob.png")).lexically_normal().generic_string());
+}
+
 TEST(MeshOutput, JsonHasTheDocumentedShape) {
     SceneDir dir("mesh_json");
     pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});

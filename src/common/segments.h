@@ -1,0 +1,26 @@
+// Internal to the core: the segment-touch test both polygon predicates use
+// (boundary's integer is_simple and the double is_simple of geometry.cpp).
+#pragma once
+
+namespace depthcull {
+
+// Closed segments ab and cd share at least one point. P is any point type
+// with x and y whose orient(a, b, c) (found by argument-dependent lookup)
+// is exact: the integer grid of src/boundary, or Vec2 on the texel grid
+// (products of small integers or halves are exact in double).
+template <class P>
+bool segments_touch(P a, P b, P c, P d) {
+    auto sign = [](auto v) { return (v > 0) - (v < 0); };
+    // p, known collinear with ab, lies within it.
+    auto on_segment = [](P s, P e, P p) {
+        return (s.x < e.x ? s.x : e.x) <= p.x && p.x <= (s.x < e.x ? e.x : s.x) && (s.y < e.y ? s.y : e.y) <= p.y &&
+               p.y <= (s.y < e.y ? e.y : s.y);
+    };
+    const int o1 = sign(orient(a, b, c)), o2 = sign(orient(a, b, d));
+    const int o3 = sign(orient(c, d, a)), o4 = sign(orient(c, d, b));
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true; // a proper crossing
+    return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) || (o3 == 0 && on_segment(c, d, a)) ||
+           (o4 == 0 && on_segment(c, d, b));
+}
+
+} // namespace depthcull
