@@ -1,7 +1,8 @@
 // Fuzzes the binary meshes reader (docs/mesh-format.md): every input is a
 // value or an io::Error, never a crash, and no count makes it allocate more
 // than the input holds; what reads back keeps the reader's promises and
-// writes back byte for byte (the form has one encoding per value).
+// writes back byte for byte (the form has one encoding per value),
+// animations included.
 // Seeds: fuzz/corpus/mesh_binary/.
 #include <cmath>
 #include <cstdlib>
@@ -26,6 +27,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     // The reader accepts one encoding per value (zero padding, known flags),
     // so what it accepted is written back byte for byte.
-    if (depthcull::io::meshes_to_binary(m.images, m.meshes, "") != bytes) std::abort();
+    for (const depthcull::io::AnimatedRun& r : m.animated)
+        if (r.draw >= m.meshes.draws.size() || r.animation >= m.animations.size() || r.vertex_count == 0 ||
+            std::uint64_t(r.first_vertex) + r.vertex_count > m.meshes.draws[r.draw].vertex_count())
+            std::abort();
+    if (depthcull::io::meshes_to_binary(m, "") != bytes) std::abort();
     return 0;
 }

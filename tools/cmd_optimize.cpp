@@ -115,12 +115,7 @@ void run_optimize(OptimizeArgs& args) {
         std::fprintf(stderr, "depthcull: warning: %s: %" PRId64 " depth levels need a 24-bit depth buffer (16-bit holds %" PRId64 ")\n",
                      args.scene.c_str(), meshes.stats.depth_levels, kMaxDepthLevels16);
 
-    if (!args.binary.empty()) {
-        io::write_meshes_binary(args.binary, prepared.scene, meshes, args.timing);
-        if (!prepared.scene.animations.empty())
-            std::fprintf(stderr, "warning: %s: binary meshes do not carry the scene's %zu animations (the JSON meshes do: -o)\n",
-                         args.binary.c_str(), prepared.scene.animations.size());
-    }
+    if (!args.binary.empty()) io::write_meshes_binary(args.binary, prepared.scene, meshes, args.timing);
     // No -o on a terminal: 100 KB of JSON on the screen helps nobody; say
     // where it goes instead (-o - still prints it; a pipe gets it as before).
     const bool hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();

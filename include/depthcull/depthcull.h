@@ -252,6 +252,29 @@ DC_API dc_status dc_meshes_draw(const dc_meshes* meshes, size_t i, dc_draw* out)
 DC_API size_t dc_meshes_image_count(const dc_meshes* meshes);
 DC_API dc_status dc_meshes_image(const dc_meshes* meshes, size_t i, dc_image_info* out);
 
+/* Animations (Tiled's animated tiles; docs/mesh-format.md "animations" and
+ * "animated"): frame 0 is what the vertices show. To show frame k, map the
+ * u, v of each vertex of each animated run from frame 0's rect to frame
+ * k's (same size; a frame of another image binds that texture). */
+typedef struct dc_animation_frame {
+    uint32_t image;   /* index into the meshes' images */
+    dc_rect rect;     /* texels */
+    int duration_ms;
+} dc_animation_frame;
+typedef struct dc_animated_run {
+    uint32_t draw;          /* index into the draws */
+    uint32_t first_vertex;  /* the run's vertices in that draw */
+    uint32_t vertex_count;
+    uint32_t animation;     /* index into the animations */
+} dc_animated_run;
+DC_API size_t dc_meshes_animation_count(const dc_meshes* meshes);
+/* 0 for a NULL meshes or an animation index out of range. */
+DC_API size_t dc_meshes_animation_frame_count(const dc_meshes* meshes, size_t animation);
+DC_API dc_status dc_meshes_animation_frame(const dc_meshes* meshes, size_t animation, size_t frame, dc_animation_frame* out);
+/* The runs in draw order. */
+DC_API size_t dc_meshes_animated_run_count(const dc_meshes* meshes);
+DC_API dc_status dc_meshes_animated_run(const dc_meshes* meshes, size_t i, dc_animated_run* out);
+
 /* ---- Mesh files (docs/mesh-format.md) */
 
 typedef enum dc_format { DC_FORMAT_JSON = 0, DC_FORMAT_BINARY = 1 } dc_format;

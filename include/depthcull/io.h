@@ -190,10 +190,26 @@ void write_meshes_json(const std::string& path, const Scene& scene, const SceneM
 // The same content in the compact little-endian binary form.
 std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
 void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing = true); // atomic
-// The same writers over an image list alone (what LoadedMeshes holds):
-// Draw::image indexes `images`.
+// The same writers over an image list alone: Draw::image indexes `images`;
+// no animations are written.
 std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
 std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
+
+// A run of a draw's vertices that shows an animated element: an engine
+// maps their u, v from frame 0's rect to the current frame's
+// (docs/mesh-format.md, "animated").
+struct AnimatedRun {
+    std::uint32_t draw = 0;
+    std::uint32_t first_vertex = 0;
+    std::uint32_t vertex_count = 0;
+    std::uint32_t animation = 0; // index into the animations
+    friend bool operator==(const AnimatedRun&, const AnimatedRun&) = default;
+};
+// The runs of meshes made with ReconstructOptions::element_spans over an
+// animated scene, in draw order and vertex order within a draw: adjacent
+// spans of one element are one run. Throws io::Error (naming output_path)
+// when the scene is animated and a non-empty draw has no element spans.
+std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path);
 
 // ---- Optimized meshes back in: what a game loads (docs/mesh-format.md)
 
@@ -204,6 +220,8 @@ inline constexpr std::size_t kMaxMeshDraws = std::size_t(1) << 24;
 inline constexpr std::size_t kMaxMeshVertices = std::size_t(1) << 25;     // all draws together (1.2 GB of vertices)
 inline constexpr std::size_t kMaxMeshIndices = std::size_t(3) << 25;      // all draws together
 inline constexpr std::size_t kMaxMeshStringBytes = std::size_t(1) << 16;  // an image id or path
+inline constexpr std::size_t kMaxMeshAnimations = std::size_t(1) << 20;
+inline constexpr std::size_t kMaxMeshAnimationFrames = std::size_t(1) << 16; // per animation
 
 struct LoadedMeshes {
     // id, path (resolved against the meshes file's directory, as
@@ -212,7 +230,16 @@ struct LoadedMeshes {
     // Draw::image indexes `images`. Draw::element_spans stay empty: the
     // formats do not carry them. depth_denominator comes from stats.depth_bits.
     SceneMeshes meshes;
+    // The scene's animations (frame images index `images`) and the vertex
+    // runs that show them, in draw order; both empty for unanimated scenes.
+    std::vector<Animation> animations;
+    std::vector<AnimatedRun> animated;
 };
+// The writers over what a reader gave, animations included:
+// meshes_to_binary(meshes_from_json(text, ...), ...) is what the writer
+// wrote as binary for the same scene.
+std::string meshes_to_json(const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
+std::string meshes_to_binary(const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
 
 // A meshes file in either form, told apart by the binary magic "DCMESH".
 // Bad files throw io::Error naming the file and the place: a byte offset

@@ -12,8 +12,8 @@ namespace {
 
 std::string to_bytes(const dc_meshes& m, dc_format format, unsigned flags, const std::string& output_path) {
     const bool timing = !(flags & DC_WRITE_NO_TIMING);
-    return format == DC_FORMAT_BINARY ? io::meshes_to_binary(m.loaded.images, m.loaded.meshes, output_path, timing)
-                                      : io::meshes_to_json(m.loaded.images, m.loaded.meshes, output_path, timing);
+    // With the animations, so a file read and written keeps them.
+    return format == DC_FORMAT_BINARY ? io::meshes_to_binary(m.loaded, output_path, timing) : io::meshes_to_json(m.loaded, output_path, timing);
 }
 
 } // namespace
@@ -58,6 +58,30 @@ dc_status dc_meshes_image(const dc_meshes* meshes, size_t i, dc_image_info* out)
         return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_image: NULL argument or image index out of range");
     const SceneImage& img = meshes->loaded.images[i];
     *out = dc_image_info{img.id.c_str(), img.path.c_str(), img.width, img.height, img.has_trans ? 1 : 0, img.trans};
+    return DC_OK;
+}
+
+size_t dc_meshes_animation_count(const dc_meshes* meshes) { return meshes ? meshes->loaded.animations.size() : 0; }
+
+size_t dc_meshes_animation_frame_count(const dc_meshes* meshes, size_t animation) {
+    return meshes && animation < meshes->loaded.animations.size() ? meshes->loaded.animations[animation].frames.size() : 0;
+}
+
+dc_status dc_meshes_animation_frame(const dc_meshes* meshes, size_t animation, size_t frame, dc_animation_frame* out) {
+    if (!meshes || !out || animation >= meshes->loaded.animations.size() || frame >= meshes->loaded.animations[animation].frames.size())
+        return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_animation_frame: NULL argument or animation or frame index out of range");
+    const AnimationFrame& f = meshes->loaded.animations[animation].frames[frame];
+    *out = dc_animation_frame{std::uint32_t(f.image), dc_rect{f.rect.x, f.rect.y, f.rect.w, f.rect.h}, f.duration_ms};
+    return DC_OK;
+}
+
+size_t dc_meshes_animated_run_count(const dc_meshes* meshes) { return meshes ? meshes->loaded.animated.size() : 0; }
+
+dc_status dc_meshes_animated_run(const dc_meshes* meshes, size_t i, dc_animated_run* out) {
+    if (!meshes || !out || i >= meshes->loaded.animated.size())
+        return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_animated_run: NULL argument or run index out of range");
+    const io::AnimatedRun& r = meshes->loaded.animated[i];
+    *out = dc_animated_run{r.draw, r.first_vertex, r.vertex_count, r.animation};
     return DC_OK;
 }
 

@@ -27,18 +27,20 @@ struct Out {
     }
 };
 
-} // namespace
-
-std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+std::string binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing,
+                   const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
     Out o;
     o.bytes.append("DCMESH\0\0", 8);
     o.put(std::uint32_t(1)); // format version
     // Bit 1: image entries carry a colour key (set only when one has one,
     // so files without keys stay as version 1 wrote them; a fill colour is
     // carried in the same word). Bit 2: made for linear filtering (clear:
-    // nearest, as version 1 files were).
+    // nearest, as version 1 files were). Bit 3: an animation section
+    // follows the draws (set only for animated scenes, so other files are
+    // as before).
     const bool keys = std::any_of(images.begin(), images.end(), [](const SceneImage& img) { return img.has_trans || img.has_fill; });
-    o.put(std::uint32_t((meshes.depth_test ? 1 : 0) | (keys ? 2 : 0) | (meshes.filter == Filter::linear ? 4 : 0)));
+    o.put(std::uint32_t((meshes.depth_test ? 1 : 0) | (keys ? 2 : 0) | (meshes.filter == Filter::linear ? 4 : 0) |
+                         (animations.empty() ? 0 : kAnimationsFlag)));
     o.put(meshes.viewport.x);
     o.put(meshes.viewport.y);
     o.put(std::int32_t(meshes.viewport.width));
@@ -66,11 +68,41 @@ std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneM
         o.bytes.append(reinterpret_cast<const char*>(d.vertices.data()), d.vertices.size() * sizeof(float));
         o.bytes.append(reinterpret_cast<const char*>(d.indices.data()), d.indices.size() * sizeof(std::uint32_t));
     }
+    if (!animations.empty()) {
+        o.put(std::uint32_t(animations.size()));
+        for (const Animation& a : animations) {
+            o.put(std::uint32_t(a.frames.size()));
+            for (const AnimationFrame& f : a.frames)
+                for (std::int32_t v : {f.image, f.rect.x, f.rect.y, f.rect.w, f.rect.h, f.duration_ms}) o.put(v);
+        }
+        // Per draw its runs: grouped by draw (the writers and readers keep
+        // them in draw order already; stable, so vertex order stays).
+        std::vector<AnimatedRun> sorted = runs;
+        std::stable_sort(sorted.begin(), sorted.end(), [](const AnimatedRun& a, const AnimatedRun& b) { return a.draw < b.draw; });
+        std::size_t r = 0;
+        for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
+            std::size_t end = r;
+            while (end < sorted.size() && sorted[end].draw == d) ++end;
+            o.put(std::uint32_t(end - r));
+            for (; r < end; ++r)
+                for (std::uint32_t v : {sorted[r].first_vertex, sorted[r].vertex_count, sorted[r].animation}) o.put(v);
+        }
+    }
     return std::move(o.bytes);
 }
 
+} // namespace
+
+std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+    return binary(images, meshes, output_path, timing, {}, {});
+}
+
+std::string meshes_to_binary(const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
+    return binary(loaded.images, loaded.meshes, output_path, timing, loaded.animations, loaded.animated);
+}
+
 std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
-    return meshes_to_binary(scene.images, meshes, output_path, timing);
+    return binary(scene.images, meshes, output_path, timing, scene.animations, animated_runs(scene, meshes, output_path));
 }
 
 void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {

@@ -70,14 +70,16 @@ struct Reader {
     }
 };
 
-void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* colour_keys) {
+void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* colour_keys, bool* animations) {
     if (in.bytes.size() < 8 || !is_binary_meshes(in.bytes)) in.fail(0, "not a depthcull binary meshes file (no \"DCMESH\" magic)");
     in.pos = 8;
     const auto version = in.get<std::uint32_t>("the header");
     if (version != 1) in.fail(8, "format version " + std::to_string(version) + " is not supported (expected 1)");
     const auto flags = in.get<std::uint32_t>("the header");
-    if (flags & ~7u)
-        in.fail(12, "unknown flags " + std::to_string(flags) + " (bit 0 depth_test, bit 1 colour keys and bit 2 linear filtering are defined)");
+    if (flags & ~15u)
+        in.fail(12, "unknown flags " + std::to_string(flags) +
+                        " (bit 0 depth_test, bit 1 colour keys, bit 2 linear filtering and bit 3 animations are defined)");
+    *animations = flags & kAnimationsFlag;
     SceneMeshes& m = out.meshes;
     m.depth_test = flags & 1;
     m.filter = flags & 4 ? Filter::linear : Filter::nearest;
@@ -177,12 +179,79 @@ Draw read_draw(Reader& in, std::size_t image_count, std::size_t* total_vertices,
     return d;
 }
 
+// The animation section (flags bit 3): frames of one size naming existing
+// images, then per draw its runs inside the draw's vertices naming existing
+// animations.
+void read_animations(Reader& in, LoadedMeshes& out) {
+    const std::size_t draws = out.meshes.draws.size();
+    const std::size_t at = in.pos;
+    const auto count = in.get<std::uint32_t>("the animation count");
+    if (count == 0) in.fail(at, "flags bit 3 (animations) is set but the animation count is 0");
+    if (count > kMaxMeshAnimations) in.fail(at, "more than " + std::to_string(kMaxMeshAnimations) + " animations");
+    // Each animation holds at least a frame count and one frame; each draw a run count.
+    constexpr std::size_t kFrameBytes = 6 * 4, kRunBytes = 3 * 4;
+    if (in.left() / (4 + kFrameBytes) < count || (in.left() - count * (4 + kFrameBytes)) / 4 < draws)
+        in.fail(at, std::to_string(count) + " animations and the runs of " + std::to_string(draws) + " draws do not fit in the " +
+                        std::to_string(in.left()) + " bytes left");
+    out.animations.reserve(count);
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const std::size_t frames_at = in.pos;
+        const auto frames = in.get<std::uint32_t>("an animation");
+        if (frames == 0) in.fail(frames_at, "animation " + std::to_string(i) + " has no frames");
+        if (frames > kMaxMeshAnimationFrames) in.fail(frames_at, "more than " + std::to_string(kMaxMeshAnimationFrames) + " frames in an animation");
+        if (in.left() / kFrameBytes < frames)
+            in.fail(frames_at, std::to_string(frames) + " frames do not fit in the " + std::to_string(in.left()) + " bytes left");
+        Animation a;
+        a.frames.reserve(frames);
+        for (std::uint32_t k = 0; k < frames; ++k) {
+            const std::size_t frame_at = in.pos;
+            AnimationFrame f;
+            const auto image = in.get<std::uint32_t>("an animation frame");
+            if (image >= out.images.size()) in.fail(frame_at, "frame names image " + std::to_string(image) + " of " + std::to_string(out.images.size()));
+            f.image = int(image);
+            f.rect.x = in.size_value("frame x", kMaxImageSide);
+            f.rect.y = in.size_value("frame y", kMaxImageSide);
+            f.rect.w = in.size_value("frame width", kMaxImageSide);
+            f.rect.h = in.size_value("frame height", kMaxImageSide);
+            if (f.rect.empty()) in.fail(frame_at + 12, "an empty frame rect");
+            if (k && (f.rect.w != a.frames[0].rect.w || f.rect.h != a.frames[0].rect.h))
+                in.fail(frame_at + 12, "frame " + std::to_string(k) + " is not the size of frame 0");
+            f.duration_ms = in.size_value("frame duration", INT32_MAX);
+            a.frames.push_back(f);
+        }
+        out.animations.push_back(std::move(a));
+    }
+    for (std::size_t d = 0; d < draws; ++d) {
+        const std::size_t runs_at = in.pos;
+        const auto runs = in.get<std::uint32_t>("a draw's animated runs");
+        // Room for the run counts of the draws after this one too.
+        if (in.left() / kRunBytes < runs || in.left() - std::size_t(runs) * kRunBytes < (draws - d - 1) * 4)
+            in.fail(runs_at, std::to_string(runs) + " animated runs of draw " + std::to_string(d) + " do not fit in the " +
+                                 std::to_string(in.left()) + " bytes left");
+        const std::uint64_t vertices = out.meshes.draws[d].vertex_count();
+        for (std::uint32_t k = 0; k < runs; ++k) {
+            const std::size_t run_at = in.pos;
+            AnimatedRun r;
+            r.draw = std::uint32_t(d);
+            r.first_vertex = in.get<std::uint32_t>("an animated run");
+            r.vertex_count = in.get<std::uint32_t>("an animated run");
+            r.animation = in.get<std::uint32_t>("an animated run");
+            if (r.vertex_count == 0 || std::uint64_t(r.first_vertex) + r.vertex_count > vertices)
+                in.fail(run_at, "run of vertices " + std::to_string(r.first_vertex) + " + " + std::to_string(r.vertex_count) +
+                                    " is not inside draw " + std::to_string(d) + "'s " + std::to_string(vertices));
+            if (r.animation >= out.animations.size())
+                in.fail(run_at + 8, "run names animation " + std::to_string(r.animation) + " of " + std::to_string(out.animations.size()));
+            out.animated.push_back(r);
+        }
+    }
+}
+
 LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
     Reader in{bytes, name};
     LoadedMeshes out;
     std::uint32_t image_count = 0, draw_count = 0;
-    bool colour_keys = false;
-    read_header(in, out, &image_count, &draw_count, &colour_keys);
+    bool colour_keys = false, animations = false;
+    read_header(in, out, &image_count, &draw_count, &colour_keys, &animations);
     out.images.reserve(image_count);
     for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image(in, base_dir, colour_keys));
     // Bit 1 is set exactly when some image has a key or a fill (the writer's rule).
@@ -191,7 +260,8 @@ LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const 
     out.meshes.draws.reserve(draw_count);
     std::size_t total_vertices = 0, total_indices = 0;
     for (std::uint32_t i = 0; i < draw_count; ++i) out.meshes.draws.push_back(read_draw(in, image_count, &total_vertices, &total_indices));
-    if (in.left()) in.fail(in.pos, std::to_string(in.left()) + " bytes after the last draw");
+    if (animations) read_animations(in, out);
+    if (in.left()) in.fail(in.pos, std::to_string(in.left()) + " bytes after the " + (animations ? "animations" : "last draw"));
     return out;
 }
 

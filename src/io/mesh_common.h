@@ -13,6 +13,8 @@ inline constexpr std::uint32_t kColourKeyed = 1u << 24;
 // ... or, with this bit instead, a solid-colour image (SceneImage::has_fill,
 // 0xRRGGBB in the low bits; its path is empty).
 inline constexpr std::uint32_t kSolidFill = 1u << 25;
+// Binary header flags bit 3: an animation section follows the draws.
+inline constexpr std::uint32_t kAnimationsFlag = 8;
 } // namespace depthcull::io
 
 namespace depthcull::io {

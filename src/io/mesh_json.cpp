@@ -119,26 +119,9 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
     return s;
 }
 
-std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
-    std::string s = meshes_to_json(scene.images, meshes, output_path, timing);
-    if (scene.animations.empty()) return s;
-    // Animations (docs/mesh-format.md): the frames, and which vertex runs
-    // of which draws show an animated element, so an engine moves their
-    // UVs from frame 0's rect to the current frame's.
-    std::string a = ",\n \"animations\": [";
-    for (std::size_t i = 0; i < scene.animations.size(); ++i) {
-        a += i ? ",\n  {\"frames\": [" : "\n  {\"frames\": [";
-        const auto& frames = scene.animations[i].frames;
-        for (std::size_t k = 0; k < frames.size(); ++k) {
-            const AnimationFrame& f = frames[k];
-            a += k ? ", " : "";
-            a += "{\"image\": " + std::to_string(f.image) + ", \"rect\": [" + std::to_string(f.rect.x) + ", " + std::to_string(f.rect.y) + ", " +
-                 std::to_string(f.rect.w) + ", " + std::to_string(f.rect.h) + "], \"duration\": " + std::to_string(f.duration_ms) + "}";
-        }
-        a += "]}";
-    }
-    a += "],\n \"animated\": [";
-    bool first_run = true;
+std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path) {
+    std::vector<AnimatedRun> runs;
+    if (scene.animations.empty()) return runs;
     for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
         const Draw& draw = meshes.draws[d];
         if (draw.element_spans.empty() && draw.vertex_count() > 0)
@@ -151,19 +134,54 @@ std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const 
             const std::size_t first = spans[j].first_vertex, end = next < spans.size() ? spans[next].first_vertex : draw.vertex_count();
             const std::uint32_t element = spans[j].element;
             const int animation = element < scene.elements.size() ? scene.elements[element].animation : -1;
-            if (animation >= 0 && end > first) {
-                a += first_run ? "\n  " : ",\n  ";
-                first_run = false;
-                a += "{\"draw\": " + std::to_string(d) + ", \"first_vertex\": " + std::to_string(first) + ", \"vertex_count\": " +
-                     std::to_string(end - first) + ", \"animation\": " + std::to_string(animation) + "}";
-            }
+            if (animation >= 0 && end > first)
+                runs.push_back({std::uint32_t(d), std::uint32_t(first), std::uint32_t(end - first), std::uint32_t(animation)});
             j = next;
         }
     }
+    return runs;
+}
+
+namespace {
+
+// Animations (docs/mesh-format.md): the frames, and which vertex runs of
+// which draws show an animated element, so an engine moves their UVs from
+// frame 0's rect to the current frame's. Inserted before the closing "}}\n"
+// of stats and document.
+std::string with_animations(std::string s, const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
+    if (animations.empty()) return s;
+    std::string a = ",\n \"animations\": [";
+    for (std::size_t i = 0; i < animations.size(); ++i) {
+        a += i ? ",\n  {\"frames\": [" : "\n  {\"frames\": [";
+        const auto& frames = animations[i].frames;
+        for (std::size_t k = 0; k < frames.size(); ++k) {
+            const AnimationFrame& f = frames[k];
+            a += k ? ", " : "";
+            a += "{\"image\": " + std::to_string(f.image) + ", \"rect\": [" + std::to_string(f.rect.x) + ", " + std::to_string(f.rect.y) + ", " +
+                 std::to_string(f.rect.w) + ", " + std::to_string(f.rect.h) + "], \"duration\": " + std::to_string(f.duration_ms) + "}";
+        }
+        a += "]}";
+    }
+    a += "],\n \"animated\": [";
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const AnimatedRun& r = runs[i];
+        a += i ? ",\n  " : "\n  ";
+        a += "{\"draw\": " + std::to_string(r.draw) + ", \"first_vertex\": " + std::to_string(r.first_vertex) + ", \"vertex_count\": " +
+             std::to_string(r.vertex_count) + ", \"animation\": " + std::to_string(r.animation) + "}";
+    }
     a += "]";
-    // Before the closing "}}\n" of stats and document.
     s.insert(s.size() - 2, a);
     return s;
+}
+
+} // namespace
+
+std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
+    return with_animations(meshes_to_json(scene.images, meshes, output_path, timing), scene.animations, animated_runs(scene, meshes, output_path));
+}
+
+std::string meshes_to_json(const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
+    return with_animations(meshes_to_json(loaded.images, loaded.meshes, output_path, timing), loaded.animations, loaded.animated);
 }
 
 void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {

@@ -151,6 +151,64 @@ Draw read_draw(const Context& ctx, const json& v, const std::string& where, cons
     return d;
 }
 
+// "animations" and "animated" (docs/mesh-format.md): frames of one size
+// naming existing images, runs inside their draw's vertices naming
+// existing animations.
+void read_animations(const Context& ctx, const json& doc, LoadedMeshes* out) {
+    if (doc.contains("animations")) {
+        const json& animations = array(ctx, doc["animations"], "animations", kMaxMeshAnimations);
+        out->animations.reserve(animations.size());
+        for (std::size_t i = 0; i < animations.size(); ++i) {
+            const std::string where = at("animations", i);
+            object(ctx, animations[i], where);
+            const json& frames = array(ctx, field(ctx, animations[i], where, "frames"), at(where, "frames"), kMaxMeshAnimationFrames);
+            if (frames.empty()) ctx.fail(at(where, "frames"), "has no frames");
+            Animation animation;
+            animation.frames.reserve(frames.size());
+            for (std::size_t k = 0; k < frames.size(); ++k) {
+                const std::string fw = at(at(where, "frames"), k);
+                object(ctx, frames[k], fw);
+                AnimationFrame f;
+                if (out->images.empty()) ctx.fail(at(fw, "image"), "names an image but there are none");
+                f.image = int(integer(ctx, field(ctx, frames[k], fw, "image"), at(fw, "image"), std::int64_t(out->images.size()) - 1));
+                const json& rect = field(ctx, frames[k], fw, "rect");
+                if (!rect.is_array() || rect.size() != 4) ctx.fail(at(fw, "rect"), "must be [x, y, w, h]");
+                f.rect.x = int(integer(ctx, rect[0], at(at(fw, "rect"), std::size_t(0)), kMaxImageSide));
+                f.rect.y = int(integer(ctx, rect[1], at(at(fw, "rect"), std::size_t(1)), kMaxImageSide));
+                f.rect.w = int(integer(ctx, rect[2], at(at(fw, "rect"), std::size_t(2)), kMaxImageSide));
+                f.rect.h = int(integer(ctx, rect[3], at(at(fw, "rect"), std::size_t(3)), kMaxImageSide));
+                if (f.rect.empty()) ctx.fail(at(fw, "rect"), "is empty");
+                if (k && (f.rect.w != animation.frames[0].rect.w || f.rect.h != animation.frames[0].rect.h))
+                    ctx.fail(at(fw, "rect"), "is not the size of frame 0's");
+                f.duration_ms = int(integer(ctx, field(ctx, frames[k], fw, "duration"), at(fw, "duration"), INT32_MAX));
+                animation.frames.push_back(f);
+            }
+            out->animations.push_back(std::move(animation));
+        }
+    }
+    if (doc.contains("animated")) {
+        const auto& draws = out->meshes.draws;
+        const json& runs = array(ctx, doc["animated"], "animated", kMaxMeshVertices);
+        out->animated.reserve(runs.size());
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            const std::string where = at("animated", i);
+            object(ctx, runs[i], where);
+            AnimatedRun r;
+            if (draws.empty()) ctx.fail(at(where, "draw"), "names a draw but there are none");
+            r.draw = std::uint32_t(integer(ctx, field(ctx, runs[i], where, "draw"), at(where, "draw"), std::int64_t(draws.size()) - 1));
+            const std::int64_t vertices = std::int64_t(draws[r.draw].vertex_count());
+            if (vertices == 0) ctx.fail(at(where, "draw"), "names a draw without vertices");
+            r.first_vertex = std::uint32_t(integer(ctx, field(ctx, runs[i], where, "first_vertex"), at(where, "first_vertex"), vertices - 1));
+            r.vertex_count = std::uint32_t(integer(ctx, field(ctx, runs[i], where, "vertex_count"), at(where, "vertex_count"), vertices - r.first_vertex));
+            if (r.vertex_count == 0) ctx.fail(at(where, "vertex_count"), "must not be 0");
+            if (out->animations.empty()) ctx.fail(at(where, "animation"), "names an animation but there are none");
+            r.animation = std::uint32_t(integer(ctx, field(ctx, runs[i], where, "animation"), at(where, "animation"), std::int64_t(out->animations.size()) - 1));
+            if (!out->animated.empty() && r.draw < out->animated.back().draw) ctx.fail(at(where, "draw"), "runs are not in draw order");
+            out->animated.push_back(r);
+        }
+    }
+}
+
 SceneStats read_stats(const Context& ctx, const json& v) {
     object(ctx, v, "stats");
     SceneStats st;
@@ -203,6 +261,7 @@ LoadedMeshes read_json(std::string_view text, const std::string& name, const std
     Totals totals;
     for (std::size_t i = 0; i < draws.size(); ++i) out.meshes.draws.push_back(read_draw(ctx, draws[i], at("draws", i), ids, &totals));
     if (doc.contains("stats")) out.meshes.stats = read_stats(ctx, doc["stats"]);
+    read_animations(ctx, doc, &out);
     out.meshes.depth_denominator = depth_denominator_from_bits(out.meshes.stats.depth_bits);
     return out;
 }

@@ -247,5 +247,51 @@ TEST(CApi, MeshFilesAreTheIoOnes) {
     dc_scene_destroy(s.c);
 }
 
+// Animations read from either form are the C API's, and written back
+// (either form) they stay.
+TEST(CApi, MeshAnimationsAreTheFileOnes) {
+    const std::string text = R"({"viewport": {"x": 0, "y": 0, "width": 8, "height": 8}, "depth_test": true,
+ "images": [{"id": "a", "path": "a.png", "width": 4, "height": 4}],
+ "draws": [{"image": "a", "pass": "blend", "blend": "alpha",
+   "vertices": [0,0,0.5,0,0,1,1,1,1, 4,0,0.5,1,0,1,1,1,1, 0,4,0.5,0,1,1,1,1,1], "indices": [0,1,2]}],
+ "stats": {"elements": 1, "draw_calls": 1, "triangles": 1, "depth_levels": 1, "depth_bits": 10, "graph_edges": 0, "seconds": 0},
+ "animations": [{"frames": [{"image": 0, "rect": [0, 0, 2, 2], "duration": 100}, {"image": 0, "rect": [2, 0, 2, 2], "duration": 50}]}],
+ "animated": [{"draw": 0, "first_vertex": 1, "vertex_count": 2, "animation": 0}]})";
+    dc_meshes* from_json = nullptr;
+    ASSERT_EQ(dc_meshes_read_memory(text.data(), text.size(), nullptr, &from_json), DC_OK) << dc_last_error();
+    void* data = nullptr;
+    std::size_t size = 0;
+    ASSERT_EQ(dc_meshes_write_memory(from_json, DC_FORMAT_BINARY, 0, &data, &size), DC_OK);
+    dc_meshes* from_binary = nullptr;
+    ASSERT_EQ(dc_meshes_read_memory(data, size, nullptr, &from_binary), DC_OK) << dc_last_error();
+    dc_free(data);
+    for (const dc_meshes* m : {from_json, from_binary}) {
+        ASSERT_EQ(dc_meshes_animation_count(m), 1u);
+        ASSERT_EQ(dc_meshes_animation_frame_count(m, 0), 2u);
+        EXPECT_EQ(dc_meshes_animation_frame_count(m, 1), 0u);
+        dc_animation_frame f{};
+        ASSERT_EQ(dc_meshes_animation_frame(m, 0, 1, &f), DC_OK);
+        EXPECT_EQ(f.image, 0u);
+        EXPECT_EQ(f.rect.x, 2);
+        EXPECT_EQ(f.rect.w, 2);
+        EXPECT_EQ(f.duration_ms, 50);
+        EXPECT_EQ(dc_meshes_animation_frame(m, 0, 2, &f), DC_ERROR_INVALID_ARGUMENT);
+        EXPECT_EQ(dc_meshes_animation_frame(m, 1, 0, &f), DC_ERROR_INVALID_ARGUMENT);
+        ASSERT_EQ(dc_meshes_animated_run_count(m), 1u);
+        dc_animated_run r{};
+        ASSERT_EQ(dc_meshes_animated_run(m, 0, &r), DC_OK);
+        EXPECT_EQ(r.draw, 0u);
+        EXPECT_EQ(r.first_vertex, 1u);
+        EXPECT_EQ(r.vertex_count, 2u);
+        EXPECT_EQ(r.animation, 0u);
+        EXPECT_EQ(dc_meshes_animated_run(m, 1, &r), DC_ERROR_INVALID_ARGUMENT);
+        EXPECT_EQ(dc_meshes_animated_run(m, 0, nullptr), DC_ERROR_INVALID_ARGUMENT);
+    }
+    EXPECT_EQ(dc_meshes_animation_count(nullptr), 0u);
+    EXPECT_EQ(dc_meshes_animated_run_count(nullptr), 0u);
+    dc_meshes_destroy(from_binary);
+    dc_meshes_destroy(from_json);
+}
+
 } // namespace
 } // namespace depthcull::test

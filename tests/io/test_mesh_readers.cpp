@@ -122,6 +122,77 @@ TEST(MeshReaders, FromMemoryKeepsPathsAsWritten) {
     EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory").images, io::meshes_from_binary(bytes, "memory").meshes, ""), bytes);
 }
 
+void expect_same_animations(const std::vector<Animation>& a, const std::vector<Animation>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a[i].frames.size(), b[i].frames.size()) << i;
+        for (std::size_t k = 0; k < a[i].frames.size(); ++k) {
+            EXPECT_EQ(a[i].frames[k].image, b[i].frames[k].image) << i << " " << k;
+            EXPECT_EQ(a[i].frames[k].rect, b[i].frames[k].rect) << i << " " << k;
+            EXPECT_EQ(a[i].frames[k].duration_ms, b[i].frames[k].duration_ms) << i << " " << k;
+        }
+    }
+}
+
+// An animated scene (two frames of tiles.png, every third element
+// animated), reconstructed with the element spans the "animated" runs need.
+Optimized animated_scene(const SceneDir& dir) {
+    dir.standard_art();
+    std::string elements;
+    for (int i = 0; i < 9; ++i) {
+        if (i) elements += ",";
+        elements += R"({"image": ")" + std::string(i % 3 ? "blob" : "tiles") + R"(", "rect": [0, 0, 8, 4], "transform": [1, 0, 0, 1, )" +
+                    std::to_string((i * 7) % 30) + ", " + std::to_string((i * 5) % 20) + "]" + (i % 3 ? "" : R"(, "animation": 0)") + "}";
+    }
+    std::string path = dir.write("scene.json", R"({"viewport": {"x": 0, "y": 0, "width": 40, "height": 30},
+        "images": [{"id": "blob", "path": "art/blob.png"}, {"id": "tiles", "path": "art/tiles.png"}],
+        "animations": [{"frames": [{"image": "tiles", "rect": [0, 0, 8, 4], "duration": 100}, {"image": "tiles", "rect": [8, 0, 8, 4], "duration": 250}]}],
+        "elements": [)" + elements + "]}");
+    Optimized o{pipeline::prepare_scene(path, {}), {}};
+    ReconstructOptions options;
+    options.element_spans = true;
+    EXPECT_EQ(reconstruct_scene(o.prepared.scene, o.prepared.analysis, options, &o.meshes), ReconstructStatus::ok);
+    o.meshes.stats.seconds = 0.125;
+    return o;
+}
+
+// Animations travel in both forms (binary: flags bit 3 and a section after
+// the draws) and read back as the same values; converting one form into
+// the other gives what the writer gives.
+TEST(MeshReaders, AnimationsRoundTripInBothForms) {
+    SceneDir dir("mesh_read_anim");
+    Optimized o = animated_scene(dir);
+    ASSERT_EQ(o.prepared.scene.animations.size(), 1u);
+    const std::vector<io::AnimatedRun> runs = io::animated_runs(o.prepared.scene, o.meshes, "");
+    ASSERT_FALSE(runs.empty());
+    std::filesystem::create_directories(dir.path("out"));
+    const std::string jpath = dir.path("out/m.json"), bpath = dir.path("out/m.bin");
+    io::write_meshes_json(jpath, o.prepared.scene, o.meshes);
+    io::write_meshes_binary(bpath, o.prepared.scene, o.meshes);
+    const io::LoadedMeshes j = io::read_meshes(jpath), b = io::read_meshes(bpath);
+    for (const io::LoadedMeshes* m : {&j, &b}) {
+        expect_same_meshes(o.meshes, m->meshes);
+        expect_same_images(o.prepared.scene.images, m->images);
+        expect_same_animations(m->animations, o.prepared.scene.animations);
+        EXPECT_EQ(m->animated, runs);
+    }
+    EXPECT_EQ(j.animations[0].frames[1].rect, (Rect{8, 0, 8, 4}));
+    EXPECT_EQ(j.animations[0].frames[1].duration_ms, 250);
+    EXPECT_EQ(io::meshes_to_json(j, jpath), io::read_file(jpath));
+    EXPECT_EQ(io::meshes_to_binary(b, bpath), io::read_file(bpath));
+    EXPECT_EQ(io::meshes_to_binary(j, bpath), io::read_file(bpath));
+    EXPECT_EQ(io::meshes_to_json(b, jpath), io::read_file(jpath));
+    std::uint32_t flags = 0;
+    std::memcpy(&flags, io::read_file(bpath).data() + 12, 4);
+    EXPECT_EQ(flags & 8u, 8u);
+    // Unanimated scenes: no section, no flag (files as before).
+    Optimized plain = optimized_scene(dir);
+    std::memcpy(&flags, io::meshes_to_binary(plain.prepared.scene, plain.meshes, "").data() + 12, 4);
+    EXPECT_EQ(flags & 8u, 0u);
+    EXPECT_EQ(io::meshes_to_binary(plain.prepared.scene, plain.meshes, ""), io::meshes_to_binary(plain.prepared.scene.images, plain.meshes, ""));
+    EXPECT_TRUE(io::meshes_from_binary(io::meshes_to_binary(plain.prepared.scene, plain.meshes, ""), "m.bin").animations.empty());
+}
+
 // A colour key (Tiled's trans) is part of the image: both forms carry it,
 // and files without keys are what they were before keys existed.
 // The filter the meshes are made for travels in both forms: JSON "filter",
@@ -269,7 +340,8 @@ TEST(MeshReaders, BinaryErrorsNameTheByte) {
     const std::pair<std::string, std::string> cases[] = {
         {"DCMESH", "m.bin: byte 0: not a depthcull binary meshes file"},
         {patched(b, 8, std::uint32_t(2)), "m.bin: byte 8: format version 2 is not supported"},
-        {patched(b, 12, std::uint32_t(9)), "m.bin: byte 12: unknown flags 9"},
+        {patched(b, 12, std::uint32_t(17)), "m.bin: byte 12: unknown flags 17"},
+        {patched(b, 12, std::uint32_t(9)), "m.bin: byte 264: the file ends inside the animation count"},
         {patched(b, 16, std::numeric_limits<double>::quiet_NaN()), "m.bin: byte 16: viewport x is not a finite number"},
         {patched(b, counts, std::uint32_t(1 << 16)), "m.bin: byte 40: 65536 images and 1 draws do not fit in the"},
         {patched(b, counts, std::uint32_t(1 << 20)), "m.bin: byte 40: more than 65536 images"},
@@ -296,6 +368,64 @@ TEST(MeshReaders, BinaryErrorsNameTheByte) {
     }
     // Every truncation is an error naming where the file ends, never a crash.
     for (std::size_t n = 0; n < b.size(); ++n) EXPECT_NE(binary_error(b.substr(0, n)), "no error") << n;
+}
+
+const char* kSmallAnimations = R"(, "animations": [{"frames": [{"image": 0, "rect": [0, 0, 2, 2], "duration": 100}, {"image": 0, "rect": [2, 0, 2, 2], "duration": 50}]}],
+ "animated": [{"draw": 0, "first_vertex": 1, "vertex_count": 2, "animation": 0}]})";
+
+std::string small_animated_json() {
+    std::string s = kSmallJson;
+    return s.substr(0, s.size() - 1) + kSmallAnimations;
+}
+
+TEST(MeshReaders, AnimationErrorsNameThePlace) {
+    const std::string text = small_animated_json();
+    const io::LoadedMeshes small = io::meshes_from_json(text, "m.json");
+    ASSERT_EQ(small.animated.size(), 1u);
+    const std::string b = io::meshes_to_binary(small, "");
+    ASSERT_NO_THROW(io::meshes_from_binary(b, "m.bin"));
+    // The 264 bytes of the unanimated file, then: count at 264, frame count
+    // at 268, frames at 272 and 296 (24 bytes each), draw 0's run count at
+    // 320, its run at 324.
+    ASSERT_EQ(b.size(), 336u);
+    const std::pair<std::string, std::string> cases[] = {
+        {patched(b, 264, std::uint32_t(0)), "m.bin: byte 264: flags bit 3 (animations) is set but the animation count is 0"},
+        {patched(b, 264, std::uint32_t(1 << 21)), "m.bin: byte 264: more than 1048576 animations"},
+        {patched(b, 264, std::uint32_t(3)), "m.bin: byte 264: 3 animations and the runs of 1 draws do not fit in the 68 bytes left"},
+        {patched(b, 268, std::uint32_t(0)), "m.bin: byte 268: animation 0 has no frames"},
+        {patched(b, 268, std::uint32_t(5)), "m.bin: byte 268: 5 frames do not fit in the 64 bytes left"},
+        {patched(b, 272, std::uint32_t(1)), "m.bin: byte 272: frame names image 1 of 1"},
+        {patched(b, 276, std::int32_t(-1)), "m.bin: byte 276: frame x -1 is outside 0..16384"},
+        {patched(b, 284, std::int32_t(0)), "m.bin: byte 284: an empty frame rect"},
+        {patched(b, 292, std::int32_t(-1)), "m.bin: byte 292: frame duration -1 is outside 0..2147483647"},
+        {patched(b, 308, std::int32_t(3)), "m.bin: byte 308: frame 1 is not the size of frame 0"},
+        {patched(b, 320, std::uint32_t(5)), "m.bin: byte 320: 5 animated runs of draw 0 do not fit in the 12 bytes left"},
+        {patched(b, 328, std::uint32_t(3)), "m.bin: byte 324: run of vertices 1 + 3 is not inside draw 0's 3"},
+        {patched(b, 328, std::uint32_t(0)), "m.bin: byte 324: run of vertices 1 + 0 is not inside draw 0's 3"},
+        {patched(b, 332, std::uint32_t(1)), "m.bin: byte 332: run names animation 1 of 1"},
+        {b + "x", "m.bin: byte 336: 1 bytes after the animations"},
+    };
+    for (const auto& [bytes, expected] : cases) {
+        const std::string error = binary_error(bytes);
+        EXPECT_EQ(error.substr(0, expected.size()), expected) << error;
+    }
+    for (std::size_t n = 264; n < b.size(); ++n) EXPECT_NE(binary_error(b.substr(0, n)), "no error") << n;
+
+    const std::pair<std::string, std::string> json_cases[] = {
+        {replaced(text, "[{\"frames\": [{", "[{\"frames\": [], \"x\": [{"), "m.json: animations[0].frames: has no frames"},
+        {replaced(text, "\"image\": 0, \"rect\": [0", "\"image\": 1, \"rect\": [0"), "m.json: animations[0].frames[0].image: must be an integer in 0..0"},
+        {replaced(text, "[2, 0, 2, 2]", "[2, 0, 3, 2]"), "m.json: animations[0].frames[1].rect: is not the size of frame 0's"},
+        {replaced(text, "[0, 0, 2, 2]", "[0, 0, 2]"), "m.json: animations[0].frames[0].rect: must be [x, y, w, h]"},
+        {replaced(text, "\"duration\": 50", "\"duration\": -5"), "m.json: animations[0].frames[1].duration: must be an integer"},
+        {replaced(text, "\"draw\": 0", "\"draw\": 1"), "m.json: animated[0].draw: must be an integer in 0..0"},
+        {replaced(text, "\"vertex_count\": 2", "\"vertex_count\": 3"), "m.json: animated[0].vertex_count: must be an integer in 0..2"},
+        {replaced(text, "\"vertex_count\": 2", "\"vertex_count\": 0"), "m.json: animated[0].vertex_count: must not be 0"},
+        {replaced(text, "\"animation\": 0}", "\"animation\": 1}"), "m.json: animated[0].animation: must be an integer in 0..0"},
+    };
+    for (const auto& [t, expected] : json_cases) {
+        const std::string error = json_error(t);
+        EXPECT_EQ(error.substr(0, expected.size()), expected) << error;
+    }
 }
 
 // A few thousand random byte edits of both forms: every outcome is a value
