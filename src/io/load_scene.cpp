@@ -4,6 +4,7 @@
 
 #include "depthcull/limits.h"
 #include "io/formats.h"
+#include "io/json_keys.h"
 
 namespace depthcull::io {
 
@@ -22,33 +23,15 @@ namespace {
 
 // A .json scene is ours or a Tiled map: decided by the first top-level key
 // that only one of them has, reading no further than that key.
-struct FirstKeySax : nlohmann::json_sax<nlohmann::json> {
-    int depth = 0;
+bool is_tiled_json(std::string_view text) {
     int verdict = 0; // 1: Tiled map, -1: our scene
-    bool null() override { return true; }
-    bool boolean(bool) override { return true; }
-    bool number_integer(number_integer_t) override { return true; }
-    bool number_unsigned(number_unsigned_t) override { return true; }
-    bool number_float(number_float_t, const string_t&) override { return true; }
-    bool string(string_t&) override { return true; }
-    bool binary(binary_t&) override { return true; }
-    bool start_object(std::size_t) override { return ++depth, true; }
-    bool end_object() override { return --depth, true; }
-    bool start_array(std::size_t) override { return ++depth, true; }
-    bool end_array() override { return --depth, true; }
-    bool key(string_t& k) override {
+    scan_json_keys(text, [&](int depth, std::string_view k) {
         if (depth != 1) return true;
         if (k == "layers" || k == "tilesets" || k == "tiledversion" || k == "orientation") verdict = 1;
         else if (k == "elements" || k == "images") verdict = -1;
         return verdict == 0;
-    }
-    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
-};
-
-bool is_tiled_json(std::string_view text) {
-    FirstKeySax sax;
-    nlohmann::json::sax_parse(text, &sax);
-    return sax.verdict == 1;
+    });
+    return verdict == 1;
 }
 
 bool is_tiled(const std::string& path) {

@@ -27,6 +27,7 @@
 #include "depthcull/io.h"
 #include "depthcull/limits.h"
 #include "io/formats.h"
+#include "io/json_keys.h"
 
 namespace depthcull::io {
 
@@ -126,44 +127,22 @@ const AtlasFrame* Atlas::find(const std::string& name) const {
 
 namespace {
 
-// Records the keys of a top-level "frames" object in file order
-// (duplicates included). A parse callback cannot do it: nlohmann then scans
-// the parent object at every member's end, quadratic in the frame count.
-struct FrameOrder final : nlohmann::json_sax<Json> {
-    std::vector<std::string>* keys;
-    int depth = 0;
-    bool in_frames = false;
-    explicit FrameOrder(std::vector<std::string>* k) : keys(k) {}
-    bool null() override { return true; }
-    bool boolean(bool) override { return true; }
-    bool number_integer(number_integer_t) override { return true; }
-    bool number_unsigned(number_unsigned_t) override { return true; }
-    bool number_float(number_float_t, const string_t&) override { return true; }
-    bool string(string_t&) override { return true; }
-    bool binary(binary_t&) override { return true; }
-    bool start_object(std::size_t) override { return ++depth, true; }
-    bool end_object() override { return --depth, true; }
-    bool start_array(std::size_t) override { return ++depth, true; }
-    bool end_array() override { return --depth, true; }
-    bool key(string_t& k) override {
-        if (depth == 1) in_frames = k == "frames";
-        else if (depth == 2 && in_frames) keys->push_back(k);
-        return true;
-    }
-    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
-};
-
 // The document, and in *frame_order the hash form's frame names in file order.
 Json parse_json_text(std::string_view text, const std::string& path, std::vector<std::string>* frame_order) {
     check_json_depth(text, path);
-    FrameOrder order(frame_order);
+    // The keys of a top-level "frames" object in file order (duplicates
+    // included). Not a parse callback: nlohmann then scans the parent
+    // object at every member's end, quadratic in the frame count.
+    bool in_frames = false;
     try {
-        Json::sax_parse(text, &order); // a syntax error is reported by the parse below
+        scan_json_keys(text, [&](int depth, std::string_view key) {
+            if (depth == 1) in_frames = key == "frames";
+            else if (depth == 2 && in_frames) frame_order->emplace_back(key);
+            return true;
+        });
         return Json::parse(text);
     } catch (const Json::exception& e) { // parse_error, and out_of_range for numbers like 1e400
-        std::string message = e.what();
-        if (auto pos = message.find("] "); pos != std::string::npos) message = message.substr(pos + 2);
-        throw Error(path + ": " + message);
+        throw Error(path + ": " + exception_text(e));
     }
 }
 

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace depthcull::test {
 
@@ -36,6 +37,25 @@ inline CliResult run_cli(const std::string& args) {
     r.err = ss.str();
     std::filesystem::remove(errfile);
     return r;
+}
+
+// A fresh, empty directory for one test: temp/dc_<name>_<pid>.
+inline std::filesystem::path scratch_dir(const std::string& name) {
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / ("dc_" + name + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+// A path quoted for the shell command line run_cli builds.
+inline std::string shell_quote(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
+// A file's bytes ("" when it cannot be read).
+inline std::string read_bytes(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
 }
 
 inline std::string example(const std::string& relative) { return std::string(DEPTHCULL_SOURCE_DIR) + "/examples/" + relative; }

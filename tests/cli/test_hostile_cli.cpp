@@ -14,19 +14,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-    fs::path dir = fs::temp_directory_path() / ("dc_hostile_" + name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return depthcull::test::scratch_dir("hostile_" + name); }
 
-std::string shq(const fs::path& p) { return "'" + p.string() + "'"; }
+const auto& shq = depthcull::test::shell_quote;
 
-std::string read(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
+const auto& read = depthcull::test::read_bytes;
 
 bool one_line(const std::string& err) { return !err.empty() && err.find('\n') == err.size() - 1; }
 

@@ -16,21 +16,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-    fs::path dir = fs::temp_directory_path() / ("dc_i16_" + name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return depthcull::test::scratch_dir("i16_" + name); }
 
-std::string shq(const fs::path& p) { return "'" + p.string() + "'"; }
+const auto& shq = depthcull::test::shell_quote;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+const auto& slurp = depthcull::test::read_bytes;
 
 bool have_script() { return std::system("command -v script >/dev/null 2>&1") == 0; }
 

@@ -17,21 +17,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-    fs::path dir = fs::temp_directory_path() / ("dc_report_" + name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return depthcull::test::scratch_dir("report_" + name); }
 
-std::string shq(const fs::path& p) { return "'" + p.string() + "'"; }
+const auto& shq = depthcull::test::shell_quote;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+const auto& slurp = depthcull::test::read_bytes;
 
 std::string chromium() {
     for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
