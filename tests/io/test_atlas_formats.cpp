@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "depthcull/io.h"
+#include "test_scene_json_helpers.h"
 #include "depthcull/pipeline.h"
 #include "testing/corpus.h"
 #include <nlohmann/json.hpp>
@@ -30,22 +31,10 @@ std::string error_of(const std::function<void()>& fn) {
     return "(no error)";
 }
 
-struct TempDir {
-    fs::path dir;
-    TempDir() {
-        dir = fs::temp_directory_path() / ("dc_atlas_formats_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir);
-    }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::string path = (dir / name).string();
-        std::ofstream(path, std::ios::binary) << text;
-        return path;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
+// A scratch directory named after the running test.
+struct TempDir : test::SceneDir {
+    TempDir() : SceneDir("atlas_formats_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())) {}
+    const fs::path& dir = root;
 };
 
 void expect_same_frame(const io::AtlasFrame& a, const io::AtlasFrame& b, const std::string& form) {

@@ -11,59 +11,25 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/io.h"
+#include "test_scene_json_helpers.h"
 #include "depthcull/pipeline.h"
 #include "testing/corpus.h"
+#include "tiled_expect.h"
 
 using namespace depthcull;
 namespace fs = std::filesystem;
 
 namespace {
 
-using T = std::array<double, 6>;
+using test::T;
+using test::data;
+using test::expect_element;
+using test::expect_flips_map;
 
-std::string data(const std::string& name) { return test::source_path("tests/data/tiled/" + name); }
-
-void expect_element(const Scene& s, std::size_t i, const std::string& image, Rect rect, T transform,
-                    std::array<float, 4> color = {1, 1, 1, 1}) {
-    ASSERT_LT(i, s.elements.size());
-    const Element& e = s.elements[i];
-    EXPECT_EQ(s.images.at(std::size_t(e.image)).id, image) << "element " << i;
-    EXPECT_EQ(e.rect, rect) << "element " << i;
-    for (int k = 0; k < 6; ++k) EXPECT_DOUBLE_EQ(e.transform[std::size_t(k)], transform[std::size_t(k)]) << "element " << i << " transform[" << k << "]";
-    for (int k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(e.color[std::size_t(k)], color[std::size_t(k)]) << "element " << i << " color[" << k << "]";
-}
-
-// The flips map of test_tiled.cpp: gids 1, 2|H, 0 / 3|V, 4|D, 2.
-void expect_flips_map(const Scene& s) {
-    ASSERT_EQ(s.images.size(), 1u);
-    EXPECT_EQ(s.images[0].id, "tiles");
-    EXPECT_EQ(s.images[0].width, 12);
-    EXPECT_EQ(s.viewport.width, 12);
-    EXPECT_EQ(s.viewport.height, 8);
-    ASSERT_EQ(s.elements.size(), 5u);
-    expect_element(s, 0, "tiles", {1, 1, 4, 4}, {1, 0, 0, 1, 0, 0});
-    expect_element(s, 1, "tiles", {6, 1, 4, 4}, {-1, 0, 0, 1, 8, 0});
-    expect_element(s, 2, "tiles", {1, 6, 4, 4}, {1, 0, 0, -1, 0, 8});
-    expect_element(s, 3, "tiles", {6, 6, 4, 4}, {0, 1, 1, 0, 4, 4});
-    expect_element(s, 4, "tiles", {6, 1, 4, 4}, {1, 0, 0, 1, 8, 4});
-}
-
-struct TempDir {
-    fs::path dir;
-    TempDir() {
-        dir = fs::temp_directory_path() / ("dc_tiled_formats_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir);
-    }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::string path = (dir / name).string();
-        std::ofstream(path, std::ios::binary) << text;
-        return path;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
+// A scratch directory named after the running test.
+struct TempDir : test::SceneDir {
+    TempDir() : SceneDir("tiled_formats_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())) {}
+    const fs::path& dir = root;
 };
 
 std::string error_of(const std::function<void()>& fn) {
