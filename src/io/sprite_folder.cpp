@@ -64,6 +64,8 @@ Scene load_sprite_folder(const std::string& path, const LoadOptions& options) {
             y += row_height + kGap;
             row_height = 0;
         }
+        if (y > limits::kMaxCoordinate - kMaxImageSide)
+            throw Error(path + ": the sprites laid out in rows reach beyond +-1e9 (kMaxCoordinate)");
         Element e;
         e.image = int(scene.images.size());
         e.rect = {0, 0, image.width, image.height};
