@@ -8,7 +8,6 @@
 // are the rect's size, the rest the payload. Seeds: fuzz/corpus/cache_entry/.
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 
 #include "depthcull/scene.h"
 #include "io/cache.h"
@@ -19,14 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const Rect rect{7, 3, 1 + data[0] % 64, 1 + data[1] % 64};
     const std::string_view payload(reinterpret_cast<const char*>(data) + 2, size - 2);
     const io::CacheKey key = io::hash_bytes_128(data, 2);
-    std::string entry = "DCAN";
-    auto put = [&](const auto& v) { entry.append(reinterpret_cast<const char*>(&v), sizeof v); };
-    put(io::kCacheFormatVersion);
-    put(key.words[0]);
-    put(key.words[1]);
-    put(std::uint64_t(payload.size()));
-    entry += payload;
-    put(io::hash_bytes_128(payload.data(), payload.size(), 1).words[0]);
+    const std::string entry = io::cache_entry(key, payload);
 
     const std::optional<ImageAnalysis> a = io::parse_analysis(entry, key, rect);
     if (!a) return 0;

@@ -4,6 +4,7 @@
 // 1 an error in the input or output, 2 a usage error.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -39,8 +40,21 @@ void add_calibrate_command(CLI::App& app);
 // The command line as given (set by main), for reports.
 extern std::string g_command_line;
 
+// Wall time since construction. Timing lives here, at the edge: the
+// library's result values hold no clock readings, so they are the same on
+// every run.
+class Stopwatch {
+public:
+    double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+private:
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
 // `path` empty or "-": stdout; otherwise written atomically.
 void write_output(const std::string& path, const std::string& text);
+// The same for output made in pieces (never held whole).
+void write_output(const std::string& path, const std::function<void(const io::WriteBytes&)>& produce);
 
 // The analysis options shared by analyze and optimize: --max-vertices,
 // --filter, --opaque, --max-opaque, --min-coverage, --min-opaque-area,

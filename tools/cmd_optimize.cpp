@@ -48,8 +48,13 @@ OverdrawFigures overdraw_figures(const pipeline::PreparedScene& p, const SceneMe
     return f;
 }
 
+// Wall times of optimize's two stages, measured here (not in the values).
+struct StageSeconds {
+    double analysis = 0, reconstruction = 0;
+};
+
 std::string figures(const pipeline::PreparedScene& p, const SceneStats& o, const SceneStats& r, const SceneStats& s,
-                    const OverdrawFigures* od) {
+                    const OverdrawFigures* od, const StageSeconds& seconds) {
     char buf[2048];
     int n = std::snprintf(buf, sizeof buf,
                           "%-20s %12s %12s %12s\n"
@@ -75,7 +80,7 @@ std::string figures(const pipeline::PreparedScene& p, const SceneStats& o, const
     std::snprintf(buf + n, sizeof buf - std::size_t(n),
                   "graph edges %" PRId64 ", depth buffer bits needed %" PRId64 "\n"
                   "images analyzed %d, from cache %d, analysis %.3f s, reconstruction %.3f s\n",
-                  s.graph_edges, s.depth_bits, p.analyzed, p.cache_hits, p.analysis_seconds, s.seconds);
+                  s.graph_edges, s.depth_bits, p.analyzed, p.cache_hits, seconds.analysis, seconds.reconstruction);
     return buf;
 }
 
@@ -87,10 +92,13 @@ void run_optimize(OptimizeArgs& args) {
     prepare.cache_dir = args.cache.directory();
     check_distinct_files({args.scene}, {args.output, args.binary});
     pipeline::PreparedScene prepared;
+    StageSeconds seconds;
     {
         Progress progress("optimize", "images analyzed", 0, args.quiet);
         prepare.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
+        const Stopwatch analysis;
         prepared = pipeline::prepare_scene(args.scene, prepare);
+        seconds.analysis = analysis.seconds();
     }
     check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.binary});
 
@@ -100,11 +108,16 @@ void run_optimize(OptimizeArgs& args) {
     ReconstructOptions options = args.reconstruct;
     options.opaque_polygons = args.opaque;
     prepare.progress = nullptr;
+    const Stopwatch planning; // --target analyzes more budgets: analysis time too
     const auto plan = apply_target(args.target, args.scene, prepared, prepare, &options, args.quiet);
+    seconds.analysis += planning.seconds();
     // The JSON meshes' "animated" vertex runs come from the element spans.
     options.element_spans = !prepared.scene.animations.empty();
     SceneMeshes meshes;
-    switch (reconstruct_scene(prepared.scene, prepared.analysis, options, &meshes)) {
+    const Stopwatch reconstruction;
+    const ReconstructStatus status = reconstruct_scene(prepared.scene, prepared.analysis, options, &meshes);
+    seconds.reconstruction = reconstruction.seconds();
+    switch (status) {
     case ReconstructStatus::ok: break;
     case ReconstructStatus::invalid_scene: throw CliError(args.scene + ": invalid scene for reconstruction");
     case ReconstructStatus::too_many_depth_levels:
@@ -115,19 +128,23 @@ void run_optimize(OptimizeArgs& args) {
         std::fprintf(stderr, "depthcull: warning: %s: %" PRId64 " depth levels need a 24-bit depth buffer (16-bit holds %" PRId64 ")\n",
                      args.scene.c_str(), meshes.stats.depth_levels, kMaxDepthLevels16);
 
-    if (!args.binary.empty()) io::write_meshes_binary(args.binary, prepared.scene, meshes, args.timing);
+    // stats.seconds in the files: the reconstruction's wall time, or 0.
+    const double written_seconds = args.timing ? seconds.reconstruction : 0.0;
+    if (!args.binary.empty()) io::write_meshes_binary(args.binary, prepared.scene, meshes, written_seconds);
     // No -o on a terminal: 100 KB of JSON on the screen helps nobody; say
     // where it goes instead (-o - still prints it; a pipe gets it as before).
     const bool hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();
     if (hold_back) {
-        const std::size_t bytes = io::meshes_to_json(prepared.scene, meshes, "", args.timing).size();
+        std::size_t bytes = 0; // counted as it is made, not built
+        io::stream_meshes_json([&bytes](std::string_view piece) { bytes += piece.size(); }, prepared.scene, meshes, "", written_seconds);
         std::fprintf(stderr,
                      "depthcull: optimize: the meshes JSON (%zu KB) is not printed on a terminal: give -o MESHES.json and/or "
                      "--binary MESHES.bin to write it, -o - to print it, or pipe stdout\n",
                      (bytes + 1023) / 1024);
     } else if (!args.output.empty() || args.binary.empty()) {
-        if (args.output.empty() || args.output == "-") write_output("", io::meshes_to_json(prepared.scene, meshes, "", args.timing));
-        else io::write_meshes_json(args.output, prepared.scene, meshes, args.timing);
+        // Streamed: a large scene's meshes JSON is never one string.
+        const std::string path = args.output == "-" ? std::string() : args.output;
+        write_output(path, [&](const io::WriteBytes& write) { io::stream_meshes_json(write, prepared.scene, meshes, path, written_seconds); });
     }
 
     // Counted, not built: the other columns' meshes are never drawn here.
@@ -141,7 +158,7 @@ void run_optimize(OptimizeArgs& args) {
         const bool overdraw = vp.width > 0 && vp.height > 0 && vp.width <= kMaxImageSide && vp.height <= kMaxImageSide;
         OverdrawFigures od;
         if (overdraw) od = overdraw_figures(prepared, meshes);
-        const std::string text = figures(prepared, overpaint, rects, meshes.stats, overdraw ? &od : nullptr);
+        const std::string text = figures(prepared, overpaint, rects, meshes.stats, overdraw ? &od : nullptr, seconds);
         bool json_on_stdout = !hold_back && args.binary.empty() && (args.output.empty() || args.output == "-");
         std::fputs(text.c_str(), json_on_stdout ? stderr : stdout);
     } else if (!args.quiet) {

@@ -20,6 +20,15 @@ void write_output(const std::string& path, const std::string& text) {
     io::write_file_atomic(path, text);
 }
 
+void write_output(const std::string& path, const std::function<void(const io::WriteBytes&)>& produce) {
+    if (path.empty() || path == "-") {
+        produce([](std::string_view bytes) { std::fwrite(bytes.data(), 1, bytes.size(), stdout); });
+        std::fflush(stdout);
+        return;
+    }
+    io::write_file_atomic(path, produce);
+}
+
 CLI::Validator finite_number() {
     // CLI::Range lets "nan" through (every comparison with it is false).
     return CLI::Validator(

@@ -75,7 +75,10 @@ struct ImageStats {
     double opaque_area = 0;     // total area of the opaque polygons
     std::int64_t opaque_covered_texels = 0; // opaque texels inside opaque polygons
     double opaque_coverage = 0; // covered / opaque texels (0 when none)
-    double seconds = 0;         // wall time of the analysis
+    // No wall time: a value of the core is the same on every run (timing is
+    // the caller's: `analyze` times each image, the pipeline the scene).
+
+    friend bool operator==(const ImageStats&, const ImageStats&) = default;
 
     // boundary area / non-transparent texel area; 1.0 is a perfect fit.
     double excess_area_ratio() const {
@@ -90,6 +93,8 @@ struct ImageAnalysis {
     std::vector<Polygon> boundary; // empty for a fully transparent rect
     std::vector<Polygon> opaque;
     ImageStats stats;
+
+    friend bool operator==(const ImageAnalysis&, const ImageAnalysis&) = default;
 };
 
 // Paper 2.1: boundary polygons of `rect` in `image`. Guarantee: every

@@ -208,7 +208,7 @@ typedef struct dc_draw {
 typedef struct dc_meshes_stats {
     int64_t elements, draw_calls, triangles, depth_levels, graph_edges;
     int64_t depth_bits; /* depth buffer bits the z values need (<= 16 fits a 16-bit buffer) */
-    double seconds;     /* reconstruction time */
+    double seconds;     /* reconstruction wall time: dc_reconstruct's own, or the file's (0: not measured) */
 } dc_meshes_stats;
 
 typedef struct dc_meshes_info {

@@ -15,6 +15,7 @@
 #include <unordered_map>
 
 #include "depthcull/image.h"
+#include "depthcull/limits.h"
 #include "depthcull/scene.h"
 
 namespace depthcull::io {
@@ -32,9 +33,34 @@ Image load_png(const std::string& path);
 // without alpha), as RGBA8; the same limits as load_png.
 Image load_image(const std::string& path);
 Image decode_image(const void* data, std::size_t size, const std::string& name);
-// The pixels a SceneImage stands for: its file decoded, its colour key
-// (SceneImage::trans) applied.
-Image load_scene_image(const SceneImage& image);
+// Image files as a scene load read them, kept for the decode that follows
+// (pipeline::prepare_scene): the loaders take each image's size from these
+// bytes and the pipeline decodes the same bytes, so each file is opened and
+// read once per run. Without one (LoadOptions::image_files null) a loader
+// reads only each image's header (import, which decodes nothing).
+class ImageFiles {
+public:
+    explicit ImageFiles(std::uint64_t budget = limits::kMaxKeptImageBytes) : budget_(budget) {}
+    // The file's bytes, read whole on first use (read_file's checks) and
+    // kept; null, reading nothing, once keeping them would pass the budget
+    // (all files together): the caller reads the file as without
+    // ImageFiles, and its decode reads it again.
+    const std::string* read(const std::string& path);
+    // Bytes kept before, or null. Const: safe from many threads at once.
+    const std::string* find(const std::string& path) const;
+    void clear() {
+        files_.clear();
+        kept_ = 0;
+    }
+
+private:
+    std::uint64_t budget_;
+    std::uint64_t kept_ = 0;
+    std::unordered_map<std::string, std::string> files_;
+};
+// The pixels a SceneImage stands for: its file decoded (from `files` when
+// they hold it), its colour key (SceneImage::trans) applied.
+Image load_scene_image(const SceneImage& image, const ImageFiles* files = nullptr);
 // Texels of colour 0xRRGGBB become fully transparent (alpha 0).
 void apply_colour_key(Image& image, std::uint32_t rgb);
 Image decode_png(const void* data, std::size_t size, const std::string& name);
@@ -49,6 +75,13 @@ std::string read_file(const std::string& path);
 // failure leaves none; temporaries that a killed writer left there (whose
 // pid is gone) are removed first.
 void write_file_atomic(const std::string& path, std::string_view bytes);
+// Bytes handed over in pieces, in order (a large output is written as it is
+// made, never held whole).
+using WriteBytes = std::function<void(std::string_view)>;
+// The same, for bytes `produce` hands to its writer in pieces: they go into
+// the temporary file as they come; if `produce` throws, the temporary is
+// removed and the error passes on, so `path` is never half-written.
+void write_file_atomic(const std::string& path, const std::function<void(const WriteBytes&)>& produce);
 // Whether two paths name one file: the same inode when both exist, else
 // the same canonical path (an output not yet written vs another). Never
 // true for "" or "-" (stdout).
@@ -77,6 +110,9 @@ struct LoadOptions {
     // placed for this camera only) and never fail.
     std::function<void(const std::string&)> warning, note;
     bool strict = false;
+    // Where the loaders keep the image files they read (see ImageFiles);
+    // null: they read only the headers.
+    ImageFiles* image_files = nullptr;
 };
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 
@@ -184,16 +220,23 @@ std::string godot_polygon_scene(const AtlasFrame& frame, const std::vector<Polyg
 
 // The meshes JSON of `depthcull optimize`: viewport, images (ids, paths
 // relative to the directory of `output_path`), draws in drawing order,
-// stats. timing = false writes "seconds": 0 so outputs can be compared.
-std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
-void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing = true); // atomic
+// stats. `seconds` is written as stats.seconds: the reconstruction's wall
+// time as the caller measured it (SceneMeshes holds no clock reading);
+// 0, the default, says "not measured" and keeps outputs byte-identical.
+std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
+void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds = 0); // atomic
 // The same content in the compact little-endian binary form.
-std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
-void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing = true); // atomic
+std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
+void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds = 0); // atomic
+// The same bytes, handed to `write` in pieces of about a MiB as they are
+// made: a large meshes file never sits in memory whole (write_meshes_json
+// and write_meshes_binary stream into their temporary file this way).
+void stream_meshes_json(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
+void stream_meshes_binary(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
 // The same writers over an image list alone: Draw::image indexes `images`;
 // no animations are written.
-std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
-std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing = true);
+std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
+std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
 
 // A run of a draw's vertices that shows an animated element: an engine
 // maps their u, v from frame 0's rect to the current frame's
@@ -234,12 +277,17 @@ struct LoadedMeshes {
     // runs that show them, in draw order; both empty for unanimated scenes.
     std::vector<Animation> animations;
     std::vector<AnimatedRun> animated;
+    // The file's stats.seconds: the reconstruction time its writer
+    // measured (0: not measured). dc_reconstruct sets it to its own.
+    double seconds = 0;
 };
-// The writers over what a reader gave, animations included:
+// The writers over what a reader gave, animations and seconds included:
 // meshes_to_binary(meshes_from_json(text, ...), ...) is what the writer
-// wrote as binary for the same scene.
+// wrote as binary for the same scene. timing = false writes 0 for seconds.
 std::string meshes_to_json(const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
 std::string meshes_to_binary(const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
+void stream_meshes_json(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
+void stream_meshes_binary(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
 
 // A meshes file in either form, told apart by the binary magic "DCMESH".
 // Bad files throw io::Error naming the file and the place: a byte offset

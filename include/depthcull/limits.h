@@ -17,6 +17,9 @@ namespace depthcull::limits {
 // regular files (not /dev/zero, FIFOs or directories).
 inline constexpr std::uint64_t kMaxFileBytes = std::uint64_t(1) << 30;  // 1 GiB, any input file
 inline constexpr std::size_t kMaxXmlBytes = std::size_t(256) << 20;     // a Tiled map / tileset / template after gunzip
+// Image files a scene load keeps read for their decode (io::ImageFiles),
+// all together; past it, a file is read for its size and again to decode.
+inline constexpr std::uint64_t kMaxKeptImageBytes = std::uint64_t(256) << 20;
 
 // Nesting of input structures (Tiled <group> layers, JSON arrays and
 // objects): deeper input is refused rather than walked recursively.

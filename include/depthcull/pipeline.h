@@ -63,7 +63,6 @@ struct PreparedScene {
     std::vector<Image> images; // decoded, index = Scene::images (entries naming one file share pixels)
     SceneAnalysis analysis;    // per distinct (image file, rect), and per element
     int analyzed = 0, cache_hits = 0;
-    double analysis_seconds = 0;
 };
 
 // Loads a scene (any io::load_scene format) and its images, and analyzes

@@ -181,7 +181,11 @@ struct SceneStats {
     // Bits a depth buffer needs to resolve every z this output uses (see
     // depth_z); <= 16 fits a 16-bit buffer, never more than 24.
     std::int64_t depth_bits = 0;
-    double seconds = 0;
+    // No wall time: the same scene and options give the same stats on every
+    // run; the reconstruction's time is measured by the caller (optimize,
+    // dc_reconstruct) and written into the mesh files beside them.
+
+    friend bool operator==(const SceneStats&, const SceneStats&) = default;
 };
 
 struct SceneMeshes {

@@ -3,7 +3,6 @@
 #include "depthcull/analyze.h"
 
 #include <algorithm>
-#include <chrono>
 
 namespace depthcull {
 
@@ -37,7 +36,6 @@ TexelCounts count_texels(ImageView image, Rect rect) {
 } // namespace
 
 ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options) {
-    auto start = std::chrono::steady_clock::now();
     ImageAnalysis result;
     result.rect = rect;
     if (rect.empty() || !image.contains(rect)) return result;
@@ -55,7 +53,6 @@ ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& op
     s.opaque_area = total_area(result.opaque);
     s.opaque_covered_texels = count_covered_opaque_texels(image, rect, result.opaque);
     s.opaque_coverage = counts.opaque ? double(s.opaque_covered_texels) / double(counts.opaque) : 0.0;
-    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
 

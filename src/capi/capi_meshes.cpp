@@ -36,7 +36,7 @@ dc_status dc_meshes_info_get(const dc_meshes* meshes, dc_meshes_info* out) {
     const SceneStats& s = m.stats;
     *out = dc_meshes_info{{m.viewport.x, m.viewport.y, m.viewport.width, m.viewport.height},
                           m.depth_test,
-                          {s.elements, s.draw_calls, s.triangles, s.depth_levels, s.graph_edges, s.depth_bits, s.seconds}};
+                          {s.elements, s.draw_calls, s.triangles, s.depth_levels, s.graph_edges, s.depth_bits, meshes->loaded.seconds}};
     return DC_OK;
 }
 
@@ -111,7 +111,12 @@ dc_status dc_meshes_write_file(const dc_meshes* meshes, const char* path, dc_for
     return guard("dc_meshes_write_file", [&] {
         if (!meshes || !path) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_write_file: meshes and path must not be NULL");
         if (format != DC_FORMAT_JSON && format != DC_FORMAT_BINARY) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_write_file: unknown format");
-        io::write_file_atomic(path, to_bytes(*meshes, format, flags, path));
+        // Streamed into the file: a large scene's meshes are never one string.
+        const bool timing = !(flags & DC_WRITE_NO_TIMING);
+        io::write_file_atomic(path, [&](const io::WriteBytes& write) {
+            format == DC_FORMAT_BINARY ? io::stream_meshes_binary(write, meshes->loaded, path, timing)
+                                       : io::stream_meshes_json(write, meshes->loaded, path, timing);
+        });
         return DC_OK;
     });
 }

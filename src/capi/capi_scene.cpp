@@ -1,4 +1,5 @@
 // depthcull.h: scenes, reconstruction (paper 2.3) and dynamic elements.
+#include <chrono>
 #include <cmath>
 
 #include "capi/capi_internal.h"
@@ -124,8 +125,11 @@ dc_status dc_reconstruct(const dc_scene* scene, const dc_reconstruct_options* op
         r.cull_to_viewport = o.cull_to_viewport != 0;
         r.texel_margin = o.texel_margin;
         auto meshes = std::make_unique<dc_meshes>();
+        // Timed here, at the edge: the core's values hold no clock readings.
+        const auto start = std::chrono::steady_clock::now();
         if (dc_status s = capi::reconstruct_status("dc_reconstruct", reconstruct_scene(scene->scene, raw(scene->analyses), r, &meshes->loaded.meshes)))
             return s;
+        meshes->loaded.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         meshes->loaded.images = scene->scene.images;
         *out = meshes.release();
         return DC_OK;
@@ -152,6 +156,10 @@ dc_status dc_add_dynamic_elements(const dc_meshes* static_meshes, const dc_scene
             return s;
         frame->loaded.meshes = std::move(result);
         frame->loaded.images = scene->scene.images;
+        // Nothing of what the object held before (a frame may be any dc_meshes).
+        frame->loaded.animations.clear();
+        frame->loaded.animated.clear();
+        frame->loaded.seconds = 0;
         return DC_OK;
     });
 }

@@ -195,16 +195,18 @@ std::string serialize_analysis(const CacheKey& key, const ImageAnalysis& a) {
     payload.put(s.opaque_area);
     payload.put(std::int64_t(s.opaque_covered_texels));
     payload.put(s.opaque_coverage);
-    payload.put(s.seconds);
+    return cache_entry(key, payload.bytes);
+}
 
+std::string cache_entry(const CacheKey& key, std::string_view payload) {
     Writer entry;
     entry.bytes.append(kMagic, 4);
     entry.put(kCacheFormatVersion);
     entry.put(key.words[0]);
     entry.put(key.words[1]);
-    entry.put(std::uint64_t(payload.bytes.size()));
-    entry.bytes += payload.bytes;
-    entry.put(hash_bytes_128(payload.bytes.data(), payload.bytes.size(), 1).words[0]);
+    entry.put(std::uint64_t(payload.size()));
+    entry.bytes += payload;
+    entry.put(hash_bytes_128(payload.data(), payload.size(), 1).words[0]);
     return std::move(entry.bytes);
 }
 
@@ -231,7 +233,7 @@ std::optional<ImageAnalysis> parse_analysis(const std::string& bytes, const Cach
     if (!r.get(w) || !r.get(h) || w != rect.w || h != rect.h) return std::nullopt;
     if (!r.polygons(a.boundary, rect) || !r.polygons(a.opaque, rect)) return std::nullopt;
     if (!r.get(nontransparent) || !r.get(opaque) || !r.get(s.boundary_area) || !r.get(s.bbox_area) || !r.get(vertices) ||
-        !r.get(s.opaque_area) || !r.get(covered) || !r.get(s.opaque_coverage) || !r.get(s.seconds) || !r.done())
+        !r.get(s.opaque_area) || !r.get(covered) || !r.get(s.opaque_coverage) || !r.done())
         return std::nullopt;
     // Counts within the rect, areas and fractions finite and sane.
     const std::int64_t texels = std::int64_t(w) * h;
@@ -239,7 +241,7 @@ std::optional<ImageAnalysis> parse_analysis(const std::string& bytes, const Cach
     auto area_ok = [&](double a) { return a >= 0 && a <= double(rect.w + 2) * double(rect.h + 2); }; // false for nan
     if (!count_ok(nontransparent) || !count_ok(opaque) || !count_ok(covered) || covered > opaque || vertices < 0 ||
         vertices > std::int32_t(kMaxCachedVertices) || !area_ok(s.boundary_area) || !area_ok(s.bbox_area) || !area_ok(s.opaque_area) ||
-        !(s.opaque_coverage >= 0 && s.opaque_coverage <= 1) || !(s.seconds >= 0 && s.seconds < 1e9))
+        !(s.opaque_coverage >= 0 && s.opaque_coverage <= 1))
         return std::nullopt;
     s.nontransparent_texels = nontransparent;
     s.opaque_texels = opaque;

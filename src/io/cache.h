@@ -13,12 +13,16 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "depthcull/analyze.h"
 
 namespace depthcull::io {
 
-inline constexpr std::uint32_t kCacheFormatVersion = 1;
+// 2: the payload no longer ends with the analysis' wall time (ImageStats
+// holds none). The version is hashed into every key, so an older entry is
+// never even opened.
+inline constexpr std::uint32_t kCacheFormatVersion = 2;
 
 struct CacheKey {
     std::array<std::uint64_t, 2> words{};
@@ -39,6 +43,9 @@ std::string cache_entry_path(const std::string& dir, const CacheKey& key);
 // parse returns nullopt for anything malformed, truncated or mismatched.
 std::string serialize_analysis(const CacheKey& key, const ImageAnalysis& analysis);
 std::optional<ImageAnalysis> parse_analysis(const std::string& bytes, const CacheKey& key, Rect rect);
+// The entry around a payload: magic, version, key, size, payload, checksum
+// (serialize_analysis ends with it; the fuzz harness wraps its input in it).
+std::string cache_entry(const CacheKey& key, std::string_view payload);
 
 // Reads an entry; nullopt when it is missing or does not check.
 std::optional<ImageAnalysis> cache_load(const std::string& dir, const CacheKey& key, Rect rect);

@@ -52,6 +52,15 @@ void check_input_file(const std::string& path) {
         throw Error(path + ": file is larger than 1 GiB (kMaxFileBytes)");
 }
 
+std::string read_image_head(const std::string& path, std::size_t size) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw Error("cannot open image " + path + " (" + std::strerror(errno) + ")");
+    std::string head(size, '\0');
+    head.resize(std::fread(head.data(), 1, size, f));
+    std::fclose(f);
+    return head;
+}
+
 std::string read_file(const std::string& path) {
     check_input_file(path);
     std::ifstream in(path, std::ios::binary);
@@ -65,25 +74,38 @@ std::string read_file(const std::string& path) {
 }
 
 void write_file_atomic(const std::string& path, std::string_view bytes) {
+    write_file_atomic(path, [&](const WriteBytes& write) { write(bytes); });
+}
+
+void write_file_atomic(const std::string& path, const std::function<void(const WriteBytes&)>& produce) {
     fs::path target(path);
     fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
     remove_stale_temps(dir, target);
     // A unique name per process and call, so concurrent writers never share
     // a temporary file; rename() then replaces the target atomically.
     static std::atomic<std::uint64_t> counter{0};
-    fs::path tmp = dir / (temp_prefix(target) + std::to_string(::getpid()) + "." + std::to_string(counter++));
-    {
-        std::FILE* f = std::fopen(tmp.c_str(), "wb");
-        if (!f) throw Error(path + ": cannot write (" + std::strerror(errno) + ")");
-        bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-        ok = (std::fflush(f) == 0) && ok;
-        ok = (::fsync(::fileno(f)) == 0 || errno == EINVAL) && ok;
-        ok = (std::fclose(f) == 0) && ok;
-        if (!ok) {
-            int e = errno;
-            std::remove(tmp.c_str());
-            throw Error(path + ": write failed (" + std::strerror(e) + ")");
-        }
+    const fs::path tmp = dir / (temp_prefix(target) + std::to_string(::getpid()) + "." + std::to_string(counter++));
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) throw Error(path + ": cannot write (" + std::strerror(errno) + ")");
+    // The first failure's errno, kept until the end: a full disk fails
+    // every later fwrite too, and the producer's own error wins over both.
+    int error = 0;
+    const WriteBytes write = [&](std::string_view bytes) {
+        if (!error && std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size()) error = errno ? errno : EIO;
+    };
+    try {
+        produce(write);
+    } catch (...) {
+        std::fclose(f);
+        std::remove(tmp.c_str());
+        throw;
+    }
+    if (!error && std::fflush(f) != 0) error = errno;
+    if (!error && ::fsync(::fileno(f)) != 0 && errno != EINVAL) error = errno;
+    if (std::fclose(f) != 0 && !error) error = errno;
+    if (error) {
+        std::remove(tmp.c_str());
+        throw Error(path + ": write failed (" + std::strerror(error) + ")");
     }
     if (std::rename(tmp.c_str(), path.c_str()) != 0) {
         int e = errno;

@@ -24,13 +24,23 @@ Atlas texturepacker_from_text(std::string_view text, const std::string& path); /
 
 // Width and height from the PNG signature and IHDR chunk, without decoding;
 // io::Error when the file is missing, not a PNG, or over our size limits.
-void png_size(const std::string& path, int* width, int* height); // png.cpp
+// With `files`, the file is read whole and kept there for the decode that
+// follows (while they keep files); otherwise only its first 24 bytes.
+void png_size(const std::string& path, int* width, int* height, ImageFiles* files = nullptr); // png.cpp
+// The same from a PNG's first bytes (24 suffice); `name` names it in errors.
+void png_size_from_bytes(std::string_view bytes, const std::string& name, int* width, int* height); // png.cpp
+// Up to `size` bytes from the start of a regular file, in one read;
+// io::Error "cannot open image <path> (...)" when it cannot be opened.
+std::string read_image_head(const std::string& path, std::size_t size); // file.cpp
 // A directory of PNGs (recursive) or one PNG as a scene: each image once,
 // in rows without overlap (sprite_folder.cpp).
 bool is_sprite_source(const std::string& path);
 Scene load_sprite_folder(const std::string& path, const LoadOptions& options);
-// The same for any image load_image reads (PNG, JPEG, WebP), told by content.
-void image_size(const std::string& path, int* width, int* height); // image_formats.cpp
+// The same for any image load_image reads (PNG, JPEG, WebP), told by
+// content; the file kept in `files` as png_size keeps it. Otherwise a
+// PNG's header alone is read (JPEG and WebP are read whole: their sizes
+// lie after variable-length segments).
+void image_size(const std::string& path, int* width, int* height, ImageFiles* files = nullptr); // image_formats.cpp
 
 // io::Error "<where>: ..." unless the viewport is finite, within
 // limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).

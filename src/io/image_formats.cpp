@@ -96,7 +96,7 @@ bool jpeg_decode(const unsigned char* data, std::size_t size, bool header_only, 
     return true;
 }
 
-void jpeg_size(const std::string& bytes, const std::string& name, int* w, int* h) {
+void jpeg_size(std::string_view bytes, const std::string& name, int* w, int* h) {
     JpegError err{};
     const char* problem = nullptr;
     if (!jpeg_decode(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), true, w, h, nullptr, err, &problem))
@@ -158,28 +158,50 @@ Image load_image(const std::string& path) {
     return decode_image(bytes.data(), bytes.size(), path);
 }
 
-void image_size(const std::string& path, int* width, int* height) {
+namespace {
+
+void size_from_bytes(std::string_view bytes, const std::string& name, int* width, int* height) {
+    int w = 0, h = 0;
+    switch (sniff(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size())) {
+    case Format::png: return png_size_from_bytes(bytes, name, width, height);
+    case Format::jpeg: jpeg_size(bytes, name, &w, &h); break;
+    case Format::webp: webp_size(bytes.data(), bytes.size(), name, &w, &h); break;
+    case Format::unknown: unknown_format(name);
+    }
+    if (std::string p = size_problem(w, h); !p.empty()) throw Error(name + ": " + p);
+    *width = w;
+    *height = h;
+}
+
+} // namespace
+
+void image_size(const std::string& path, int* width, int* height, ImageFiles* files) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw Error("cannot open image " + path + " (No such file or directory)");
     check_input_file(path);
-    unsigned char head[16] = {};
-    {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw Error("cannot open image " + path);
-        in.read(reinterpret_cast<char*>(head), sizeof head);
-        Format f = sniff(head, std::size_t(in.gcount()));
-        if (f == Format::png) return png_size(path, width, height);
-        if (f == Format::unknown) unknown_format(path);
-    }
-    // JPEG and WebP headers: the sizes lie after variable-length segments
-    // (EXIF can precede a JPEG's frame header), so read the file.
+    if (const std::string* kept = files ? files->read(path) : nullptr) return size_from_bytes(*kept, path, width, height);
+    // A PNG's size is in its first 24 bytes. JPEG and WebP sizes lie after
+    // variable-length segments (EXIF can precede a JPEG's frame header), so
+    // those files are read whole.
+    const std::string head = read_image_head(path, 24);
+    const Format f = sniff(reinterpret_cast<const unsigned char*>(head.data()), head.size());
+    if (f == Format::unknown) unknown_format(path);
+    size_from_bytes(f == Format::png ? head : read_file(path), path, width, height);
+}
+
+const std::string* ImageFiles::read(const std::string& path) {
+    if (auto it = files_.find(path); it != files_.end()) return &it->second;
+    std::error_code ec;
+    const std::uint64_t size = std::filesystem::file_size(path, ec);
+    if (ec || kept_ > budget_ || size > budget_ - kept_) return nullptr;
     std::string bytes = read_file(path);
-    int w = 0, h = 0;
-    if (sniff(head, sizeof head) == Format::jpeg) jpeg_size(bytes, path, &w, &h);
-    else webp_size(bytes.data(), bytes.size(), path, &w, &h);
-    if (std::string p = size_problem(w, h); !p.empty()) throw Error(path + ": " + p);
-    *width = w;
-    *height = h;
+    kept_ += bytes.size();
+    return &files_.emplace(path, std::move(bytes)).first->second;
+}
+
+const std::string* ImageFiles::find(const std::string& path) const {
+    auto it = files_.find(path);
+    return it == files_.end() ? nullptr : &it->second;
 }
 
 } // namespace depthcull::io

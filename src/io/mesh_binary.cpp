@@ -14,23 +14,30 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "the binary mesh writer assumes a little-endian host");
 
+// Little-endian values into a Sink; `at` counts every byte written, since
+// the Sink's buffer is emptied as it streams (pad4 aligns to the file).
 struct Out {
-    std::string bytes;
+    Sink& sink;
+    std::size_t at = 0;
+    void raw(const void* data, std::size_t size) {
+        sink.append(data, size);
+        at += size;
+    }
     template <class T>
-    void put(const T& v) { bytes.append(reinterpret_cast<const char*>(&v), sizeof v); }
+    void put(const T& v) { raw(&v, sizeof v); }
     void str(const std::string& s) {
         put(std::uint32_t(s.size()));
-        bytes += s;
+        raw(s.data(), s.size());
     }
     void pad4() {
-        while (bytes.size() % 4) bytes += '\0';
+        while (at % 4) put('\0');
     }
 };
 
-std::string binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing,
-                   const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
-    Out o;
-    o.bytes.append("DCMESH\0\0", 8);
+void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds,
+            const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
+    Out o{sink};
+    o.raw("DCMESH\0\0", 8);
     o.put(std::uint32_t(1)); // format version
     // Bit 1: image entries carry a colour key (set only when one has one,
     // so files without keys stay as version 1 wrote them; a fill colour is
@@ -49,7 +56,7 @@ std::string binary(const std::vector<SceneImage>& images, const SceneMeshes& mes
     o.put(std::uint32_t(meshes.draws.size()));
     const SceneStats& st = meshes.stats;
     for (std::int64_t v : {st.elements, st.draw_calls, st.triangles, st.depth_levels, st.depth_bits, st.graph_edges}) o.put(v);
-    o.put(timing ? st.seconds : 0.0);
+    o.put(seconds);
     for (const SceneImage& img : images) {
         o.str(img.id);
         o.str(output_relative_path(img.path, output_path));
@@ -65,8 +72,8 @@ std::string binary(const std::vector<SceneImage>& images, const SceneMeshes& mes
         o.put(std::uint16_t(0));
         o.put(std::uint32_t(d.vertex_count()));
         o.put(std::uint32_t(d.indices.size()));
-        o.bytes.append(reinterpret_cast<const char*>(d.vertices.data()), d.vertices.size() * sizeof(float));
-        o.bytes.append(reinterpret_cast<const char*>(d.indices.data()), d.indices.size() * sizeof(std::uint32_t));
+        o.raw(d.vertices.data(), d.vertices.size() * sizeof(float));
+        o.raw(d.indices.data(), d.indices.size() * sizeof(std::uint32_t));
     }
     if (!animations.empty()) {
         o.put(std::uint32_t(animations.size()));
@@ -88,25 +95,43 @@ std::string binary(const std::vector<SceneImage>& images, const SceneMeshes& mes
                 for (std::uint32_t v : {sorted[r].first_vertex, sorted[r].vertex_count, sorted[r].animation}) o.put(v);
         }
     }
-    return std::move(o.bytes);
+}
+
+std::string binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds,
+                   const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
+    Sink sink;
+    binary(sink, images, meshes, output_path, seconds, animations, runs);
+    return std::move(sink.bytes);
 }
 
 } // namespace
 
-std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
-    return binary(images, meshes, output_path, timing, {}, {});
+std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
+    return binary(images, meshes, output_path, seconds, {}, {});
 }
 
 std::string meshes_to_binary(const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    return binary(loaded.images, loaded.meshes, output_path, timing, loaded.animations, loaded.animated);
+    return binary(loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations, loaded.animated);
 }
 
-std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
-    return binary(scene.images, meshes, output_path, timing, scene.animations, animated_runs(scene, meshes, output_path));
+std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
+    return binary(scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
 }
 
-void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {
-    write_file_atomic(path, meshes_to_binary(scene, meshes, path, timing));
+void stream_meshes_binary(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
+    Sink sink(&write);
+    binary(sink, loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations, loaded.animated);
+    sink.flush();
+}
+
+void stream_meshes_binary(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
+    Sink sink(&write);
+    binary(sink, scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
+    sink.flush();
+}
+
+void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds) {
+    write_file_atomic(path, [&](const WriteBytes& write) { stream_meshes_binary(write, scene, meshes, path, seconds); });
 }
 
 } // namespace depthcull::io

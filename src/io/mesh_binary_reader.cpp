@@ -100,8 +100,8 @@ void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std:
         if (*v < 0) in.fail(at, "a negative stats count");
     }
     const std::size_t seconds_at = in.pos;
-    m.stats.seconds = in.finite_double("stats seconds");
-    if (m.stats.seconds < 0) in.fail(seconds_at, "negative stats seconds");
+    out.seconds = in.finite_double("stats seconds");
+    if (out.seconds < 0) in.fail(seconds_at, "negative stats seconds");
     m.depth_denominator = depth_denominator_from_bits(m.stats.depth_bits);
     if (in.left() / kMinImageBytes < *image_count || (in.left() - *image_count * kMinImageBytes) / kDrawHeaderBytes < *draw_count)
         in.fail(counts_at, std::to_string(*image_count) + " images and " + std::to_string(*draw_count) + " draws do not fit in the " +

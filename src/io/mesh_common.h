@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "depthcull/io.h"
 #include "depthcull/scene.h"
 
 namespace depthcull::io {
@@ -18,6 +19,39 @@ inline constexpr std::uint32_t kAnimationsFlag = 8;
 } // namespace depthcull::io
 
 namespace depthcull::io {
+
+// Output made in order (the mesh writers): appended to `bytes` and, when
+// there is a writer, handed to it each time it passes kFlushBytes, so a
+// streamed file never sits in memory whole (a 60,000-element scene's JSON
+// is 125 MB); without one, `bytes` ends up the whole output.
+class Sink {
+public:
+    static constexpr std::size_t kFlushBytes = std::size_t(1) << 20;
+    explicit Sink(const WriteBytes* write = nullptr) : write_(write) {}
+    std::string bytes;
+    void flush_if_full() {
+        if (write_ && bytes.size() >= kFlushBytes) flush();
+    }
+    void flush() {
+        if (!write_ || bytes.empty()) return;
+        (*write_)(bytes);
+        bytes.clear();
+    }
+    // A block of raw bytes (a draw's vertices): a large one goes to the
+    // writer as it is, not through a copy in `bytes`.
+    void append(const void* data, std::size_t size) {
+        if (write_ && size >= kFlushBytes) {
+            flush();
+            (*write_)(std::string_view(static_cast<const char*>(data), size));
+            return;
+        }
+        bytes.append(static_cast<const char*>(data), size);
+        flush_if_full();
+    }
+
+private:
+    const WriteBytes* write_;
+};
 
 // image_path (absolute or relative to the cwd) as the mesh and scene
 // writers write it: relative to the directory of output_path (the cwd for

@@ -37,10 +37,41 @@ void append_int(std::string& s, std::int64_t v) {
 
 void append_string(std::string& s, const std::string& v) { s += nlohmann::json(v).dump(); }
 
-} // namespace
+// Animations (docs/mesh-format.md): the frames, and which vertex runs of
+// which draws show an animated element, so an engine moves their UVs from
+// frame 0's rect to the current frame's. After stats, before the document's "}".
+void append_animations(Sink& sink, const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
+    std::string& a = sink.bytes;
+    a += ",\n \"animations\": [";
+    for (std::size_t i = 0; i < animations.size(); ++i) {
+        a += i ? ",\n  {\"frames\": [" : "\n  {\"frames\": [";
+        const auto& frames = animations[i].frames;
+        for (std::size_t k = 0; k < frames.size(); ++k) {
+            const AnimationFrame& f = frames[k];
+            a += k ? ", " : "";
+            a += "{\"image\": " + std::to_string(f.image) + ", \"rect\": [" + std::to_string(f.rect.x) + ", " + std::to_string(f.rect.y) + ", " +
+                 std::to_string(f.rect.w) + ", " + std::to_string(f.rect.h) + "], \"duration\": " + std::to_string(f.duration_ms) + "}";
+        }
+        a += "]}";
+        sink.flush_if_full();
+    }
+    a += "],\n \"animated\": [";
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const AnimatedRun& r = runs[i];
+        a += i ? ",\n  " : "\n  ";
+        a += "{\"draw\": " + std::to_string(r.draw) + ", \"first_vertex\": " + std::to_string(r.first_vertex) + ", \"vertex_count\": " +
+             std::to_string(r.vertex_count) + ", \"animation\": " + std::to_string(r.animation) + "}";
+        sink.flush_if_full();
+    }
+    a += "]";
+}
 
-std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
-    std::string s;
+// The whole document into `sink` (flushed as it fills; the caller flushes
+// the rest). Animations only when there are some, so other files are as
+// they were before animations existed.
+void json_document(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path,
+                   double seconds, const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
+    std::string& s = sink.bytes;
     s += "{\"viewport\": {\"x\": ";
     append_double(s, meshes.viewport.x);
     s += ", \"y\": ";
@@ -90,15 +121,22 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
         s += blend_name(draw.blend);
         s += "\",\n   \"vertices\": [";
         for (std::size_t k = 0; k < draw.vertices.size(); ++k) {
-            if (k) s += k % kVertexFloats ? "," : ", ";
+            if (k % kVertexFloats == 0) {
+                sink.flush_if_full();
+                if (k) s += ", ";
+            } else {
+                s += ",";
+            }
             append_float(s, draw.vertices[k]);
         }
         s += "],\n   \"indices\": [";
         for (std::size_t k = 0; k < draw.indices.size(); ++k) {
             if (k) s += ",";
             append_int(s, draw.indices[k]);
+            sink.flush_if_full();
         }
         s += "]}";
+        sink.flush_if_full();
     }
     const SceneStats& st = meshes.stats;
     s += "],\n \"stats\": {\"elements\": ";
@@ -114,9 +152,18 @@ std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMes
     s += ", \"graph_edges\": ";
     append_int(s, st.graph_edges);
     s += ", \"seconds\": ";
-    append_double(s, timing ? st.seconds : 0.0);
-    s += "}}\n";
-    return s;
+    append_double(s, seconds);
+    s += "}";
+    if (!animations.empty()) append_animations(sink, animations, runs);
+    s += "}\n";
+}
+
+} // namespace
+
+std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
+    Sink sink;
+    json_document(sink, images, meshes, output_path, seconds, {}, {});
+    return std::move(sink.bytes);
 }
 
 std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path) {
@@ -142,50 +189,32 @@ std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& me
     return runs;
 }
 
-namespace {
-
-// Animations (docs/mesh-format.md): the frames, and which vertex runs of
-// which draws show an animated element, so an engine moves their UVs from
-// frame 0's rect to the current frame's. Inserted before the closing "}}\n"
-// of stats and document.
-std::string with_animations(std::string s, const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
-    if (animations.empty()) return s;
-    std::string a = ",\n \"animations\": [";
-    for (std::size_t i = 0; i < animations.size(); ++i) {
-        a += i ? ",\n  {\"frames\": [" : "\n  {\"frames\": [";
-        const auto& frames = animations[i].frames;
-        for (std::size_t k = 0; k < frames.size(); ++k) {
-            const AnimationFrame& f = frames[k];
-            a += k ? ", " : "";
-            a += "{\"image\": " + std::to_string(f.image) + ", \"rect\": [" + std::to_string(f.rect.x) + ", " + std::to_string(f.rect.y) + ", " +
-                 std::to_string(f.rect.w) + ", " + std::to_string(f.rect.h) + "], \"duration\": " + std::to_string(f.duration_ms) + "}";
-        }
-        a += "]}";
-    }
-    a += "],\n \"animated\": [";
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-        const AnimatedRun& r = runs[i];
-        a += i ? ",\n  " : "\n  ";
-        a += "{\"draw\": " + std::to_string(r.draw) + ", \"first_vertex\": " + std::to_string(r.first_vertex) + ", \"vertex_count\": " +
-             std::to_string(r.vertex_count) + ", \"animation\": " + std::to_string(r.animation) + "}";
-    }
-    a += "]";
-    s.insert(s.size() - 2, a);
-    return s;
-}
-
-} // namespace
-
-std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, bool timing) {
-    return with_animations(meshes_to_json(scene.images, meshes, output_path, timing), scene.animations, animated_runs(scene, meshes, output_path));
+std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
+    Sink sink;
+    json_document(sink, scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
+    return std::move(sink.bytes);
 }
 
 std::string meshes_to_json(const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    return with_animations(meshes_to_json(loaded.images, loaded.meshes, output_path, timing), loaded.animations, loaded.animated);
+    Sink sink;
+    json_document(sink, loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations, loaded.animated);
+    return std::move(sink.bytes);
 }
 
-void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, bool timing) {
-    write_file_atomic(path, meshes_to_json(scene, meshes, path, timing));
+void stream_meshes_json(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
+    Sink sink(&write);
+    json_document(sink, loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations, loaded.animated);
+    sink.flush();
+}
+
+void stream_meshes_json(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
+    Sink sink(&write);
+    json_document(sink, scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
+    sink.flush();
+}
+
+void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds) {
+    write_file_atomic(path, [&](const WriteBytes& write) { stream_meshes_json(write, scene, meshes, path, seconds); });
 }
 
 std::string output_relative_path(const std::string& image_path, const std::string& output_path) {

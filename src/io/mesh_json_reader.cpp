@@ -209,7 +209,8 @@ void read_animations(const Context& ctx, const json& doc, LoadedMeshes* out) {
     }
 }
 
-SceneStats read_stats(const Context& ctx, const json& v) {
+// The stats and the writer's timing (LoadedMeshes::seconds) beside them.
+SceneStats read_stats(const Context& ctx, const json& v, double* seconds) {
     object(ctx, v, "stats");
     SceneStats st;
     const std::pair<const char*, std::int64_t*> counts[] = {{"elements", &st.elements},         {"draw_calls", &st.draw_calls},
@@ -218,8 +219,8 @@ SceneStats read_stats(const Context& ctx, const json& v) {
     for (const auto& [key, value] : counts)
         if (v.contains(key)) *value = integer(ctx, v[key], at("stats", key), INT64_MAX);
     if (v.contains("seconds")) {
-        st.seconds = number(ctx, v["seconds"], "stats.seconds");
-        if (st.seconds < 0) ctx.fail("stats.seconds", "must not be negative");
+        *seconds = number(ctx, v["seconds"], "stats.seconds");
+        if (*seconds < 0) ctx.fail("stats.seconds", "must not be negative");
     }
     return st;
 }
@@ -260,7 +261,7 @@ LoadedMeshes read_json(std::string_view text, const std::string& name, const std
     out.meshes.draws.reserve(draws.size());
     Totals totals;
     for (std::size_t i = 0; i < draws.size(); ++i) out.meshes.draws.push_back(read_draw(ctx, draws[i], at("draws", i), ids, &totals));
-    if (doc.contains("stats")) out.meshes.stats = read_stats(ctx, doc["stats"]);
+    if (doc.contains("stats")) out.meshes.stats = read_stats(ctx, doc["stats"], &out.seconds);
     read_animations(ctx, doc, &out);
     out.meshes.depth_denominator = depth_denominator_from_bits(out.meshes.stats.depth_bits);
     return out;

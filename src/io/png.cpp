@@ -27,20 +27,23 @@ std::string size_problem(std::uint32_t w, std::uint32_t h) {
 
 } // namespace
 
-void png_size(const std::string& path, int* width, int* height) {
+void png_size_from_bytes(std::string_view bytes, const std::string& name, int* width, int* height) {
+    const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+    if (bytes.size() < 24 || std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0 || std::memcmp(b + 12, "IHDR", 4) != 0)
+        throw Error(name + " is not a PNG image");
+    auto be32 = [&](int o) { return (std::uint32_t(b[o]) << 24) | (std::uint32_t(b[o + 1]) << 16) | (std::uint32_t(b[o + 2]) << 8) | b[o + 3]; };
+    const std::uint32_t w = be32(16), h = be32(20);
+    if (std::string problem = size_problem(w, h); !problem.empty()) throw Error(name + ": " + problem);
+    *width = int(w);
+    *height = int(h);
+}
+
+void png_size(const std::string& path, int* width, int* height, ImageFiles* files) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw Error("cannot open image " + path + " (" + std::strerror(ENOENT) + ")");
     check_input_file(path); // before opening: a FIFO would block
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error("cannot open image " + path + " (" + std::strerror(errno) + ")");
-    unsigned char b[24];
-    if (!in.read(reinterpret_cast<char*>(b), sizeof b) || std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0 || std::memcmp(b + 12, "IHDR", 4) != 0)
-        throw Error(path + " is not a PNG image");
-    auto be32 = [&](int o) { return (std::uint32_t(b[o]) << 24) | (std::uint32_t(b[o + 1]) << 16) | (std::uint32_t(b[o + 2]) << 8) | b[o + 3]; };
-    const std::uint32_t w = be32(16), h = be32(20);
-    if (std::string problem = size_problem(w, h); !problem.empty()) throw Error(path + ": " + problem);
-    *width = int(w);
-    *height = int(h);
+    if (const std::string* kept = files ? files->read(path) : nullptr) return png_size_from_bytes(*kept, path, width, height);
+    png_size_from_bytes(read_image_head(path, 24), path, width, height);
 }
 
 Image decode_png(const void* data, std::size_t size, const std::string& name) {
@@ -93,7 +96,7 @@ void apply_colour_key(Image& image, std::uint32_t rgb) {
         if (image.rgba[i] == r && image.rgba[i + 1] == g && image.rgba[i + 2] == b) image.rgba[i + 3] = 0;
 }
 
-Image load_scene_image(const SceneImage& image) {
+Image load_scene_image(const SceneImage& image, const ImageFiles* files) {
     if (image.has_fill) {
         Image solid;
         solid.width = solid.height = kFillImageSide;
@@ -106,7 +109,8 @@ Image load_scene_image(const SceneImage& image) {
         }
         return solid;
     }
-    Image out = load_image(image.path);
+    const std::string* bytes = files ? files->find(image.path) : nullptr;
+    Image out = bytes ? decode_image(bytes->data(), bytes->size(), image.path) : load_image(image.path);
     if (image.has_trans) apply_colour_key(out, image.trans);
     return out;
 }

@@ -222,7 +222,7 @@ Scene scene_json_from_text(std::string_view text, const std::string& path, const
         }
         try {
             if (img.has_fill) img.width = img.height = kFillImageSide;
-            else image_size(img.path, &img.width, &img.height);
+            else image_size(img.path, &img.width, &img.height, options.image_files);
         } catch (const Error& e) {
             c.fail(e.what());
         }
@@ -239,7 +239,7 @@ Scene scene_json_from_text(std::string_view text, const std::string& path, const
             if (!ids.emplace(img.id, int(scene.images.size())).second)
                 ctx.fail("image id \"" + img.id + "\" (page " + std::to_string(k) + " of atlas \"" + scene.images[i].id + "\") is taken");
             img.path = entry.atlas.pages[k].image_path;
-            image_size(img.path, &img.width, &img.height);
+            image_size(img.path, &img.width, &img.height, options.image_files);
             entry.page_images.push_back(int(scene.images.size()));
             scene.images.push_back(std::move(img));
         }

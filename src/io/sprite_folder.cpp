@@ -54,7 +54,7 @@ Scene load_sprite_folder(const std::string& path, const LoadOptions& options) {
     for (const std::string& file : sprite_files(path)) {
         SceneImage image;
         image.path = file;
-        png_size(file, &image.width, &image.height);
+        png_size(file, &image.width, &image.height, options.image_files);
         // Ids: the path below the folder, unique because paths are.
         std::error_code ec;
         fs::path rel = fs::path(file).lexically_relative(path);

@@ -105,10 +105,11 @@ struct Tileset {
 };
 
 // Images shared by every tileset of the map: one SceneImage per distinct
-// (file, trans key).
+// (file, trans key). Sizes are read through `files` when given
+// (LoadOptions::image_files).
 class ImageTable {
 public:
-    explicit ImageTable(std::vector<SceneImage>& images) : images_(images) {}
+    explicit ImageTable(std::vector<SceneImage>& images, ImageFiles* files = nullptr) : images_(images), files_(files) {}
     // `source` is the <image source> attribute, relative to `base_dir`.
     int add(const std::string& base_dir, const std::string& source, const std::string& trans, const std::string& where);
     // A solid-colour image (SceneImage::has_fill): the map's background.
@@ -118,6 +119,7 @@ public:
 
 private:
     std::vector<SceneImage>& images_;
+    ImageFiles* files_;
     std::map<std::string, int> by_key_;
     std::set<std::string> ids_;
 };

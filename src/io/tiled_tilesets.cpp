@@ -172,7 +172,7 @@ int ImageTable::add(const std::string& base_dir, const std::string& source, cons
         image.has_trans = true;
         image.trans = parse_colour_key(trans, where);
     }
-    image_size(path, &image.width, &image.height);
+    image_size(path, &image.width, &image.height, files_);
     // Ids: the file stem, numbered when two files share a stem.
     std::string stem = resolved.stem().string();
     if (stem.empty()) stem = "image";

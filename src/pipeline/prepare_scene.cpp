@@ -1,10 +1,9 @@
 // pipeline::prepare_scene: the pipeline shared by optimize, render and bench.
-// Loads the scene, decodes each image file once, and analyzes each distinct
+// Loads the scene, reads and decodes each image file once, and analyzes each distinct
 // (image file, rect) once, on threads, through the cache when one is set.
 // Work is split by index and results stored by index, so the output never
 // depends on the thread count or timing.
 #include <atomic>
-#include <chrono>
 #include <exception>
 #include <functional>
 #include <map>
@@ -79,9 +78,13 @@ ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& o
 namespace {
 
 PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
-    const auto start = std::chrono::steady_clock::now();
     PreparedScene out;
-    out.scene = io::load_scene(path, options.load);
+    // The loaders read each image file whole for its size and keep it here;
+    // the decode below reads these bytes: each file is opened once.
+    io::ImageFiles files;
+    io::LoadOptions load = options.load;
+    load.image_files = &files;
+    out.scene = io::load_scene(path, load);
     Scene& scene = out.scene;
 
     if (options.filter_override) scene.filter = *options.filter_override;
@@ -105,12 +108,13 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     parallel_for(to_decode.size(), options.threads, [&](std::size_t k) {
         std::size_t i = to_decode[k];
         const SceneImage& img = scene.images[i];
-        out.images[i] = io::load_scene_image(img);
+        out.images[i] = io::load_scene_image(img, &files);
         if (out.images[i].width != img.width || out.images[i].height != img.height)
             throw Error(path + ": image " + std::to_string(i) + " \"" + img.id + "\": " + img.path + " is " +
                         std::to_string(out.images[i].width) + "x" + std::to_string(out.images[i].height) + ", expected " +
                         std::to_string(img.width) + "x" + std::to_string(img.height));
     });
+    files.clear(); // decoded: the compressed bytes are not needed again
     for (std::size_t i = 0; i < scene.images.size(); ++i)
         if (canon[i] != i) out.images[i] = out.images[canon[i]];
 
@@ -148,7 +152,6 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     for (std::size_t i = 0; i < scene.elements.size(); ++i) out.analysis.of_element[i] = std::uint32_t(element_slot[i]);
     for (std::uint8_t h : hit) out.cache_hits += h;
     out.analyzed = int(work.size()) - out.cache_hits;
-    out.analysis_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
 

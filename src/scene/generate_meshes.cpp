@@ -8,7 +8,6 @@
 // - Boundary polygons go to the blend pass in the sorted order, one draw
 //   per run of elements sharing a mesh; only elements that blend take part.
 #include <algorithm>
-#include <chrono>
 #include <numeric>
 
 #include "scene/internal.h"
@@ -147,10 +146,6 @@ void append_blend_draws(const Scene& scene, const std::vector<std::uint32_t>& or
     }
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 } // namespace
 
 } // namespace depthcull::detail
@@ -161,7 +156,6 @@ using namespace detail;
 
 ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
                                     const ReconstructOptions& options, SceneMeshes* out) {
-    const auto start = std::chrono::steady_clock::now();
     const std::size_t n = scene.elements.size();
     if (!out || analyses.size() != n || options.reserved_dynamic_levels < 0) return ReconstructStatus::invalid_scene;
     for (std::size_t i = 0; i < n; ++i) {
@@ -211,7 +205,6 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     for (std::int64_t d = denominator; d > 1; d /= 2) ++bits;
     result.stats.depth_bits = bits;
     finish_stats(result);
-    result.stats.seconds = seconds_since(start);
     *out = std::move(result);
     return ReconstructStatus::ok;
 }
@@ -258,7 +251,6 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const SceneAnalysis& ana
 }
 
 ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions& options, SceneMeshes* out) {
-    const auto start = std::chrono::steady_clock::now();
     const std::size_t n = scene.elements.size();
     RectanglePlan plan;
     if (!out || !plan_rectangles(scene, options, plan)) return ReconstructStatus::invalid_scene;
@@ -272,7 +264,6 @@ ReconstructStatus rectangle_meshes(const Scene& scene, const ReconstructOptions&
     result.stats.elements = std::int64_t(n);
     result.stats.graph_edges = plan.graph_edges;
     finish_stats(result);
-    result.stats.seconds = seconds_since(start);
     *out = std::move(result);
     return ReconstructStatus::ok;
 }
@@ -285,7 +276,6 @@ ReconstructStatus rectangle_stats(const Scene& scene, const ReconstructOptions& 
         if (status == ReconstructStatus::ok) *out = meshes.stats;
         return status;
     }
-    const auto start = std::chrono::steady_clock::now();
     RectanglePlan plan;
     if (!plan_rectangles(scene, options, plan)) return ReconstructStatus::invalid_scene;
     SceneStats stats;
@@ -294,7 +284,6 @@ ReconstructStatus rectangle_stats(const Scene& scene, const ReconstructOptions& 
     stats.draw_calls = count_runs(plan.order, plan.keys);
     for (std::uint32_t e : plan.order)
         if (plan.keys[e] >= 0) stats.triangles += 2; // the rect's quad
-    stats.seconds = seconds_since(start);
     *out = stats;
     return ReconstructStatus::ok;
 }

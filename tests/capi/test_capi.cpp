@@ -228,8 +228,8 @@ TEST(CApi, MeshFilesAreTheIoOnes) {
     const std::string json = (dir / "m.json").string(), bin = (dir / "m.bin").string();
     ASSERT_EQ(dc_meshes_write_file(meshes, json.c_str(), DC_FORMAT_JSON, DC_WRITE_NO_TIMING), DC_OK) << dc_last_error();
     ASSERT_EQ(dc_meshes_write_file(meshes, bin.c_str(), DC_FORMAT_BINARY, DC_WRITE_NO_TIMING), DC_OK);
-    EXPECT_EQ(io::read_file(json), io::meshes_to_json(s.cpp, expected, json, false));
-    EXPECT_EQ(io::read_file(bin), io::meshes_to_binary(s.cpp, expected, bin, false));
+    EXPECT_EQ(io::read_file(json), io::meshes_to_json(s.cpp, expected, json));
+    EXPECT_EQ(io::read_file(bin), io::meshes_to_binary(s.cpp, expected, bin));
 
     dc_meshes *from_json = nullptr, *from_memory = nullptr;
     ASSERT_EQ(dc_meshes_read_file(json.c_str(), &from_json), DC_OK);
@@ -244,6 +244,35 @@ TEST(CApi, MeshFilesAreTheIoOnes) {
     dc_meshes_destroy(from_memory);
     dc_meshes_destroy(from_json);
     dc_meshes_destroy(meshes);
+    dc_scene_destroy(s.c);
+}
+
+// stats.seconds is measured at the edge: dc_reconstruct times itself (the
+// library's SceneStats hold no clock reading), the writers write that time
+// or 0 under DC_WRITE_NO_TIMING, and a file read back reports its own.
+TEST(CApi, ReconstructionSecondsAreTimedAtTheEdge) {
+    const Image image = blob();
+    Scenes s = both_scenes(image);
+    dc_meshes* meshes = nullptr;
+    ASSERT_EQ(dc_reconstruct(s.c, nullptr, &meshes), DC_OK);
+    dc_meshes_info info{};
+    ASSERT_EQ(dc_meshes_info_get(meshes, &info), DC_OK);
+    EXPECT_GT(info.stats.seconds, 0.0);
+    EXPECT_LT(info.stats.seconds, 60.0);
+    for (const unsigned flags : {0u, unsigned(DC_WRITE_NO_TIMING)}) {
+        void* data = nullptr;
+        std::size_t size = 0;
+        ASSERT_EQ(dc_meshes_write_memory(meshes, DC_FORMAT_BINARY, flags, &data, &size), DC_OK);
+        dc_meshes* back = nullptr;
+        ASSERT_EQ(dc_meshes_read_memory(data, size, nullptr, &back), DC_OK);
+        dc_meshes_info back_info{};
+        ASSERT_EQ(dc_meshes_info_get(back, &back_info), DC_OK);
+        EXPECT_EQ(back_info.stats.seconds, flags ? 0.0 : info.stats.seconds);
+        dc_meshes_destroy(back);
+        dc_free(data);
+    }
+    dc_meshes_destroy(meshes);
+    dc_analysis_destroy(s.blob);
     dc_scene_destroy(s.c);
 }
 

@@ -89,6 +89,14 @@ TEST(OptimizeCli, ByteIdenticalAcrossThreadCountsAndCacheRuns) {
     EXPECT_EQ(bytes(dir / "a.json"), bytes(dir / "b.json"));
     EXPECT_EQ(bytes(dir / "a.json"), bytes(dir / "c.json"));
     EXPECT_EQ(bytes(dir / "a.bin"), bytes(dir / "b.bin"));
+    // With timing, stats.seconds is the reconstruction's wall time, measured
+    // by the command (the library's values hold none): the only difference.
+    ASSERT_EQ(run_cli("optimize " + shq(example("meadow.json")) + " --cache " + shq(dir / "cache") + " -o " + shq(dir / "t.json")).status, 0);
+    json timed = json::parse(bytes(dir / "t.json")), untimed = json::parse(bytes(dir / "a.json"));
+    EXPECT_GT(timed["stats"]["seconds"].get<double>(), 0.0);
+    EXPECT_EQ(untimed["stats"]["seconds"], 0);
+    timed["stats"]["seconds"] = 0;
+    EXPECT_EQ(timed, untimed);
 }
 
 TEST(OptimizeCli, BadSceneGivesOneLineErrorNamingTheElementAndWritesNothing) {

@@ -46,7 +46,9 @@ void replay(const std::string& harness, F&& fn) {
     EXPECT_GT(seeds, 0) << "no seeds in " << (kCorpus / harness);
 }
 
-// Keyed tileset images go to a scratch cache, not the user's.
+// Loading writes nothing (issue 12.4: colour keys are applied at decode,
+// not by writing keyed copies): the seeds load with the cache pointed at a
+// scratch directory, which must stay absent.
 struct ScratchCache {
     SceneDir dir{"fuzz_corpus_cache"};
     std::string old = std::getenv("XDG_CACHE_HOME") ? std::getenv("XDG_CACHE_HOME") : "";
@@ -86,6 +88,24 @@ TEST(FuzzCorpus, TiledSeedsLoadOrFailCleanly) {
         maps.write("t.tx", b);
         io::load_scene(map);
     });
+    EXPECT_FALSE(fs::exists(cache.dir.path("cache"))) << "loading maps wrote into the cache directory";
+}
+
+// The cache-entry seeds are payloads of the current entry format (bytes
+// 0-1 give the rect's size, as fuzz_cache_entry.cpp reads them): each one
+// parses, so a format change that leaves them stale fails here instead of
+// seeding the fuzzer with inputs its reader turns away at once.
+TEST(FuzzCorpus, CacheEntrySeedsAreEntriesOfTheCurrentFormat) {
+    int seeds = 0;
+    for (const auto& e : fs::directory_iterator(kCorpus / "cache_entry")) {
+        const std::string b = slurp(e.path());
+        ASSERT_GE(b.size(), 2u) << e.path();
+        const Rect rect{7, 3, 1 + static_cast<unsigned char>(b[0]) % 64, 1 + static_cast<unsigned char>(b[1]) % 64};
+        const io::CacheKey key = io::hash_bytes_128(b.data(), 2);
+        EXPECT_TRUE(io::parse_analysis(io::cache_entry(key, std::string_view(b).substr(2)), key, rect)) << e.path();
+        ++seeds;
+    }
+    EXPECT_GT(seeds, 0);
 }
 
 TEST(FuzzCorpus, AtlasSeedsLoadOrFailCleanly) {

@@ -1,5 +1,6 @@
 // The meshes JSON and binary writers, and determinism of the whole
 // pipeline across thread counts.
+#include <algorithm>
 #include <cstring>
 
 #include <gtest/gtest.h>
@@ -38,11 +39,11 @@ TEST(MeshOutput, MeshAndSceneWritersRelativiseImagePathsAlike) {
     SceneMeshes m = optimize(p);
     std::filesystem::create_directories(dir.path("out"));
     for (const std::string& out : {dir.path("out/x.json"), std::string("/depthcull-no-such-dir/x.json")}) {
-        nlohmann::json mesh = nlohmann::json::parse(io::meshes_to_json(p.scene, m, out, false));
+        nlohmann::json mesh = nlohmann::json::parse(io::meshes_to_json(p.scene, m, out));
         nlohmann::json scene = nlohmann::json::parse(io::scene_to_json_text(p.scene, out));
         EXPECT_EQ(mesh["images"][0]["path"], scene["images"][0]["path"]);
     }
-    nlohmann::json far = nlohmann::json::parse(io::meshes_to_json(p.scene, m, "/depthcull-no-such-dir/x.json", false));
+    nlohmann::json far = nlohmann::json::parse(io::meshes_to_json(p.scene, m, "/depthcull-no-such-dir/x.json"));
     EXPECT_EQ(far["images"][0]["path"], std::filesystem::absolute(dir.path("art/blob.png")).lexically_normal().generic_string());
 }
 
@@ -51,7 +52,7 @@ TEST(MeshOutput, JsonHasTheDocumentedShape) {
     pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});
     SceneMeshes m = optimize(p);
     std::filesystem::create_directories(dir.path("out"));
-    io::write_meshes_json(dir.path("out/meshes.json"), p.scene, m, false);
+    io::write_meshes_json(dir.path("out/meshes.json"), p.scene, m);
     nlohmann::json j = nlohmann::json::parse(io::read_file(dir.path("out/meshes.json")));
     EXPECT_EQ(j["viewport"]["width"], 64);
     EXPECT_EQ(j["images"][0]["id"], "blob");
@@ -76,7 +77,7 @@ TEST(MeshOutput, BinaryHeaderAndSize) {
     SceneDir dir("mesh_bin");
     pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});
     SceneMeshes m = optimize(p);
-    std::string b = io::meshes_to_binary(p.scene, m, dir.path("meshes.bin"), false);
+    std::string b = io::meshes_to_binary(p.scene, m, dir.path("meshes.bin"));
     ASSERT_GT(b.size(), 8u);
     EXPECT_EQ(std::memcmp(b.data(), "DCMESH\0\0", 8), 0);
     std::uint32_t images = 0, draws = 0;
@@ -98,8 +99,48 @@ TEST(MeshOutput, ByteIdenticalWhateverTheThreadCount) {
     four.threads = 4;
     pipeline::PreparedScene a = pipeline::prepare_scene(scene, one), b = pipeline::prepare_scene(scene, four);
     std::string out = dir.path("m.json");
-    EXPECT_EQ(io::meshes_to_json(a.scene, optimize(a), out, false), io::meshes_to_json(b.scene, optimize(b), out, false));
-    EXPECT_EQ(io::meshes_to_binary(a.scene, optimize(a), out, false), io::meshes_to_binary(b.scene, optimize(b), out, false));
+    EXPECT_EQ(io::meshes_to_json(a.scene, optimize(a), out), io::meshes_to_json(b.scene, optimize(b), out));
+    EXPECT_EQ(io::meshes_to_binary(a.scene, optimize(a), out), io::meshes_to_binary(b.scene, optimize(b), out));
+}
+
+// The streaming writers give the string writers' bytes, in pieces of about
+// a MiB (never the whole file at once: a 125 MB meshes JSON would be a
+// 125 MB string), and write_meshes_* write exactly those bytes.
+TEST(MeshOutput, StreamedWritersGiveTheSameBytesInBoundedPieces) {
+    SceneDir dir("mesh_stream");
+    pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});
+    SceneMeshes m = optimize(p);
+    // A draw of 300,000 vertices: several MiB in either form.
+    Draw big = m.draws.back();
+    while (big.vertex_count() < 300000) {
+        const std::size_t n = big.vertex_count();
+        big.vertices.insert(big.vertices.end(), big.vertices.begin(), big.vertices.end());
+        const std::size_t indices = big.indices.size();
+        for (std::size_t k = 0; k < indices; ++k) big.indices.push_back(big.indices[k] + std::uint32_t(n));
+    }
+    m.draws.push_back(big);
+    const std::string out = dir.path("m.json");
+    for (const bool binary : {false, true}) {
+        std::string streamed;
+        std::size_t pieces = 0, largest = 0;
+        const io::WriteBytes collect = [&](std::string_view piece) {
+            streamed += piece;
+            ++pieces;
+            largest = std::max(largest, piece.size());
+        };
+        binary ? io::stream_meshes_binary(collect, p.scene, m, out, 0.5) : io::stream_meshes_json(collect, p.scene, m, out, 0.5);
+        const std::string whole = binary ? io::meshes_to_binary(p.scene, m, out, 0.5) : io::meshes_to_json(p.scene, m, out, 0.5);
+        EXPECT_EQ(streamed, whole) << binary;
+        EXPECT_GT(whole.size(), std::size_t(8) << 20) << binary;
+        EXPECT_GT(pieces, binary ? 2u : 8u) << binary;
+        // JSON: a MiB plus one vertex's text; binary: a draw's arrays go as
+        // they are (the vertex array here is 10.8 MB).
+        if (!binary) {
+            EXPECT_LT(largest, (std::size_t(1) << 20) + 4096);
+        }
+        binary ? io::write_meshes_binary(out, p.scene, m, 0.5) : io::write_meshes_json(out, p.scene, m, 0.5);
+        EXPECT_EQ(io::read_file(out), whole) << binary;
+    }
 }
 
 } // namespace

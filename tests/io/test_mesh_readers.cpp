@@ -16,6 +16,7 @@ namespace {
 struct Optimized {
     pipeline::PreparedScene prepared;
     SceneMeshes meshes;
+    double seconds = 0.125; // the writer's stats.seconds (exact in both forms)
 };
 
 Optimized optimized_scene(const SceneDir& dir) {
@@ -31,7 +32,6 @@ Optimized optimized_scene(const SceneDir& dir) {
         "images": [{"id": "blob", "path": "art/blob.png"}, {"id": "tiles", "path": "art/tiles.png"}], "elements": [)" + elements + "]}");
     Optimized o{pipeline::prepare_scene(path, {}), {}};
     EXPECT_EQ(reconstruct_scene(o.prepared.scene, o.prepared.analysis, {}, &o.meshes), ReconstructStatus::ok);
-    o.meshes.stats.seconds = 0.125; // exact in both forms
     return o;
 }
 
@@ -57,7 +57,6 @@ void expect_same_meshes(const SceneMeshes& a, const SceneMeshes& b) {
     EXPECT_EQ(a.stats.depth_levels, b.stats.depth_levels);
     EXPECT_EQ(a.stats.depth_bits, b.stats.depth_bits);
     EXPECT_EQ(a.stats.graph_edges, b.stats.graph_edges);
-    EXPECT_EQ(a.stats.seconds, b.stats.seconds);
 }
 
 void expect_same_images(const std::vector<SceneImage>& a, const std::vector<SceneImage>& b) {
@@ -77,11 +76,13 @@ TEST(MeshReaders, JsonRoundTripIsByteIdenticalWithEqualValues) {
     Optimized o = optimized_scene(dir);
     std::filesystem::create_directories(dir.path("out"));
     const std::string path = dir.path("out/meshes.json");
-    io::write_meshes_json(path, o.prepared.scene, o.meshes);
+    io::write_meshes_json(path, o.prepared.scene, o.meshes, o.seconds);
     io::LoadedMeshes loaded = io::read_meshes_json(path);
     expect_same_meshes(o.meshes, loaded.meshes);
     expect_same_images(o.prepared.scene.images, loaded.images);
-    EXPECT_EQ(io::meshes_to_json(loaded.images, loaded.meshes, path), io::read_file(path));
+    EXPECT_EQ(loaded.seconds, o.seconds);
+    EXPECT_EQ(io::meshes_to_json(loaded.images, loaded.meshes, path, loaded.seconds), io::read_file(path));
+    EXPECT_EQ(io::meshes_to_json(loaded, path), io::read_file(path));
     for (const Draw& d : loaded.meshes.draws) EXPECT_TRUE(d.element_spans.empty());
 }
 
@@ -90,23 +91,28 @@ TEST(MeshReaders, BinaryRoundTripIsByteIdenticalWithEqualValues) {
     Optimized o = optimized_scene(dir);
     std::filesystem::create_directories(dir.path("out"));
     const std::string path = dir.path("out/meshes.bin");
-    io::write_meshes_binary(path, o.prepared.scene, o.meshes);
+    io::write_meshes_binary(path, o.prepared.scene, o.meshes, o.seconds);
     io::LoadedMeshes loaded = io::read_meshes_binary(path);
     expect_same_meshes(o.meshes, loaded.meshes);
     expect_same_images(o.prepared.scene.images, loaded.images);
-    EXPECT_EQ(io::meshes_to_binary(loaded.images, loaded.meshes, path), io::read_file(path));
+    EXPECT_EQ(loaded.seconds, o.seconds);
+    EXPECT_EQ(io::meshes_to_binary(loaded.images, loaded.meshes, path, loaded.seconds), io::read_file(path));
+    EXPECT_EQ(io::meshes_to_binary(loaded, path), io::read_file(path));
 }
 
 TEST(MeshReaders, ReadMeshesTellsTheFormsApartAndTheyAgree) {
     SceneDir dir("mesh_read_any");
     Optimized o = optimized_scene(dir);
-    io::write_meshes_json(dir.path("m.json"), o.prepared.scene, o.meshes);
-    io::write_meshes_binary(dir.path("m.bin"), o.prepared.scene, o.meshes);
+    io::write_meshes_json(dir.path("m.json"), o.prepared.scene, o.meshes, o.seconds);
+    io::write_meshes_binary(dir.path("m.bin"), o.prepared.scene, o.meshes, o.seconds);
     io::LoadedMeshes j = io::read_meshes(dir.path("m.json")), b = io::read_meshes(dir.path("m.bin"));
     expect_same_meshes(j.meshes, b.meshes);
     expect_same_images(j.images, b.images);
+    EXPECT_EQ(j.seconds, b.seconds);
     // Converting one form into the other gives what the writer gives.
-    EXPECT_EQ(io::meshes_to_binary(j.images, j.meshes, dir.path("m.bin")), io::read_file(dir.path("m.bin")));
+    EXPECT_EQ(io::meshes_to_binary(j, dir.path("m.bin")), io::read_file(dir.path("m.bin")));
+    // timing = false writes 0 (what the writer writes without a time).
+    EXPECT_EQ(io::meshes_to_binary(j, dir.path("m.bin"), false), io::meshes_to_binary(o.prepared.scene, o.meshes, dir.path("m.bin")));
 }
 
 TEST(MeshReaders, FromMemoryKeepsPathsAsWritten) {
@@ -115,7 +121,7 @@ TEST(MeshReaders, FromMemoryKeepsPathsAsWritten) {
     const std::string text = io::meshes_to_json(o.prepared.scene, o.meshes, dir.path("sub/m.json"));
     io::LoadedMeshes m = io::meshes_from_json(text, "memory");
     EXPECT_EQ(m.images[0].path, "../art/blob.png");
-    EXPECT_EQ(io::meshes_to_json(m.images, m.meshes, ""), text);
+    EXPECT_EQ(io::meshes_to_json(m, ""), text);
     io::LoadedMeshes based = io::meshes_from_json(text, "memory", "/assets/sub");
     EXPECT_EQ(based.images[0].path, "/assets/art/blob.png");
     const std::string bytes = io::meshes_to_binary(o.prepared.scene, o.meshes, dir.path("sub/m.bin"));
@@ -152,7 +158,6 @@ Optimized animated_scene(const SceneDir& dir) {
     ReconstructOptions options;
     options.element_spans = true;
     EXPECT_EQ(reconstruct_scene(o.prepared.scene, o.prepared.analysis, options, &o.meshes), ReconstructStatus::ok);
-    o.meshes.stats.seconds = 0.125;
     return o;
 }
 
@@ -167,8 +172,8 @@ TEST(MeshReaders, AnimationsRoundTripInBothForms) {
     ASSERT_FALSE(runs.empty());
     std::filesystem::create_directories(dir.path("out"));
     const std::string jpath = dir.path("out/m.json"), bpath = dir.path("out/m.bin");
-    io::write_meshes_json(jpath, o.prepared.scene, o.meshes);
-    io::write_meshes_binary(bpath, o.prepared.scene, o.meshes);
+    io::write_meshes_json(jpath, o.prepared.scene, o.meshes, o.seconds);
+    io::write_meshes_binary(bpath, o.prepared.scene, o.meshes, o.seconds);
     const io::LoadedMeshes j = io::read_meshes(jpath), b = io::read_meshes(bpath);
     for (const io::LoadedMeshes* m : {&j, &b}) {
         expect_same_meshes(o.meshes, m->meshes);

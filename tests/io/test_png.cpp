@@ -107,3 +107,27 @@ TEST(AtomicWrite, ReplacesAndLeavesNoTemporaries) {
     EXPECT_EQ(files, 1);
     EXPECT_THROW(io::write_file_atomic((dir / "missing" / "x").string(), "x"), io::Error);
 }
+
+// Output written in pieces as it is made: the pieces in order, and a
+// producer that fails half-way leaves the old file and no temporary.
+TEST(AtomicWrite, StreamedPiecesOrAFailingProducerLeaveNoHalfFile) {
+    auto dir = std::filesystem::temp_directory_path() / "dc_atomic_stream";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "out.txt").string();
+    io::write_file_atomic(path, [](const io::WriteBytes& write) {
+        write("one ");
+        write("two");
+    });
+    EXPECT_EQ(io::read_file(path), "one two");
+    EXPECT_THROW(io::write_file_atomic(path,
+                                       [](const io::WriteBytes& write) {
+                                           write("half");
+                                           throw io::Error("out.txt: made up");
+                                       }),
+                 io::Error);
+    EXPECT_EQ(io::read_file(path), "one two");
+    int files = 0;
+    for (auto& e : std::filesystem::directory_iterator(dir)) (void)e, ++files;
+    EXPECT_EQ(files, 1);
+}

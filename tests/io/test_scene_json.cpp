@@ -50,6 +50,53 @@ TEST(SceneJson, LoadsFieldsAndDefaults) {
     EXPECT_EQ(s.elements[1].blend, Blend::add);
 }
 
+// With LoadOptions::image_files the loader reads each image file whole,
+// once, for its size, and the decode takes those bytes instead of opening
+// the file again (pipeline::prepare_scene: one open per file): the files
+// may be gone by then. Without, the loader reads headers only; the sizes
+// are the same.
+TEST(SceneJson, ImageFilesAreReadOnceAndDecodedFromMemory) {
+    SceneDir dir("scene_json_files");
+    dir.standard_art();
+    const std::string path = dir.write("scene.json", scene_text(R"({"image": "blob"}, {"image": "tiles"}, {"image": "blob"})"));
+    io::ImageFiles files;
+    io::LoadOptions options;
+    options.image_files = &files;
+    const Scene s = io::load_scene(path, options), plain = io::load_scene(path);
+    ASSERT_EQ(s.images.size(), 2u);
+    std::vector<Image> from_disk;
+    for (std::size_t i = 0; i < s.images.size(); ++i) {
+        EXPECT_NE(files.find(s.images[i].path), nullptr) << i;
+        EXPECT_EQ(s.images[i].width, plain.images[i].width) << i;
+        EXPECT_EQ(s.images[i].height, plain.images[i].height) << i;
+        from_disk.push_back(io::load_scene_image(s.images[i]));
+    }
+    std::filesystem::remove_all(dir.path("art"));
+    for (std::size_t i = 0; i < s.images.size(); ++i) {
+        const Image decoded = io::load_scene_image(s.images[i], &files);
+        EXPECT_EQ(decoded.width, from_disk[i].width) << i;
+        EXPECT_EQ(decoded.rgba, from_disk[i].rgba) << i;
+    }
+    EXPECT_THROW(io::load_scene_image(s.images[0]), io::Error);
+}
+
+// Past its budget ImageFiles keeps nothing more: the loader reads such a
+// file's size as without it, and the decode reads the file from disk.
+TEST(SceneJson, ImageFilesPastTheirBudgetAreReadAgain) {
+    SceneDir dir("scene_json_budget");
+    dir.standard_art();
+    const std::string path = dir.write("scene.json", scene_text(R"({"image": "blob"}, {"image": "tiles"})"));
+    const auto blob = std::filesystem::file_size(dir.path("art/blob.png"));
+    io::ImageFiles files(blob); // room for blob.png alone
+    io::LoadOptions options;
+    options.image_files = &files;
+    const Scene s = io::load_scene(path, options);
+    EXPECT_NE(files.find(s.images[0].path), nullptr);
+    EXPECT_EQ(files.find(s.images[1].path), nullptr);
+    EXPECT_EQ(s.images[1].width, io::load_scene(path).images[1].width);
+    EXPECT_EQ(io::load_scene_image(s.images[1], &files).rgba, io::load_scene_image(s.images[1]).rgba);
+}
+
 TEST(SceneJson, ColourKeysAreReadAndWrittenBack) {
     SceneDir dir("scene_json_trans");
     dir.standard_art();

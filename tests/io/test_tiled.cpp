@@ -184,6 +184,14 @@ TEST(Tiled, TransColourKeyIsAppliedAtDecodeAndWritesNothing) {
     EXPECT_EQ(keyed.view().alpha(6, 6), 128); // half-transparent yellow keeps its alpha
     // The file itself is untouched: a plain decode keeps magenta opaque.
     EXPECT_EQ(io::load_png(s.images[0].path).view().alpha(0, 0), 255);
+    // Read through ImageFiles (as the pipeline loads), the key is applied
+    // to the bytes the loader kept.
+    io::ImageFiles files;
+    io::LoadOptions options;
+    options.image_files = &files;
+    const Scene kept = io::load_scene(m.path, options);
+    ASSERT_NE(files.find(kept.images[0].path), nullptr);
+    EXPECT_EQ(io::load_scene_image(kept.images[0], &files).rgba, keyed.rgba);
 }
 
 TEST(Tiled, ObjectTemplates) {

@@ -229,9 +229,9 @@ TEST(TiledLayers, BackgroundFillTravelsInBothMeshForms) {
     images[1].width = images[1].height = kFillImageSide;
     SceneMeshes meshes;
     meshes.viewport = {0, 0, 12, 8};
-    std::string text = io::meshes_to_json(images, meshes, "", false);
+    std::string text = io::meshes_to_json(images, meshes, "");
     EXPECT_NE(text.find("{\"id\": \"background\", \"path\": \"\", \"width\": 16, \"height\": 16, \"fill\": \"3b97d3\"}"), std::string::npos) << text;
-    for (const io::LoadedMeshes& back : {io::meshes_from_json(text, "m.json"), io::meshes_from_binary(io::meshes_to_binary(images, meshes, "", false), "m.bin")}) {
+    for (const io::LoadedMeshes& back : {io::meshes_from_json(text, "m.json"), io::meshes_from_binary(io::meshes_to_binary(images, meshes, ""), "m.bin")}) {
         ASSERT_EQ(back.images.size(), 2u);
         EXPECT_FALSE(back.images[0].has_fill);
         EXPECT_TRUE(back.images[1].has_fill);
@@ -315,7 +315,7 @@ TEST(TiledAnimation, OneAnalysisCoversEveryFrame) {
     ReconstructOptions spans;
     spans.element_spans = true; // the meshes JSON's "animated" runs
     reconstruct_scene(s, p.analysis, spans, &meshes);
-    std::string mesh_text = io::meshes_to_json(s, meshes, "", false);
+    std::string mesh_text = io::meshes_to_json(s, meshes, "");
     auto doc = nlohmann::json::parse(mesh_text);
     ASSERT_EQ(doc["animations"].size(), 1u);
     EXPECT_EQ(doc["animations"][0]["frames"][1], nlohmann::json::parse(R"({"image": 0, "rect": [16, 0, 16, 16], "duration": 250})"));

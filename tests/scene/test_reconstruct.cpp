@@ -339,5 +339,25 @@ RC_GTEST_PROP(GenerateMeshes, BlendPassKeepsOverlappingPairsInOrder, ()) {
     RC_ASSERT(m.stats.graph_edges == std::int64_t(g.edge_count()));
 }
 
+// A value of the core is a function of its inputs: reconstructing twice
+// gives equal values, stats included (they hold no wall time; the callers
+// time reconstruction at the edge). Meshes only and its counted stats too.
+RC_GTEST_PROP(Reconstruct, TheSameInputGivesEqualValues, ()) {
+    SceneBuilder b = random_scene(*rc::gen::inRange(1, 60), *rc::gen::inRange(1, 4));
+    SceneMeshes first, second, rects;
+    RC_ASSERT(reconstruct_scene(b.scene, b.analyses, {}, &first) == ReconstructStatus::ok);
+    RC_ASSERT(reconstruct_scene(b.scene, b.analyses, {}, &second) == ReconstructStatus::ok);
+    RC_ASSERT(first.stats == second.stats);
+    RC_ASSERT(first.draws.size() == second.draws.size());
+    for (std::size_t i = 0; i < first.draws.size(); ++i) {
+        RC_ASSERT(first.draws[i].vertices == second.draws[i].vertices);
+        RC_ASSERT(first.draws[i].indices == second.draws[i].indices);
+    }
+    SceneStats counted;
+    RC_ASSERT(rectangle_meshes(b.scene, {}, &rects) == ReconstructStatus::ok);
+    RC_ASSERT(rectangle_stats(b.scene, {}, &counted) == ReconstructStatus::ok);
+    RC_ASSERT(counted == rects.stats);
+}
+
 } // namespace
 } // namespace depthcull::test
