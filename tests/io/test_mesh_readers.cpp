@@ -236,9 +236,13 @@ TEST(MeshReaders, ColourKeysRoundTripInBothForms) {
     keyed[0].trans = 0xff00ff;
     const std::string text = io::meshes_to_json(keyed, o.meshes, "");
     EXPECT_NE(text.find("\"trans\": \"ff00ff\""), std::string::npos);
-    expect_same_images(keyed, io::meshes_from_json(text, "memory").images);
+    // Written for stdout: paths relative to the working directory (when it
+    // shares a directory with the images; absolute otherwise), so they are
+    // read back against it, wherever the tests run.
+    const std::string cwd = std::filesystem::current_path().string();
+    expect_same_images(keyed, io::meshes_from_json(text, "memory", cwd).images);
     const std::string bytes = io::meshes_to_binary(keyed, o.meshes, "");
-    expect_same_images(keyed, io::meshes_from_binary(bytes, "memory").images);
+    expect_same_images(keyed, io::meshes_from_binary(bytes, "memory", cwd).images);
     EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory").images, o.meshes, ""), bytes);
     std::string bad = text;
     bad.replace(bad.find("ff00ff"), 6, "ff00fg");
