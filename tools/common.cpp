@@ -12,12 +12,7 @@ namespace depthcull::cli {
 std::string g_command_line;
 
 void write_output(const std::string& path, const std::string& text) {
-    if (path.empty() || path == "-") {
-        std::fwrite(text.data(), 1, text.size(), stdout);
-        std::fflush(stdout);
-        return;
-    }
-    io::write_file_atomic(path, text);
+    write_output(path, [&text](const io::WriteBytes& write) { write(text); });
 }
 
 void write_output(const std::string& path, const std::function<void(const io::WriteBytes&)>& produce) {

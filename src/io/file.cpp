@@ -53,6 +53,9 @@ void check_input_file(const std::string& path) {
 }
 
 std::string read_image_head(const std::string& path, std::size_t size) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw Error("cannot open image " + path + " (" + std::strerror(ENOENT) + ")");
+    check_input_file(path); // before opening: a FIFO would block
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw Error("cannot open image " + path + " (" + std::strerror(errno) + ")");
     std::string head(size, '\0');

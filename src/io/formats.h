@@ -30,7 +30,9 @@ void png_size(const std::string& path, int* width, int* height, ImageFiles* file
 // The same from a PNG's first bytes (24 suffice); `name` names it in errors.
 void png_size_from_bytes(std::string_view bytes, const std::string& name, int* width, int* height); // png.cpp
 // Up to `size` bytes from the start of a regular file, in one read;
-// io::Error "cannot open image <path> (...)" when it cannot be opened.
+// io::Error "cannot open image <path> (...)" when it is missing or cannot
+// be opened, and check_input_file's errors (directories, FIFOs, devices,
+// files over kMaxFileBytes) before anything is opened.
 std::string read_image_head(const std::string& path, std::size_t size); // file.cpp
 // A directory of PNGs (recursive) or one PNG as a scene: each image once,
 // in rows without overlap (sprite_folder.cpp).

@@ -176,9 +176,6 @@ void size_from_bytes(std::string_view bytes, const std::string& name, int* width
 } // namespace
 
 void image_size(const std::string& path, int* width, int* height, ImageFiles* files) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw Error("cannot open image " + path + " (No such file or directory)");
-    check_input_file(path);
     if (const std::string* kept = files ? files->read(path) : nullptr) return size_from_bytes(*kept, path, width, height);
     // A PNG's size is in its first 24 bytes. JPEG and WebP sizes lie after
     // variable-length segments (EXIF can precede a JPEG's frame header), so
@@ -191,6 +188,8 @@ void image_size(const std::string& path, int* width, int* height, ImageFiles* fi
 
 const std::string* ImageFiles::read(const std::string& path) {
     if (auto it = files_.find(path); it != files_.end()) return &it->second;
+    // A missing or non-regular file has no size: null, and the caller's
+    // read_image_head says what is wrong with it (and never opens a FIFO).
     std::error_code ec;
     const std::uint64_t size = std::filesystem::file_size(path, ec);
     if (ec || kept_ > budget_ || size > budget_ - kept_) return nullptr;

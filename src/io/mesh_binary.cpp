@@ -97,37 +97,26 @@ void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes
     }
 }
 
-std::string binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds,
-                   const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
-    Sink sink;
-    binary(sink, images, meshes, output_path, seconds, animations, runs);
-    return std::move(sink.bytes);
-}
-
 } // namespace
 
 std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    return binary(images, meshes, output_path, seconds, {}, {});
+    return run_document(binary, nullptr, images, meshes, output_path, seconds);
 }
 
 std::string meshes_to_binary(const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    return binary(loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations, loaded.animated);
+    return run_document(binary, nullptr, loaded, output_path, timing);
 }
 
 std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    return binary(scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
+    return run_document(binary, nullptr, scene, meshes, output_path, seconds);
 }
 
 void stream_meshes_binary(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    Sink sink(&write);
-    binary(sink, loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations, loaded.animated);
-    sink.flush();
+    run_document(binary, &write, loaded, output_path, timing);
 }
 
 void stream_meshes_binary(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    Sink sink(&write);
-    binary(sink, scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
-    sink.flush();
+    run_document(binary, &write, scene, meshes, output_path, seconds);
 }
 
 void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds) {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "depthcull/io.h"
 #include "depthcull/scene.h"
@@ -52,6 +53,33 @@ public:
 private:
     const WriteBytes* write_;
 };
+
+// A format's whole document into a Sink (mesh_json.cpp's json_document,
+// mesh_binary.cpp's binary): images, meshes, paths relative to
+// output_path, stats.seconds, then the animations when there are some.
+using MeshDocument = void (*)(Sink&, const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path,
+                              double seconds, const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs);
+
+// Runs a document whole (write null: the returned string) or streamed to
+// `write` (the string comes back empty): every public writer of both
+// formats is one of these.
+inline std::string run_document(MeshDocument document, const WriteBytes* write, const std::vector<SceneImage>& images,
+                                const SceneMeshes& meshes, const std::string& output_path, double seconds,
+                                const std::vector<Animation>& animations = {}, const std::vector<AnimatedRun>& runs = {}) {
+    Sink sink(write);
+    document(sink, images, meshes, output_path, seconds, animations, runs);
+    sink.flush();
+    return std::move(sink.bytes);
+}
+inline std::string run_document(MeshDocument document, const WriteBytes* write, const Scene& scene, const SceneMeshes& meshes,
+                                const std::string& output_path, double seconds) {
+    return run_document(document, write, scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
+}
+inline std::string run_document(MeshDocument document, const WriteBytes* write, const LoadedMeshes& loaded, const std::string& output_path,
+                                bool timing) {
+    return run_document(document, write, loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations,
+                        loaded.animated);
+}
 
 // image_path (absolute or relative to the cwd) as the mesh and scene
 // writers write it: relative to the directory of output_path (the cwd for

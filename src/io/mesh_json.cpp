@@ -161,9 +161,7 @@ void json_document(Sink& sink, const std::vector<SceneImage>& images, const Scen
 } // namespace
 
 std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    Sink sink;
-    json_document(sink, images, meshes, output_path, seconds, {}, {});
-    return std::move(sink.bytes);
+    return run_document(json_document, nullptr, images, meshes, output_path, seconds);
 }
 
 std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path) {
@@ -190,27 +188,19 @@ std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& me
 }
 
 std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    Sink sink;
-    json_document(sink, scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
-    return std::move(sink.bytes);
+    return run_document(json_document, nullptr, scene, meshes, output_path, seconds);
 }
 
 std::string meshes_to_json(const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    Sink sink;
-    json_document(sink, loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations, loaded.animated);
-    return std::move(sink.bytes);
+    return run_document(json_document, nullptr, loaded, output_path, timing);
 }
 
 void stream_meshes_json(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    Sink sink(&write);
-    json_document(sink, loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations, loaded.animated);
-    sink.flush();
+    run_document(json_document, &write, loaded, output_path, timing);
 }
 
 void stream_meshes_json(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    Sink sink(&write);
-    json_document(sink, scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
-    sink.flush();
+    run_document(json_document, &write, scene, meshes, output_path, seconds);
 }
 
 void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds) {

@@ -39,9 +39,6 @@ void png_size_from_bytes(std::string_view bytes, const std::string& name, int* w
 }
 
 void png_size(const std::string& path, int* width, int* height, ImageFiles* files) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw Error("cannot open image " + path + " (" + std::strerror(ENOENT) + ")");
-    check_input_file(path); // before opening: a FIFO would block
     if (const std::string* kept = files ? files->read(path) : nullptr) return png_size_from_bytes(*kept, path, width, height);
     png_size_from_bytes(read_image_head(path, 24), path, width, height);
 }
