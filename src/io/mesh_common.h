@@ -86,8 +86,10 @@ inline std::string run_document(MeshDocument document, const WriteBytes* write, 
 // stdout, which is what a reader of the stream resolves against), so the
 // file finds its images wherever it is written, but absolute when the two
 // share no directory below the root, since a path climbing to "/" and down
-// again breaks as soon as either moves. One rule for both writers: before,
-// the mesh writers climbed through "/" and kept stdout paths as given.
+// again breaks as soon as either moves. A relative path written where the
+// output's directory is the cwd (stdout, a bare file name) is kept as
+// given: it names the image from there already. One rule for both
+// writers: before, the mesh writers climbed through "/".
 std::string output_relative_path(const std::string& image_path, const std::string& output_path);
 const char* blend_name(Blend b);
 

@@ -214,6 +214,11 @@ std::string output_relative_path(const std::string& image_path, const std::strin
     if (out_dir.empty()) out_dir = ".";
     const fs::path base = fs::absolute(out_dir, ec).lexically_normal();
     if (ec) return image_path;
+    // A relative path already names the image from the cwd: written where
+    // the cwd is the output's directory (stdout, a bare file name), it is
+    // kept as given, so a meshes file read from memory (paths as written)
+    // and written again is the same bytes ("a//b.png" is not normalized).
+    if (fs::path(image_path).is_relative() && base == fs::absolute(".", ec).lexically_normal() && !ec) return image_path;
     const fs::path image = fs::absolute(image_path, ec).lexically_normal();
     if (ec) return image_path;
     auto a = image.begin(), b = base.begin();

@@ -140,6 +140,24 @@ TEST(FuzzRegressions, BinaryMeshesWithAnEmptyDrawRead) {
 // fuzz_mesh_binary: flags bit 1 (colour keys) set while no image had a
 // key, or a key word with neither bit 24 nor 25 but colour bits: read,
 // then written back differently (the form has one encoding per value).
+// fuzz_mesh_binary: an image path "..tatr//iles.png", read from memory
+// (kept as written), came back from the writer as "..tatr/iles.png": the
+// path rule normalized a relative path written for stdout, so the file
+// did not round-trip byte for byte. Relative paths written where the
+// output's directory is the cwd are kept as given.
+// fuzz/corpus/mesh_binary/crash-unnormal-relative-path.bin.
+TEST(FuzzRegressions, RelativePathsWrittenForTheCwdAreKeptAsGiven) {
+    const std::string crash = slurp(kCorpus / "mesh_binary" / "crash-unnormal-relative-path.bin");
+    const io::LoadedMeshes m = io::meshes_from_binary(crash, "crash.bin");
+    EXPECT_EQ(m.images[1].path, "..tatr//iles.png");
+    EXPECT_EQ(io::meshes_to_binary(m, ""), crash);
+    EXPECT_EQ(io::meshes_from_json(io::meshes_to_json(m, ""), "m.json").images[1].path, "..tatr//iles.png");
+    // A bare output file name is in the cwd too; elsewhere the rule relativises.
+    EXPECT_EQ(io::meshes_to_binary(m, "m.bin"), crash);
+    const std::string elsewhere = io::meshes_to_json(m, "sub/m.json");
+    EXPECT_NE(elsewhere.find("\"../..tatr/iles.png\""), std::string::npos);
+}
+
 // fuzz/corpus/mesh_binary/crash-keys-flag-without-keys.bin.
 TEST(FuzzRegressions, BinaryColourKeyWordsHaveOneEncoding) {
     const std::string crash = slurp(kCorpus / "mesh_binary" / "crash-keys-flag-without-keys.bin");
