@@ -42,6 +42,11 @@ inline constexpr std::size_t kMaxAtlasFrames = 1'000'000;                // one 
 // the result stays correct, only less reordered.
 inline constexpr std::uint64_t kGraphPairBudget = std::uint64_t(1) << 22;
 
+// Worker threads (-j, PrepareOptions::threads): more are clamped to this.
+// Each costs a stack and a task slot; past a few hundred they only add
+// contention.
+inline constexpr unsigned kMaxThreads = 256;
+
 // Tiled maps.
 inline constexpr int kMaxMapSide = 1 << 20;                          // cells per side; chunk coordinates within +-this
 inline constexpr std::int64_t kMaxLayerCells = std::int64_t(1) << 24; // one tile layer (its chunks summed)
