@@ -207,5 +207,21 @@ TEST(DocumentMemory, AtlasPolygonsAreWrittenFromTheBytesRead) {
     EXPECT_TRUE(has(io_error([&] { io::atlas_polygons_json(path, atlas, analyses); }), "differ from the atlas read"));
 }
 
+// The mesh readers refuse a stats.depth_levels the draws contradict
+// (issue 21): add_dynamic_elements and engines put new sprites above it.
+TEST(DocumentMemory, MeshReadersRefuseDepthLevelsTheDrawsContradict) {
+    auto mesh = [](const std::string& levels) {
+        return R"({"viewport": {"x": 0, "y": 0, "width": 8, "height": 8}, "depth_test": true, "images": [{"id": "a", "path": "a.png", "width": 4, "height": 4}], "draws": [{"image": "a", "pass": "blend", "blend": "alpha", "vertices": [0, 0, 0.5, 0, 0, 1, 1, 1, 1, 4, 0, 0.5, 1, 0, 1, 1, 1, 1, 0, 4, 0.5, 0, 1, 1, 1, 1, 1], "indices": [0, 1, 2]}], "stats": {"elements": 1, "draw_calls": 1, "triangles": 1, "depth_levels": )" +
+               levels + R"(, "depth_bits": 10, "graph_edges": 0, "seconds": 0}})";
+    };
+    io::LoadedMeshes good = io::meshes_from_json(mesh("64"), "m.json");
+    EXPECT_EQ(good.meshes.stats.depth_levels, 64);
+    EXPECT_TRUE(has(io_error([&] { io::meshes_from_json(mesh("1"), "m.json"); }), "m.json: stats depth_levels 1 is lower than the 64 levels"));
+    EXPECT_TRUE(has(io_error([&] { io::meshes_from_json(mesh("9223372036854775807"), "m.json"); }), "more than the depth mapping resolves"));
+    good.meshes.stats.depth_levels = 2;
+    const std::string binary = io::meshes_to_binary(good, "");
+    EXPECT_TRUE(has(io_error([&] { io::meshes_from_binary(binary, "m.bin"); }), "m.bin: stats depth_levels 2 is lower than the 64 levels"));
+}
+
 } // namespace
 } // namespace depthcull::test
