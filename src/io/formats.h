@@ -70,7 +70,7 @@ inline void check_json_depth(std::string_view text, const std::string& path) { c
 // node, so 250 MiB of "<a/>" would be a DOM of several GiB. Every XML
 // reader calls it before parsing.
 void check_xml_document(std::string_view text, const std::string& path);
-// The estimates themselves (they stop counting once past the limit); the
+// The estimates themselves (the whole text, so errors say how far over); the
 // JSON one also checks nesting. A reader that keeps several documents at
 // once (a Tiled map and its templates) sums them and checks the sum.
 std::uint64_t json_document_bytes(std::string_view text, const std::string& path);

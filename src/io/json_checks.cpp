@@ -73,7 +73,6 @@ std::uint64_t json_document_bytes(std::string_view text, const std::string& path
                    text[i + 1] != '\n' && text[i + 1] != '\t' && text[i + 1] != '\r')
                 ++i;
         }
-        if (bytes > limits::kMaxDocumentBytes) break; // too large already: no need to read on
     }
     return bytes;
 }
@@ -125,7 +124,6 @@ std::uint64_t xml_document_bytes(std::string_view text) {
             }
             ++i;
         }
-        if (bytes > limits::kMaxDocumentBytes) break;
     }
     return bytes;
 }
