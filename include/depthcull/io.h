@@ -8,6 +8,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -156,6 +157,10 @@ struct Atlas {
     // linearly when it does not describe `frames`.
     std::unordered_map<std::string, std::size_t> by_name;
     const AtlasFrame* find(const std::string& name) const;
+    // The JSON's bytes as load_texturepacker read them (null for a plist):
+    // atlas_polygons_json writes from these, never from the file again, so
+    // a file replaced meanwhile cannot pair its frames with these.
+    std::shared_ptr<const std::string> text;
 };
 
 // Any of the forms above, told by content (a plist starts with '<').

@@ -17,6 +17,10 @@ namespace depthcull::limits {
 // regular files (not /dev/zero, FIFOs or directories).
 inline constexpr std::uint64_t kMaxFileBytes = std::uint64_t(1) << 30;  // 1 GiB, any input file
 inline constexpr std::size_t kMaxXmlBytes = std::size_t(256) << 20;     // a Tiled map / tileset / template after gunzip
+// Parsed documents (every JSON and XML input): the memory their parse
+// would take, estimated in one pass over the text before parsing. Bytes
+// alone do not bound it: 250 MiB of XML can be a DOM of 7 GiB.
+inline constexpr std::uint64_t kMaxDocumentBytes = std::uint64_t(1) << 30; // 1 GiB
 // Image files a scene load keeps read for their decode (io::ImageFiles),
 // all together; past it, a file is read for its size and again to decode.
 inline constexpr std::uint64_t kMaxKeptImageBytes = std::uint64_t(256) << 20;
@@ -41,6 +45,11 @@ inline constexpr std::size_t kMaxAtlasFrames = 1'000'000;                // one 
 // all pairs, so edges <= kGraphPairBudget + 2 * elements. Not an error:
 // the result stays correct, only less reordered.
 inline constexpr std::uint64_t kGraphPairBudget = std::uint64_t(1) << 22;
+
+// Worker threads (-j, PrepareOptions::threads): more are clamped to this.
+// Each costs a stack and a task slot; past a few hundred they only add
+// contention.
+inline constexpr unsigned kMaxThreads = 256;
 
 // Tiled maps.
 inline constexpr int kMaxMapSide = 1 << 20;                          // cells per side; chunk coordinates within +-this

@@ -18,7 +18,9 @@
 
 namespace depthcull::pipeline {
 
-// Runs fn(i) for i in [0, n) on `threads` threads (0: all cores). Callers
+// Runs fn(i) for i in [0, n) on `threads` threads (0: all cores; at most
+// limits::kMaxThreads), the calling thread one of them. Threads the system
+// refuses to start are not an error: those running do their share. Callers
 // store results by index, so output never depends on the thread count;
 // the error of the lowest failing index is rethrown, as a serial run would.
 void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn);

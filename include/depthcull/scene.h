@@ -369,6 +369,11 @@ std::int64_t depth_denominator(std::int64_t levels);
 inline float depth_z(std::int64_t level, bool opaque, std::int64_t denominator) {
     return float(double(2 * level + (opaque ? 2 : 1)) / double(denominator));
 }
+// The levels the draws' z values use under denominator D (one past the
+// highest level drawn; 0 for none): what SceneStats::depth_levels states
+// for meshes this library made, derived rather than trusted where the
+// meshes come from a file or a caller.
+std::int64_t depth_levels_of_draws(const std::vector<Draw>& draws, std::int64_t denominator);
 
 // Ear clipping (paper 2.3.3, Held's FIST ear conditions) of a simple
 // polygon, clockwise or not, with collinear vertices allowed: indices of

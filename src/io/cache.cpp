@@ -1,6 +1,8 @@
 // The analysis cache; see cache.h for the guarantees and why they hold.
 // Entry layout (little-endian):
 //   "DCAN" u32 version, u64 key[2], u64 payload_size, payload, u64 checksum
+// The checksum covers everything before it, the key included: an entry
+// copied from another image with its key bytes rewritten does not check.
 // payload: i32 rect w, h; polygon lists (boundary, opaque) as u32 count,
 // then per polygon u32 n and n (f64 x, f64 y) relative to the rect's
 // top-left; then the ImageStats fields.
@@ -206,7 +208,7 @@ std::string cache_entry(const CacheKey& key, std::string_view payload) {
     entry.put(key.words[1]);
     entry.put(std::uint64_t(payload.size()));
     entry.bytes += payload;
-    entry.put(hash_bytes_128(payload.data(), payload.size(), 1).words[0]);
+    entry.put(hash_bytes_128(entry.bytes.data(), entry.bytes.size(), 1).words[0]);
     return std::move(entry.bytes);
 }
 
@@ -222,7 +224,7 @@ std::optional<ImageAnalysis> parse_analysis(const std::string& bytes, const Cach
     std::string_view payload(bytes.data() + header_size, std::size_t(size));
     std::uint64_t checksum = 0;
     std::memcpy(&checksum, bytes.data() + header_size + size, 8);
-    if (checksum != hash_bytes_128(payload.data(), payload.size(), 1).words[0]) return std::nullopt;
+    if (checksum != hash_bytes_128(bytes.data(), header_size + size, 1).words[0]) return std::nullopt;
 
     Reader r(payload);
     ImageAnalysis a;

@@ -6,7 +6,7 @@
 // version. Entries are written with write_file_atomic (temporary file +
 // rename), so concurrent runs and a killed process never leave a partial
 // entry under a real name; each entry also carries its key and a checksum
-// of its payload, and anything that fails to check is recomputed.
+// of its header and payload, and anything that fails to check is recomputed.
 #pragma once
 
 #include <array>
@@ -20,9 +20,10 @@
 namespace depthcull::io {
 
 // 2: the payload no longer ends with the analysis' wall time (ImageStats
-// holds none). The version is hashed into every key, so an older entry is
-// never even opened.
-inline constexpr std::uint32_t kCacheFormatVersion = 2;
+// holds none). 3: the checksum covers the header (magic, version, key,
+// size) as well as the payload. The version is hashed into every key, so
+// an older entry is never even opened.
+inline constexpr std::uint32_t kCacheFormatVersion = 3;
 
 struct CacheKey {
     std::array<std::uint64_t, 2> words{};

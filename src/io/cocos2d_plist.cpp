@@ -62,6 +62,7 @@ bool boolean_of(pugi::xml_node value) { return std::string_view(value.name()) ==
 
 Atlas load_cocos2d_plist(const std::string& path) {
     std::string text = read_file(path);
+    check_xml_document(text, path);
     pugi::xml_document doc;
     pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
     if (!ok) throw Error(path + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());

@@ -57,9 +57,25 @@ Atlas load_cocos2d_plist(const std::string& path);
 void check_input_file(const std::string& path); // file.cpp
 
 // io::Error when JSON `text` nests arrays / objects deeper than
-// limits::kMaxNestingDepth: nlohmann's parser copes, but copying, dumping
-// and our walks of the document recurse (json_checks.cpp).
-void check_json_depth(std::string_view text, const std::string& path);
+// limits::kMaxNestingDepth (nlohmann's parser copes, but copying, dumping
+// and our walks of the document recurse), or when its parsed document
+// would take more than limits::kMaxDocumentBytes of memory, estimated in
+// one pass before anything is allocated: a small file of "[]," takes
+// about 16 times its size once parsed, and nlohmann's destructor
+// terminates the process when it runs out of memory freeing a partial one
+// (json_checks.cpp). Every JSON reader calls it before parsing.
+void check_json_document(std::string_view text, const std::string& path);
+inline void check_json_depth(std::string_view text, const std::string& path) { check_json_document(text, path); }
+// The same for an XML document as pugixml parses it: about 64 bytes a
+// node, so 250 MiB of "<a/>" would be a DOM of several GiB. Every XML
+// reader calls it before parsing.
+void check_xml_document(std::string_view text, const std::string& path);
+// The estimates themselves (the whole text, so errors say how far over); the
+// JSON one also checks nesting. A reader that keeps several documents at
+// once (a Tiled map and its templates) sums them and checks the sum.
+std::uint64_t json_document_bytes(std::string_view text, const std::string& path);
+std::uint64_t xml_document_bytes(std::string_view text);
+void check_documents_held(std::uint64_t bytes, const std::string& path);
 
 // Colour keys (SceneImage::trans) as files write them: "RRGGBB" or
 // "#RRGGBB" in, "rrggbb" out.

@@ -262,6 +262,7 @@ LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const 
     for (std::uint32_t i = 0; i < draw_count; ++i) out.meshes.draws.push_back(read_draw(in, image_count, &total_vertices, &total_indices));
     if (animations) read_animations(in, out);
     if (in.left()) in.fail(in.pos, std::to_string(in.left()) + " bytes after the " + (animations ? "animations" : "last draw"));
+    check_depth_levels(out.meshes, name);
     return out;
 }
 

@@ -1,6 +1,7 @@
 // Internal to src/io: helpers shared by the mesh writers and readers.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -111,6 +112,21 @@ inline const char* vertex_float_problem(std::size_t k, float v) {
     if (!std::isfinite(v)) return "is not a finite number";
     if (k % kVertexFloats == 2 && !(v >= 0 && v <= 1)) return "is a depth (z) outside [0, 1]";
     return nullptr;
+}
+
+// io::Error unless the stated stats.depth_levels covers the levels the
+// draws' z values use and fits the depth mapping (at most D / 2 levels,
+// and kMaxDepthLevels): add_dynamic_elements puts new elements above them,
+// and a file's word must not put them behind or overflow (issue 21).
+inline void check_depth_levels(const SceneMeshes& m, const std::string& name) {
+    const std::int64_t stated = m.stats.depth_levels, used = depth_levels_of_draws(m.draws, m.depth_denominator);
+    const std::int64_t most = m.depth_denominator >= 2 ? std::min(kMaxDepthLevels, m.depth_denominator / 2) : kMaxDepthLevels;
+    if (stated > most)
+        throw Error(name + ": stats depth_levels " + std::to_string(stated) + " is more than the depth mapping resolves (" +
+                    std::to_string(most) + " levels for depth_bits " + std::to_string(m.stats.depth_bits) + "; kMaxDepthLevels)");
+    if (stated < used)
+        throw Error(name + ": stats depth_levels " + std::to_string(stated) + " is lower than the " + std::to_string(used) +
+                    " levels its draws' z values use");
 }
 
 } // namespace depthcull::io

@@ -264,6 +264,7 @@ LoadedMeshes read_json(std::string_view text, const std::string& name, const std
     if (doc.contains("stats")) out.meshes.stats = read_stats(ctx, doc["stats"], &out.seconds);
     read_animations(ctx, doc, &out);
     out.meshes.depth_denominator = depth_denominator_from_bits(out.meshes.stats.depth_bits);
+    check_depth_levels(out.meshes, name);
     return out;
 }
 

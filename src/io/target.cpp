@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/target.h"
+#include "io/formats.h"
 
 namespace depthcull::io {
 
@@ -35,6 +36,7 @@ constexpr Term kTerms[] = {
 } // namespace
 
 CostProfile profile_from_json(const std::string& text, const std::string& name) {
+    check_json_document(text, name);
     json j;
     try {
         j = json::parse(text);

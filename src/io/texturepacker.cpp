@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
@@ -255,7 +256,12 @@ Atlas read_multipack(const std::string& path, const Json& doc) {
 } // namespace
 
 Atlas load_texturepacker(const std::string& path) {
-    return guarded(path, [&] { return read_texturepacker(read_file(path), path); });
+    return guarded(path, [&] {
+        auto text = std::make_shared<const std::string>(read_file(path));
+        Atlas atlas = read_texturepacker(*text, path);
+        if (atlas.form != AtlasForm::cocos2d_plist) atlas.text = std::move(text);
+        return atlas;
+    });
 }
 
 Atlas texturepacker_from_text(std::string_view text, const std::string& path) {

@@ -191,9 +191,16 @@ std::string polygons_json(const std::string& path, const Atlas& atlas, const std
                           AtlasPolygonStats* stats_out) {
     check_frame_count(path, atlas, frame_analyses);
     AtlasPolygonStats stats;
-    Json doc = Json::parse(read_file(path));
+    // The bytes the atlas was read from; a hand-made Atlas has none, and the
+    // file is then read here and must still describe atlas.frames.
+    std::string read;
+    const std::string_view text = atlas.text ? std::string_view(*atlas.text) : std::string_view(read = read_file(path));
+    check_json_document(text, path);
+    Json doc = Json::parse(text);
     std::size_t index = 0;
+    auto changed = [&] { return Error(path + ": its frames differ from the atlas read (was the file changed meanwhile?)"); };
     auto visit = [&](Json& f) {
+        if (index >= atlas.frames.size()) throw changed();
         const AtlasFrame& frame = atlas.frames[index];
         add_polygons(f, frame, frame_analyses[index].boundary, stats, path + ": frame '" + frame.name + "'");
         ++index;
@@ -208,6 +215,7 @@ std::string polygons_json(const std::string& path, const Atlas& atlas, const std
     } else {
         for (Json& f : frames) visit(f);
     }
+    if (index != atlas.frames.size()) throw changed();
     if (stats_out) *stats_out = stats;
     return doc.dump(1, '\t') + "\n";
 }

@@ -9,6 +9,8 @@
 #include <climits>
 #include <cstring>
 
+#include <sys/stat.h>
+
 #include "depthcull/limits.h"
 #include "io/tiled_internal.h"
 
@@ -175,6 +177,12 @@ std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const st
     }
     inflateEnd(&z);
     return out;
+}
+
+std::string file_identity(const std::string& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0) return "?" + path; // never a device:inode
+    return std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
 }
 
 std::string maybe_gunzip(std::string_view bytes, const std::string& path) {

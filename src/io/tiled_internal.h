@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <string_view>
@@ -48,6 +49,11 @@ std::string maybe_gunzip(std::string_view bytes, const std::string& path);
 // zlib or gzip stream -> bytes; more than max_bytes is an error.
 std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where);
 std::vector<std::uint8_t> decode_base64(std::string_view text, const std::string& where);
+// Which file `path` is, whatever its spelling ("./a.tx", "././a.tx", a
+// symlink): "device:inode", or the path itself when it cannot be stat'ed
+// (reading it then gives the error). Tilesets and templates are parsed
+// once per file and map by it.
+std::string file_identity(const std::string& path);
 
 // A rectangle of cells, row-major; gid 0 is an empty cell.
 struct CellGrid {
@@ -96,10 +102,15 @@ struct Tileset {
     // frame) are sparse, so id 16777215 costs one entry.
     int image = -1; // the image of an image tileset, cut in columns x rows
     int columns = 0, rows = 0, margin = 0, spacing = 0;
-    std::map<std::uint32_t, Tile> named;
-    // Animated tiles by local id: every frame's tile and duration (ms); the
-    // tile itself (in `named`) is its first frame.
-    std::map<std::uint32_t, std::vector<std::pair<Tile, int>>> animations;
+    struct Tables {
+        std::map<std::uint32_t, Tile> named;
+        // Animated tiles by local id: every frame's tile and duration (ms);
+        // the tile itself (in `named`) is its first frame.
+        std::map<std::uint32_t, std::vector<std::pair<Tile, int>>> animations;
+    };
+    // Shared by every <tileset> naming the same file: it is parsed once
+    // and held once, however many firstgids name it.
+    std::shared_ptr<const Tables> tables = std::make_shared<const Tables>();
     std::uint32_t tile_count() const; // one past the largest local id
     Tile tile(std::uint32_t local) const; // image -1: no such tile
 };
@@ -179,6 +190,8 @@ struct LayerState {
     double parallax_x = 1, parallax_y = 1;  // effective parallax factor (product over groups)
 };
 
+struct Template; // tiled_layers.cpp
+
 struct Emitter {
     const MapInfo& info;
     const std::vector<Tileset>& tilesets;
@@ -189,6 +202,12 @@ struct Emitter {
     const LoadOptions* options = nullptr; // warnings, notes, strict
     std::set<std::string> warned;         // one line per (place, feature)
     std::map<std::pair<const Tileset*, std::uint32_t>, int> animation_index; // into Scene::animations
+    // Templates, each file parsed once per map: by the spelling objects use,
+    // and by file_identity, so "./a.tx" and "././a.tx" share one document.
+    std::map<std::string, std::shared_ptr<const Template>> templates_by_source, templates_by_file;
+    // Estimated bytes of the parsed documents held (the map's, its
+    // templates'): within limits::kMaxDocumentBytes together.
+    std::uint64_t documents = 0;
 };
 
 // The Scene::animations index of a tile's animation, or -1 when it has

@@ -105,8 +105,8 @@ void warn(Emitter& out, const std::string& line) {
 }
 
 int animation_of(Emitter& out, const Tileset& tileset, std::uint32_t local, const std::string& where) {
-    auto it = tileset.animations.find(local);
-    if (it == tileset.animations.end()) return -1;
+    auto it = tileset.tables->animations.find(local);
+    if (it == tileset.tables->animations.end()) return -1;
     auto [slot, fresh] = out.animation_index.try_emplace({&tileset, local}, -1);
     if (!fresh) return slot->second;
     const auto& frames = it->second;
@@ -312,19 +312,25 @@ void emit_object(Emitter& out, const TileObject& o, const LayerState& s, const s
 // An object template (.tx): its <object> gives the defaults an instance
 // overrides; its gid counts in the template's own tileset, which must be
 // one of the map's (matched by file), as Tiled adds it to the map.
+} // namespace
+
+// Outside the unnamed namespace: Emitter holds it by pointer.
 struct Template {
     pugi::xml_document doc;
     pugi::xml_node object;
     std::uint32_t gid = 0; // translated to the map's gids; 0: not a tile object
 };
 
-void load_template(const std::string& source, const Emitter& out, const std::string& where, Template& t) {
-    std::string map_dir = std::filesystem::path(out.info.where).parent_path().string();
-    std::string path = resolve_tsx(map_dir, source);
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw Error(where + ": template '" + source + "' not found (" + path + ")");
+namespace {
+
+void load_template(const std::string& path, Emitter& out, const std::string& where, Template& t) {
     std::string text = read_maybe_gzipped(path);
-    if (looks_like_json(text)) {
+    // Templates stay parsed while the map is read: their estimates add to
+    // the map's (a JSON template's, for the document made from it).
+    const bool json = looks_like_json(text);
+    out.documents += json ? json_document_bytes(text, path) : xml_document_bytes(text);
+    check_documents_held(out.documents, path);
+    if (json) {
         json_template_to_xml(text, path, t.doc);
     } else {
         pugi::xml_parse_result ok = t.doc.load_buffer(text.data(), text.size());
@@ -350,19 +356,34 @@ void load_template(const std::string& source, const Emitter& out, const std::str
     throw Error(where + ": template " + path + " uses tileset " + tsx + ", which the map does not list");
 }
 
+// The template an object names, each file parsed once per map.
+const Template& find_template(const std::string& source, Emitter& out, const std::string& where) {
+    if (auto it = out.templates_by_source.find(source); it != out.templates_by_source.end()) return *it->second;
+    std::string map_dir = std::filesystem::path(out.info.where).parent_path().string();
+    std::string path = resolve_tsx(map_dir, source);
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw Error(where + ": template '" + source + "' not found (" + path + ")");
+    auto& by_file = out.templates_by_file[file_identity(path)];
+    if (!by_file) {
+        auto t = std::make_shared<Template>();
+        load_template(path, out, where, *t);
+        by_file = std::move(t);
+    }
+    out.templates_by_source.emplace(source, by_file);
+    return *by_file;
+}
+
 void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, const std::string& where) {
     std::vector<TileObject> objects;
-    std::map<std::string, Template> templates;
     for (pugi::xml_node node : group.children("object")) {
         std::string here = where + ": object " + node.attribute("id").as_string("?");
         // Attributes: the instance's, else its template's.
         pugi::xml_node base;
         std::uint32_t template_gid = 0;
         if (pugi::xml_attribute source = node.attribute("template")) {
-            auto [it, fresh] = templates.try_emplace(source.as_string());
-            if (fresh) load_template(source.as_string(), out, here, it->second);
-            base = it->second.object;
-            template_gid = it->second.gid;
+            const Template& t = find_template(source.as_string(), out, here);
+            base = t.object;
+            template_gid = t.gid;
         }
         auto attr = [&](const char* name) { return node.attribute(name) ? node.attribute(name) : base.attribute(name); };
         if (attr("visible").as_int(1) == 0) continue;

@@ -129,8 +129,13 @@ Viewport drawn_extent(const Scene& scene) {
 Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options) {
     std::string text = tiled::maybe_gunzip(bytes, path);
     if (text.size() > tiled::kMaxXmlBytes) throw Error(path + ": map is larger than 256 MiB (kMaxXmlBytes)");
+    // The parsed map stays while its templates are read: they are bounded
+    // together (limits::kMaxDocumentBytes).
+    const bool json = tiled::looks_like_json(text);
+    const std::uint64_t held = json ? json_document_bytes(text, path) : xml_document_bytes(text);
+    if (held > limits::kMaxDocumentBytes) json ? check_json_document(text, path) : check_xml_document(text, path);
     pugi::xml_document doc;
-    if (tiled::looks_like_json(text)) {
+    if (json) {
         tiled::json_map_to_xml(text, path, doc);
     } else {
         pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
@@ -151,6 +156,7 @@ Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, cons
     else known = default_viewport(info, &viewport);
     tiled::Emitter out{info, tilesets, images, known ? &viewport : nullptr, scene};
     out.options = &options;
+    out.documents = held;
     tiled::emit_layers(map, tiled::LayerState{}, out);
     scene.viewport = known ? viewport : drawn_extent(scene);
     if (!known) {

@@ -88,6 +88,8 @@ void slice_image(Tileset& ts, int image, int image_w, int image_h, int margin, i
 Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::string& file, const std::string& where,
                       ImageTable& images) {
     Tileset ts;
+    auto tables = std::make_shared<Tileset::Tables>();
+    ts.tables = tables;
     ts.firstgid = firstgid;
     ts.name = node.attribute("name").as_string();
     ts.tile_width = int_attr(node, "tilewidth", 0, where);
@@ -129,7 +131,7 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
                   int_attr(tile, "height", full.h, here)};
         if (rect.empty() || rect.x < 0 || rect.y < 0 || rect.x > full.w - rect.w || rect.y > full.h - rect.h)
             throw Error(here + ": sub-rectangle lies outside its image");
-        ts.named[std::uint32_t(id)] = {index, rect};
+        tables->named[std::uint32_t(id)] = {index, rect};
     }
     // Animations: the first frame is what Tiled shows at time zero (looked
     // up among the still tiles, before any animation is resolved).
@@ -151,8 +153,8 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
         animated.emplace_back(std::uint32_t(id), std::move(frames));
     }
     for (auto& [id, frames] : animated) {
-        ts.named[id] = frames.front().first;
-        ts.animations[id] = std::move(frames);
+        tables->named[id] = frames.front().first;
+        tables->animations[id] = std::move(frames);
     }
     return ts;
 }
@@ -215,6 +217,7 @@ Tileset tileset_from_bytes(std::string_view bytes, const std::string& tsx, std::
     if (looks_like_json(text)) {
         json_tileset_to_xml(text, tsx, doc); // .tsj, or .json by content
     } else {
+        check_xml_document(text, tsx);
         pugi::xml_parse_result ok = doc.load_buffer(text.data(), text.size());
         if (!ok) throw Error(tsx + ": XML error at byte " + std::to_string(ok.offset) + ": " + ok.description());
     }
@@ -228,6 +231,7 @@ Tileset tileset_from_bytes(std::string_view bytes, const std::string& tsx, std::
 
 std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images) {
     std::vector<Tileset> tilesets;
+    std::map<std::string, Tileset> external; // by file_identity: each file parsed once
     for (pugi::xml_node node : map.children("tileset")) {
         if (int(tilesets.size()) >= kMaxTilesets)
             throw Error(map_path + ": more than " + std::to_string(kMaxTilesets) + " tilesets (kMaxTilesets)");
@@ -237,7 +241,10 @@ std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_pa
         if (firstgid < 1 || firstgid > kGidMask) throw Error(where + ": firstgid missing or out of range");
         if (pugi::xml_attribute source = node.attribute("source")) {
             std::string tsx = resolve_tsx(dir_of(map_path), source.as_string());
-            tilesets.push_back(tileset_from_bytes(read_file(tsx), tsx, std::uint32_t(firstgid), images));
+            auto [it, fresh] = external.try_emplace(file_identity(tsx));
+            if (fresh) it->second = tileset_from_bytes(read_file(tsx), tsx, 0, images);
+            tilesets.push_back(it->second);
+            tilesets.back().firstgid = std::uint32_t(firstgid);
         } else {
             tilesets.push_back(parse_tileset(node, std::uint32_t(firstgid), map_path, where, images));
         }
@@ -248,11 +255,11 @@ std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_pa
 
 std::uint32_t Tileset::tile_count() const {
     std::uint32_t grid = std::uint32_t(columns) * std::uint32_t(rows);
-    return named.empty() ? grid : std::max(grid, named.rbegin()->first + 1);
+    return tables->named.empty() ? grid : std::max(grid, tables->named.rbegin()->first + 1);
 }
 
 Tile Tileset::tile(std::uint32_t local) const {
-    if (auto it = named.find(local); it != named.end()) return it->second;
+    if (auto it = tables->named.find(local); it != tables->named.end()) return it->second;
     if (image < 0 || local >= std::uint32_t(columns) * std::uint32_t(rows)) return {};
     const int c = int(local % std::uint32_t(columns)), r = int(local / std::uint32_t(columns));
     return {image, {margin + c * (tile_width + spacing), margin + r * (tile_height + spacing), tile_width, tile_height}};

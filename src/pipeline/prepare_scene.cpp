@@ -3,6 +3,7 @@
 // (image file, rect) once, on threads, through the cache when one is set.
 // Work is split by index and results stored by index, so the output never
 // depends on the thread count or timing.
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <functional>
@@ -13,6 +14,7 @@
 
 #include <filesystem>
 
+#include "depthcull/limits.h"
 #include "depthcull/pipeline.h"
 #include "io/cache.h"
 #include "io/formats.h"
@@ -23,7 +25,7 @@ using io::Error;
 
 void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    threads = unsigned(std::min<std::size_t>(threads, n));
+    threads = unsigned(std::min<std::size_t>({std::size_t(threads), n, std::size_t(limits::kMaxThreads)}));
     if (threads <= 1) {
         for (std::size_t i = 0; i < n; ++i) fn(i);
         return;
@@ -33,24 +35,33 @@ void parallel_for(std::size_t n, unsigned threads, const std::function<void(std:
     std::exception_ptr error;
     std::size_t error_index = n;
     std::mutex error_mutex;
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) {
-        pool.emplace_back([&] {
-            for (std::size_t i; !failed && (i = next.fetch_add(1)) < n;) {
-                try {
-                    fn(i);
-                } catch (...) {
-                    // Keep the lowest index's error, as a serial run reports.
-                    std::lock_guard lock(error_mutex);
-                    if (i < error_index) {
-                        error_index = i;
-                        error = std::current_exception();
-                    }
-                    failed = true;
+    auto work = [&] {
+        for (std::size_t i; !failed && (i = next.fetch_add(1)) < n;) {
+            try {
+                fn(i);
+            } catch (...) {
+                // Keep the lowest index's error, as a serial run reports.
+                std::lock_guard lock(error_mutex);
+                if (i < error_index) {
+                    error_index = i;
+                    error = std::current_exception();
                 }
+                failed = true;
             }
-        });
+        }
+    };
+    // The caller is one of the workers. A thread that cannot be started
+    // (RLIMIT_NPROC, no memory for its stack) is not an error: the work is
+    // taken by index from one counter, so those running, the caller at
+    // least, take its share. Letting the std::system_error escape would
+    // destroy joinable threads, which calls std::terminate.
+    std::vector<std::thread> pool;
+    try {
+        pool.reserve(threads - 1);
+        for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+    } catch (...) {
     }
+    work();
     for (auto& t : pool) t.join();
     if (error) std::rethrow_exception(error);
 }

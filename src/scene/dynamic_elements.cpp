@@ -5,6 +5,7 @@
 // it. The static scene reserves those levels (reserved_dynamic_levels) so
 // its depth mapping already leaves room; nothing static is recomputed.
 #include <algorithm>
+#include <cstdint>
 
 #include "scene/internal.h"
 
@@ -17,9 +18,13 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
                                        const std::vector<const ImageAnalysis*>& analyses, SceneMeshes* frame,
                                        bool element_spans) {
     const std::int64_t denominator = static_meshes.depth_denominator;
-    if (!frame || analyses.size() != elements.size() || denominator < 2 || static_meshes.stats.elements < 0)
+    if (!frame || analyses.size() != elements.size() || denominator < 2 || static_meshes.stats.elements < 0 ||
+        static_meshes.stats.elements > std::int64_t(UINT32_MAX) - std::int64_t(elements.size()))
         return ReconstructStatus::invalid_scene;
-    const std::int64_t first_level = static_meshes.stats.depth_levels;
+    // From the draws, not stats.depth_levels: a stated value that is too
+    // large overflowed to level 0 and one too small put the elements
+    // behind the static ones (issue 21).
+    const std::int64_t first_level = depth_levels_of_draws(static_meshes.draws, denominator);
     // Levels k with (2k+2)/D <= 1 are usable.
     if (first_level + std::int64_t(elements.size()) > denominator / 2 - 1) return ReconstructStatus::too_many_depth_levels;
 
@@ -76,7 +81,7 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
     std::int64_t used = 0;
     for (std::size_t i = 0; i < elements.size(); ++i)
         if (shapes.boundary[i] != Shape::none) used = std::int64_t(i) + 1;
-    out.stats.depth_levels += used;
+    out.stats.depth_levels = first_level + used;
     finish_stats(out);
     *frame = std::move(out);
     return ReconstructStatus::ok;

@@ -283,7 +283,7 @@ TEST(CApi, MeshAnimationsAreTheFileOnes) {
  "images": [{"id": "a", "path": "a.png", "width": 4, "height": 4}],
  "draws": [{"image": "a", "pass": "blend", "blend": "alpha",
    "vertices": [0,0,0.5,0,0,1,1,1,1, 4,0,0.5,1,0,1,1,1,1, 0,4,0.5,0,1,1,1,1,1], "indices": [0,1,2]}],
- "stats": {"elements": 1, "draw_calls": 1, "triangles": 1, "depth_levels": 1, "depth_bits": 10, "graph_edges": 0, "seconds": 0},
+ "stats": {"elements": 1, "draw_calls": 1, "triangles": 1, "depth_levels": 64, "depth_bits": 10, "graph_edges": 0, "seconds": 0},
  "animations": [{"frames": [{"image": 0, "rect": [0, 0, 2, 2], "duration": 100}, {"image": 0, "rect": [2, 0, 2, 2], "duration": 50}]}],
  "animated": [{"draw": 0, "first_vertex": 1, "vertex_count": 2, "animation": 0}]})";
     dc_meshes* from_json = nullptr;

@@ -1,5 +1,6 @@
 // The analysis cache: keys, round trips, corrupt entries recomputed, and
 // a re-run of a scene served from the cache with identical results.
+#include <cstring>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -65,6 +66,20 @@ TEST(Cache, EveryCorruptionIsRejected) {
     for (std::size_t n = 0; n < good.size(); n += 7) EXPECT_FALSE(parse_analysis(good.substr(0, n), key, a.rect)) << n;
     EXPECT_FALSE(parse_analysis(good + "x", key, a.rect));
     EXPECT_FALSE(parse_analysis(good, hash_bytes_128("other", 5), a.rect)); // another key's entry
+}
+
+// An entry copied from another image with its 16 key bytes rewritten
+// (issue 21): the checksum covered only the payload, so it was trusted and
+// put one image's polygons on another.
+TEST(Cache, EntryWithItsKeyRewrittenIsRejected) {
+    EXPECT_EQ(kCacheFormatVersion, 3u); // the checksum covers the header since 3
+    ImageAnalysis a = sample_analysis();
+    const CacheKey theirs = hash_bytes_128("another image", 13), ours = hash_bytes_128("this image", 10);
+    std::string copied = serialize_analysis(theirs, a);
+    ASSERT_TRUE(parse_analysis(copied, theirs, a.rect));
+    std::memcpy(copied.data() + 8, ours.words.data(), 16); // after "DCAN" and the version
+    EXPECT_FALSE(parse_analysis(copied, ours, a.rect));
+    EXPECT_TRUE(parse_analysis(serialize_analysis(ours, a), ours, a.rect));
 }
 
 TEST(Cache, SceneRerunIsServedFromTheCacheAndCorruptEntriesAreRecomputed) {

@@ -277,7 +277,7 @@ const char* kSmallJson = R"({"viewport": {"x": 0, "y": 0, "width": 8, "height": 
  "draws": [{"image": "a", "pass": "blend", "blend": "alpha",
    "vertices": [0,0,0.5,0,0,1,1,1,1, 4,0,0.5,1,0,1,1,1,1, 0,4,0.5,0,1,1,1,1,1],
    "indices": [0,1,2]}],
- "stats": {"elements": 1, "draw_calls": 1, "triangles": 1, "depth_levels": 1, "depth_bits": 10, "graph_edges": 0, "seconds": 0}})";
+ "stats": {"elements": 1, "draw_calls": 1, "triangles": 1, "depth_levels": 64, "depth_bits": 10, "graph_edges": 0, "seconds": 0}})";
 
 std::string json_error(const std::string& text) {
     try {
