@@ -46,6 +46,10 @@ std::string number_text(double v) {
     if (std::isnan(v)) return "NaN"; // as JavaScript prints them
     if (std::isinf(v)) return v > 0 ? "Infinity" : "-Infinity";
     char buf[32];
+    if (v == std::floor(v) && std::fabs(v) < 1e15) {
+        std::snprintf(buf, sizeof buf, "%.0f", v); // 20000, not 2e+04
+        return buf;
+    }
     for (int precision = 1; precision <= 17; ++precision) {
         std::snprintf(buf, sizeof buf, "%.*g", precision, v);
         if (std::strtod(buf, nullptr) == v) break;
