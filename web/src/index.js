@@ -99,6 +99,7 @@ export class Depthcull {
   }
 
   get #exports() {
+    if (!this.#instance) throw new DepthcullError('depthcull: this instance stopped after an earlier WebAssembly error; call loadDepthcull() again');
     return this.#instance.exports;
   }
 
@@ -122,12 +123,18 @@ export class Depthcull {
 
   // A trap (out of memory: operator new aborts without exceptions) leaves the
   // instance in an unknown state; the next call gets a fresh one.
+  // Where a browser refuses a synchronous instance on its main thread, the
+  // object stays unusable and says so (loadDepthcull makes a new one).
   #trapped(name, error) {
     const log = this.#log;
-    let instance;
-    instance = new WebAssembly.Instance(this.#module, imports(log, () => instance.exports.memory));
-    instance.exports._initialize();
-    this.#instance = instance;
+    try {
+      let instance;
+      instance = new WebAssembly.Instance(this.#module, imports(log, () => instance.exports.memory));
+      instance.exports._initialize();
+      this.#instance = instance;
+    } catch (e) {
+      this.#instance = null;
+    }
     return new DepthcullError(`${name}: the analysis stopped in WebAssembly (${error.message}): out of memory, or a bug (please report it)`);
   }
 
@@ -173,7 +180,7 @@ export class Depthcull {
       if (e instanceof WebAssembly.RuntimeError) throw this.#trapped(name, e);
       throw e;
     } finally {
-      if (pixels && this.#instance.exports === ex) ex.dcw_free(pixels);
+      if (pixels && this.#instance?.exports === ex) ex.dcw_free(pixels);
     }
   }
 
