@@ -1,0 +1,81 @@
+// TypeScript declarations for src/index.js.
+
+/** Thrown for every refused input, with the CLI's one-line message. */
+export class DepthcullError extends Error {
+  name: 'DepthcullError';
+}
+
+/** A polygon: [x, y] vertices in texel coordinates of the whole image, clockwise with y down. */
+export type Polygon = Array<[number, number]>;
+
+export interface Rect {
+  x: number;
+  y: number;
+  width: number;
+  height: number;
+}
+
+/** ImageData, or anything with its shape: RGBA8, rows packed, not premultiplied (only alpha matters). */
+export interface ImageLike {
+  width: number;
+  height: number;
+  data: Uint8Array | Uint8ClampedArray;
+}
+
+/** `depthcull analyze`'s options, under JavaScript names; omitted ones take the CLI's defaults. */
+export interface AnalyzeOptions {
+  /** --max-vertices: most vertices per boundary polygon, 4..1000 (10). */
+  maxVertices?: number;
+  /** false for --no-split: one boundary polygon per image (true). */
+  split?: boolean;
+  /** --filter: the texture filtering the polygons must be correct for ('nearest'). */
+  filter?: 'nearest' | 'linear';
+  /** --opaque: the opaque polygon algorithm ('fast'). */
+  opaque?: 'fast' | 'grow' | 'paper';
+  /** --max-opaque: most opaque polygons, 0..64 (4; 0 disables). */
+  maxOpaque?: number;
+  /** --min-coverage: stop adding opaque polygons at this fraction of opaque texels covered, 0..1 (0.75). */
+  minCoverage?: number;
+  /** --min-opaque-area: texels a new opaque polygon must add, 1..2^30 (64). */
+  minOpaqueArea?: number;
+  /** The texels to analyze, as IMAGE:x,y,w,h (the whole image). */
+  rect?: Rect;
+  /** Starts each error message, as the CLI's start with the file's path ('image'). */
+  name?: string;
+}
+
+/** The analyzer's figures; best cases: boundary_area == nontransparent_texels, opaque_coverage == 1. */
+export interface ImageStats {
+  nontransparent_texels: number;
+  opaque_texels: number;
+  boundary_area: number;
+  bbox_area: number;
+  boundary_vertices: number;
+  opaque_area: number;
+  opaque_covered_texels: number;
+  opaque_coverage: number;
+}
+
+export interface ImageAnalysis {
+  rect: Rect;
+  /** Paper 2.1: every non-transparent texel lies inside one of them; empty when all are transparent. */
+  boundary: Polygon[];
+  /** Paper 2.2: convex, touching only opaque texels. */
+  opaque: Polygon[];
+  stats: ImageStats;
+}
+
+export interface LoadOptions {
+  /** Where depthcull.wasm is: a URL, its bytes, a fetch Response or a compiled module (default: dist/depthcull.wasm in this package). */
+  wasm?: URL | string | ArrayBuffer | ArrayBufferView | Response | WebAssembly.Module;
+  /** Where the wasm's stdout/stderr lines go (console.error). */
+  log?: (line: string) => void;
+}
+
+export class Depthcull {
+  private constructor();
+  /** Boundary and opaque polygons of an image, as `depthcull analyze` computes them. Throws DepthcullError. */
+  analyzeImage(image: ImageLike, options?: AnalyzeOptions): ImageAnalysis;
+}
+
+export function loadDepthcull(options?: LoadOptions): Promise<Depthcull>;

@@ -1,0 +1,206 @@
+// depthcull in JavaScript: the C++ core (src/common .. src/cost) built as
+// WebAssembly by scripts/build-wasm, behind a small API. Runs in browsers
+// and in Node >= 18; no framework dependency.
+//
+//   import { loadDepthcull } from 'depthcull';
+//   const depthcull = await loadDepthcull();
+//   const { boundary, opaque } = depthcull.analyzeImage(imageData);
+//
+// Errors are thrown as DepthcullError with the one-line message the CLI
+// prints for the same mistake (the option named as JavaScript spells it).
+
+import { wasiImports } from './wasi.js';
+
+export class DepthcullError extends Error {
+  constructor(message) {
+    super(message);
+    this.name = 'DepthcullError';
+  }
+}
+
+const FILTERS = { nearest: 0, linear: 1 };
+const OPAQUE_METHODS = { fast: 1, grow: 2, paper: 0 }; // listed in the CLI's order
+// The CLI's defaults (paper 2.1, 2.2: MAX_BOUNDARY_VERTICES = 10,
+// MAX_OPAQUE_POLYGONS = 4, MIN_OPAQUE_COVERAGE = 0.75, MIN_OPAQUE_AREA = 64).
+const DEFAULTS = Object.freeze({
+  maxVertices: 10,
+  split: true,
+  filter: 'nearest',
+  opaque: 'fast',
+  maxOpaque: 4,
+  minCoverage: 0.75,
+  minOpaqueArea: 64,
+});
+const OPTION_NAMES = new Set([...Object.keys(DEFAULTS), 'rect', 'name']);
+const STAT_NAMES = [
+  'nontransparent_texels', 'opaque_texels', 'boundary_area', 'bbox_area',
+  'boundary_vertices', 'opaque_area', 'opaque_covered_texels', 'opaque_coverage',
+];
+
+const isNode = typeof process !== 'undefined' && !!process.versions?.node;
+
+async function wasmBytes(source) {
+  if (source instanceof WebAssembly.Module) return source;
+  if (source instanceof ArrayBuffer || ArrayBuffer.isView(source)) return source;
+  if (typeof Response !== 'undefined' && source instanceof Response) return source.arrayBuffer();
+  const url = source ?? new URL('../dist/depthcull.wasm', import.meta.url);
+  if (isNode && (url instanceof URL ? url.protocol === 'file:' : !/^[a-z]+:\/\//i.test(String(url)))) {
+    const { readFile } = await import('node:fs/promises');
+    try {
+      return await readFile(url);
+    } catch (e) {
+      throw new DepthcullError(`${url instanceof URL ? url.pathname : url}: cannot read depthcull.wasm (${e.code ?? e.message}; run scripts/build-wasm)`);
+    }
+  }
+  const response = await fetch(url);
+  if (!response.ok) throw new DepthcullError(`${url}: cannot fetch depthcull.wasm (HTTP ${response.status})`);
+  return response.arrayBuffer();
+}
+
+/**
+ * Loads depthcull.wasm: by default web/dist/depthcull.wasm next to this
+ * package (read from disk in Node, fetched in a browser); or from `wasm`: a
+ * URL, the bytes, a fetch Response or a compiled WebAssembly.Module.
+ */
+export async function loadDepthcull({ wasm, log = (line) => console.error(line) } = {}) {
+  const bytes = await wasmBytes(wasm);
+  const module = bytes instanceof WebAssembly.Module ? bytes : await WebAssembly.compile(bytes);
+  const instance = await WebAssembly.instantiate(module, imports(log, () => instance.exports.memory));
+  return new Depthcull(module, instance, log);
+}
+
+function imports(log, memory) {
+  return wasiImports(memory, log);
+}
+
+function choice(name, value, table) {
+  if (Object.hasOwn(table, value)) return table[value];
+  throw new DepthcullError(`${name}: '${value}' is not one of ${Object.keys(table).join(', ')}`);
+}
+
+// Numbers go to the wasm as doubles, which checks them (integers, ranges):
+// anything else is refused here rather than converted.
+function number(name, value) {
+  if (typeof value === 'number') return value;
+  if (typeof value === 'boolean') return value ? 1 : 0;
+  throw new DepthcullError(`${name}: Value ${String(value)} is not a number`);
+}
+
+export class Depthcull {
+  #module;
+  #instance;
+  #log;
+
+  constructor(module, instance, log) {
+    this.#module = module;
+    this.#instance = instance;
+    this.#log = log;
+    instance.exports._initialize();
+  }
+
+  get #exports() {
+    if (!this.#instance) throw new DepthcullError('depthcull: this instance stopped after an earlier WebAssembly error; call loadDepthcull() again');
+    return this.#instance.exports;
+  }
+
+  #cString(ptr) {
+    const memory = new Uint8Array(this.#exports.memory.buffer);
+    let end = ptr;
+    while (memory[end] !== 0) ++end;
+    return new TextDecoder().decode(memory.subarray(ptr, end));
+  }
+
+  #withString(text, fn) {
+    const bytes = new TextEncoder().encode(text);
+    const ptr = this.#exports.dcw_alloc(bytes.length + 1);
+    new Uint8Array(this.#exports.memory.buffer, ptr, bytes.length + 1).set([...bytes, 0]);
+    try {
+      return fn(ptr);
+    } finally {
+      this.#exports.dcw_free(ptr);
+    }
+  }
+
+  // A trap (out of memory: operator new aborts without exceptions) leaves the
+  // instance in an unknown state; the next call gets a fresh one.
+  // Where a browser refuses a synchronous instance on its main thread, the
+  // object stays unusable and says so (loadDepthcull makes a new one).
+  #trapped(name, error) {
+    const log = this.#log;
+    try {
+      let instance;
+      instance = new WebAssembly.Instance(this.#module, imports(log, () => instance.exports.memory));
+      instance.exports._initialize();
+      this.#instance = instance;
+    } catch (e) {
+      this.#instance = null;
+    }
+    return new DepthcullError(`${name}: the analysis stopped in WebAssembly (${error.message}): out of memory, or a bug (please report it)`);
+  }
+
+  /**
+   * Boundary polygons (paper 2.1) and opaque polygons (paper 2.2) of an
+   * RGBA8 image (ImageData or any {width, height, data}), as `depthcull
+   * analyze` computes them with the same options.
+   */
+  analyzeImage(image, options = {}) {
+    for (const key of Object.keys(options))
+      if (!OPTION_NAMES.has(key)) throw new DepthcullError(`analyzeImage: unknown option '${key}' (known: ${[...OPTION_NAMES].join(', ')})`);
+    const o = { ...DEFAULTS, ...options };
+    const name = o.name === undefined ? 'image' : String(o.name);
+    if (image === null || typeof image !== 'object') throw new DepthcullError(`${name}: not an image (expected {width, height, data})`);
+    const { width, height, data } = image;
+    if (!(data instanceof Uint8Array || data instanceof Uint8ClampedArray))
+      throw new DepthcullError(`${name}: data must be a Uint8Array or Uint8ClampedArray of RGBA8 texels`);
+    const rect = o.rect ?? { x: 0, y: 0, width, height };
+    if (rect === null || typeof rect !== 'object') throw new DepthcullError(`${name}: rect must be {x, y, width, height}`);
+    const args = [
+      number('width', width), number('height', height),
+      number('rect.x', rect.x), number('rect.y', rect.y), number('rect.width', rect.width), number('rect.height', rect.height),
+      number('maxVertices', o.maxVertices), number('split', o.split),
+      choice('filter', o.filter, FILTERS), choice('opaque', o.opaque, OPAQUE_METHODS),
+      number('maxOpaque', o.maxOpaque), number('minCoverage', o.minCoverage), number('minOpaqueArea', o.minOpaqueArea),
+    ];
+    // The size is checked before anything is copied; a width or height that
+    // is not a valid side is left for the wasm to word (pixels stay null).
+    const validSides = Number.isInteger(width) && Number.isInteger(height) && width > 0 && height > 0;
+    if (validSides && width <= 16384 && height <= 16384 && data.length !== width * height * 4)
+      throw new DepthcullError(`${name}: data has ${data.length} bytes, a ${width}x${height} RGBA8 image has ${width * height * 4}`);
+    const ex = this.#exports;
+    let pixels = 0;
+    try {
+      if (validSides && data.length === width * height * 4) {
+        pixels = ex.dcw_alloc(data.length);
+        new Uint8Array(ex.memory.buffer, pixels, data.length).set(data);
+      }
+      const status = this.#withString(name, (namePtr) => ex.dcw_analyze(pixels, ...args, namePtr));
+      if (status !== 0) throw new DepthcullError(this.#cString(ex.dcw_last_error()));
+      return this.#readAnalysis(rect);
+    } catch (e) {
+      if (e instanceof WebAssembly.RuntimeError) throw this.#trapped(name, e);
+      throw e;
+    } finally {
+      if (pixels && this.#instance?.exports === ex) ex.dcw_free(pixels);
+    }
+  }
+
+  #readAnalysis(rect) {
+    const ex = this.#exports;
+    const r = new Float64Array(ex.memory.buffer, ex.dcw_result(), ex.dcw_result_size());
+    let i = 0;
+    const polygons = () => {
+      const out = [];
+      for (let count = r[i++]; count > 0; --count) {
+        const polygon = [];
+        for (let n = r[i++]; n > 0; --n, i += 2) polygon.push([r[i], r[i + 1]]);
+        out.push(polygon);
+      }
+      return out;
+    };
+    const boundary = polygons();
+    const opaque = polygons();
+    const stats = {};
+    for (const key of STAT_NAMES) stats[key] = r[i++];
+    return { rect: { x: rect.x, y: rect.y, width: rect.width, height: rect.height }, boundary, opaque, stats };
+  }
+}
