@@ -42,7 +42,8 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
     parallel_for(atlas.frames.size(), options.threads, [&](std::size_t i) {
         bool from_cache = false;
         result.frames[i] = analyze_cached(result.pages[std::size_t(atlas.frames[i].page)].view(), atlas.frames[i].frame, options.analyze,
-                                          options.cache_dir, &from_cache);
+                                          options.cache_dir, &from_cache, atlas.pages[std::size_t(atlas.frames[i].page)].image_path + ": frame '" +
+                                          atlas.frames[i].name + "'", options.memory);
         hit[i] = from_cache;
         if (options.progress) options.progress(++done, atlas.frames.size());
     });
