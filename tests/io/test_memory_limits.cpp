@@ -200,6 +200,20 @@ TEST(MemoryLimits, AJpegHeaderOverTheAnalysisLimitIsRefusedBeforeDecoding) {
     EXPECT_TRUE(has(e, "over the limit of 2048 MiB (kMaxAnalysisBytes)")) << e;
 }
 
+TEST(MemoryLimits, MultipackPagesAreBoundedOnTheirHeaders) {
+    // Three pages naming one 16384^2 header-only PNG: 3 GiB if decoded.
+    SceneDir dir("mem_multipack");
+    std::ofstream(dir.path("art/page.png"), std::ios::binary) << png_header_only(16384, 16384);
+    std::string textures;
+    for (int i = 0; i < 3; ++i)
+        textures += std::string(i ? "," : "") + R"({"image": "art/page.png", "size": {"w": 16384, "h": 16384}, "frames": [{"filename": "f)" +
+                    std::to_string(i) + R"(", "frame": {"x": 0, "y": 0, "w": 8, "h": 8}}]})";
+    const std::string atlas = dir.write("m.json", "{\"textures\": [" + textures + "]}");
+    const std::string e = io_error([&] { pipeline::atlas_with_polygons(atlas, {}); });
+    EXPECT_TRUE(has(e, "m.json: page " + dir.path("art/page.png"))) << e;
+    EXPECT_TRUE(has(e, "(kMaxDecodedBytes)")) << e;
+}
+
 // ---- 6e: workers share one budget; output as with one thread
 
 TEST(MemoryLimits, WorkersReserveFromOneBudgetAndOutputMatchesOneThread) {
