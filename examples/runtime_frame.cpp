@@ -112,8 +112,7 @@ int main(int argc, char** argv) {
         auto renderer = runtime::Renderer::create(&gl_loader, &error);
         if (!renderer) throw io::Error(error);
         std::printf("runtime renderer on %s\n", renderer->gl_version().c_str());
-        std::vector<ImageView> images;
-        for (const Image& image : p.images) images.push_back(image.view());
+        const std::vector<ImageView> images = p.views();
         if (renderer->upload_images(images, p.scene.filter) != runtime::Status::ok) throw io::Error(renderer->error());
 
         // flip_y false: the framebuffer is read back top row first. A window

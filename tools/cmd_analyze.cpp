@@ -160,6 +160,14 @@ std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
 }
 
 Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base) {
+    // The analysis' memory is checked on the header, before the decode:
+    // a 649-byte JPEG can say 16384^2.
+    int header_w = 0, header_h = 0;
+    io::image_size(in.path, &header_w, &header_h);
+    const Rect header_rect = in.has_rect ? in.rect : Rect{0, 0, header_w, header_h};
+    if (!header_rect.empty() && header_rect.x >= 0 && header_rect.y >= 0 && header_rect.x <= header_w - header_rect.w &&
+        header_rect.y <= header_h - header_rect.h)
+        pipeline::check_analysis_memory(in.path, header_rect, args.options);
     Image image = io::load_image(in.path);
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))
@@ -171,7 +179,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
     r.height = image.height;
     const Stopwatch stopwatch;
     if (!args.has_profile) {
-        r.analysis = pipeline::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit);
+        r.analysis = pipeline::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit, in.path);
     } else {
         // As optimize --target plans each image (pipeline::plan_target): the
         // budgets 4, 6, 8 up to the cap, MIN_OPAQUE_AREA from the profile;
@@ -189,7 +197,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
         for (int b : budgets) {
             o.boundary.max_vertices = b;
             bool hit = false;
-            analyses.push_back(pipeline::analyze_cached(image.view(), rect, o, args.cache_dir, &hit));
+            analyses.push_back(pipeline::analyze_cached(image.view(), rect, o, args.cache_dir, &hit, in.path));
             r.cache_hit = r.cache_hit && hit;
         }
         ImageAnalysis plain = analyses.back();

@@ -41,10 +41,7 @@ OverdrawFigures overdraw_figures(const pipeline::PreparedScene& p, const SceneMe
     OverdrawFigures f;
     f.overpaint = analyze_overdraw(overpaint_meshes(p.scene));
     f.optimized = analyze_overdraw(optimized);
-    std::vector<ImageView> views;
-    views.reserve(p.images.size());
-    for (const Image& image : p.images) views.push_back(image.view());
-    f.ideal = ideal_overdraw(p.scene, views);
+    f.ideal = ideal_overdraw(p.scene, p.views());
     return f;
 }
 

@@ -37,7 +37,11 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "depthcull: error: %s\n", e.what());
         return 2;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "depthcull: error: out of memory\n");
+        // Outside every reader's guard (which names its file): name the
+        // command, so the line still says what was being read.
+        std::fprintf(stderr, "depthcull: error: %s: out of memory (the limits allow %llu MiB of decoded images, kMaxDecodedBytes, and %llu MiB of analysis memory, kMaxAnalysisBytes)\n",
+                     depthcull::cli::g_command_line.c_str(), static_cast<unsigned long long>(depthcull::limits::kMaxDecodedBytes >> 20),
+                     static_cast<unsigned long long>(depthcull::kMaxAnalysisBytes >> 20));
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "depthcull: error: %s\n", e.what());

@@ -47,10 +47,7 @@ ReconstructOptions reconstruct_options(const RenderInput& in) {
 }
 
 std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared) {
-    std::vector<ImageView> views;
-    views.reserve(prepared.images.size());
-    for (const Image& image : prepared.images) views.push_back(image.view());
-    return views;
+    return prepared.views();
 }
 
 std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& in) {

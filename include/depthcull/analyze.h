@@ -138,6 +138,35 @@ std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const 
 // Both stages plus the stats.
 ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options);
 
+// ---- Scratch memory. The opaque search holds several bytes per texel of
+// the rect (masks, prefix sums, the paper's candidate quads): a 649-byte
+// JPEG header can ask for a 16384^2 opaque image, whose search would need
+// about 8 GiB. Callers estimate it first and refuse or queue what would not
+// fit (pipeline::MemoryBudget runs workers within one budget).
+
+// Most scratch memory one analysis may need (README, "Limits"): an 8192^2
+// opaque image fits, the largest image (kMaxImageSide^2) does not.
+inline constexpr std::uint64_t kMaxAnalysisBytes = std::uint64_t(2) << 30;
+
+// An upper estimate of the scratch bytes analyze_image allocates for `rect`
+// with `options` (the image's own pixels not counted): measured per texel
+// for each opaque method, plus the fast search's candidate quads, which its
+// work budget bounds. Never 0 for a non-empty rect.
+std::uint64_t analysis_scratch_bytes(Rect rect, const AnalyzeOptions& options);
+
+enum class AnalyzeStatus {
+    ok,
+    over_memory_limit, // analysis_scratch_bytes over the limit given: nothing analyzed
+    out_of_memory,     // an allocation failed all the same (a machine with less memory)
+};
+
+// analyze_image that refuses, before allocating, a rect whose
+// analysis_scratch_bytes exceed `max_scratch_bytes`, and reports a failed
+// allocation as a status instead of an exception (the core throws
+// nothing). `out` is set only with AnalyzeStatus::ok.
+AnalyzeStatus analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options, std::uint64_t max_scratch_bytes,
+                            ImageAnalysis& out);
+
 // ---- Analyzers and checkers (exact; used by tests and `analyze --check`).
 
 // Number of non-transparent texel squares of rect (grown by half a texel

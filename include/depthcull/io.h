@@ -34,6 +34,13 @@ Image load_png(const std::string& path);
 // without alpha), as RGBA8; the same limits as load_png.
 Image load_image(const std::string& path);
 Image decode_image(const void* data, std::size_t size, const std::string& name);
+class ImageFiles;
+// An image's width and height from its header, without decoding (so a
+// size can be checked before the decode allocates): for any image
+// load_image reads, told by content; the file kept in `files` when given.
+// Otherwise a PNG's header alone is read (JPEG and WebP are read whole:
+// their sizes lie after variable-length segments).
+void image_size(const std::string& path, int* width, int* height, ImageFiles* files = nullptr); // image_formats.cpp
 // Image files as a scene load read them, kept for the decode that follows
 // (pipeline::prepare_scene): the loaders take each image's size from these
 // bytes and the pipeline decodes the same bytes, so each file is opened and

@@ -24,6 +24,11 @@ inline constexpr std::uint64_t kMaxDocumentBytes = std::uint64_t(1) << 30; // 1 
 // Image files a scene load keeps read for their decode (io::ImageFiles),
 // all together; past it, a file is read for its size and again to decode.
 inline constexpr std::uint64_t kMaxKeptImageBytes = std::uint64_t(256) << 20;
+// Decoded images (RGBA8) a scene may hold together, one per (file, colour
+// key) its elements show, summed from the headers before any decode: a
+// 55 KB PNG can say 16384^2 (1 GiB). The analysis' own scratch memory is
+// bounded apart (kMaxAnalysisBytes, analyze.h).
+inline constexpr std::uint64_t kMaxDecodedBytes = std::uint64_t(2) << 30;
 
 // Nesting of input structures (Tiled <group> layers, JSON arrays and
 // objects): deeper input is refused rather than walked recursively.
@@ -58,5 +63,10 @@ inline constexpr std::int64_t kMaxMapCells = std::int64_t(1) << 26;   // all til
 inline constexpr std::int64_t kMaxMapElements = 4'000'000;            // elements a map may produce
 inline constexpr int kMaxLayers = 10'000;                             // layers per map or group
 inline constexpr int kMaxTilesets = 10'000;
+// Animations (Scene::animations): the frames are combined texel by texel
+// before one analysis, so frames and frames x frame texels are bounded
+// (400 frames of 4096^2 would take 11 s from a 24 KB map).
+inline constexpr std::size_t kMaxAnimationFrames = 65'536;                // per animation
+inline constexpr std::uint64_t kMaxAnimationTexels = std::uint64_t(1) << 30; // frames x frame texels, per animation
 
 } // namespace depthcull::limits

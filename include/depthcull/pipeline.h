@@ -6,7 +6,10 @@
 // pure. Like io, everything here may do I/O and throws io::Error only.
 #pragma once
 
+#include <condition_variable>
+#include <cstdint>
 #include <deque>
+#include <mutex>
 #include <functional>
 #include <optional>
 #include <string>
@@ -25,6 +28,52 @@ namespace depthcull::pipeline {
 // the error of the lowest failing index is rethrown, as a serial run would.
 void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn);
 
+// Scratch memory that analyses running at once may hold together
+// (analysis_scratch_bytes each): a worker reserves an analysis's estimate
+// before it runs and waits while the others' reservations leave too little,
+// so peak memory stays within the budget whatever -j is (at -j 8, eight
+// 4096^2 frames would otherwise need 4 GiB at once). Results are stored by
+// index, so waiting never changes the output. The budget is also the most
+// one analysis may need: a larger one is refused (io::Error naming the
+// file, the rect and the limit), never queued.
+class MemoryBudget {
+public:
+    explicit MemoryBudget(std::uint64_t bytes = kMaxAnalysisBytes) : limit_(bytes) {}
+    MemoryBudget(const MemoryBudget&) = delete;
+    MemoryBudget& operator=(const MemoryBudget&) = delete;
+    std::uint64_t limit() const { return limit_; }
+
+    // Bytes held until destroyed (moved-from: none).
+    class Hold {
+    public:
+        Hold() = default;
+        Hold(Hold&& other) noexcept : budget_(other.budget_), bytes_(other.bytes_) { other.budget_ = nullptr; }
+        Hold& operator=(Hold&&) = delete;
+        ~Hold();
+
+    private:
+        friend class MemoryBudget;
+        Hold(MemoryBudget* budget, std::uint64_t bytes) : budget_(budget), bytes_(bytes) {}
+        MemoryBudget* budget_ = nullptr;
+        std::uint64_t bytes_ = 0;
+    };
+    // Waits until `bytes` fit beside what is held, then holds them. `bytes`
+    // must be at most limit() (callers refuse larger analyses first).
+    Hold reserve(std::uint64_t bytes);
+    // The most held at once so far (tests, diagnostics).
+    std::uint64_t peak() const;
+
+private:
+    void release(std::uint64_t bytes);
+    const std::uint64_t limit_;
+    mutable std::mutex mutex_;
+    std::condition_variable freed_;
+    std::uint64_t held_ = 0, peak_ = 0;
+};
+// The budget every analysis of this process shares unless told otherwise
+// (kMaxAnalysisBytes).
+MemoryBudget& shared_memory_budget();
+
 // Where analyses are cached by default: $XDG_CACHE_HOME/depthcull/analysis, else
 // ~/.cache/depthcull/analysis; empty when neither can be found.
 std::string default_cache_dir();
@@ -32,8 +81,17 @@ std::string default_cache_dir();
 // One analysis through the cache (cache_dir empty: no cache). *hit tells
 // whether it was read from the cache. Every command analyzes through it,
 // so they share one cache.
+// `name` (the image file) names it in errors; the analysis' scratch memory
+// is reserved from `budget` (null: shared_memory_budget()) while it runs,
+// and an analysis that needs more than the whole budget is an io::Error
+// naming `name`, the rect and the limit, raised before anything is
+// allocated.
+// The io::Error analyze_cached raises when an analysis of `rect` would
+// need more scratch memory than the whole budget, raised here without
+// analysing (callers check on an image's header before decoding it).
+void check_analysis_memory(const std::string& name, Rect rect, const AnalyzeOptions& options, MemoryBudget* budget = nullptr);
 ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& cache_dir,
-                             bool* hit = nullptr);
+                             bool* hit = nullptr, const std::string& name = "image", MemoryBudget* budget = nullptr);
 
 // One analysis for every frame of an animation (Element::animation),
 // through the cache: boundary polygons hold the union of the frames'
@@ -41,8 +99,10 @@ ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& o
 // frame 0's meshes draw any frame once the UVs move to it; polygons on
 // frame 0's rect. `images` are the decoded scene images, indexed like
 // Scene::images.
-ImageAnalysis analyze_animation(const std::vector<Image>& images, const Animation& animation, const AnalyzeOptions& options,
-                                const std::string& cache_dir, bool* hit = nullptr);
+// `name` and `budget` as for analyze_cached.
+ImageAnalysis analyze_animation(const std::vector<ImageView>& images, const Animation& animation, const AnalyzeOptions& options,
+                                const std::string& cache_dir, bool* hit = nullptr, const std::string& name = "animation",
+                                MemoryBudget* budget = nullptr);
 
 struct PrepareOptions {
     io::LoadOptions load;
@@ -57,12 +117,36 @@ struct PrepareOptions {
     // Called after each distinct (image, rect) is analyzed or read from the
     // cache, from worker threads (the callee synchronizes): progress bars.
     std::function<void(std::size_t done, std::size_t total)> progress;
+    // The most bytes the decoded images may take together, checked on the
+    // headers' sizes before any decode (tests pass less).
+    std::uint64_t max_decoded_bytes = limits::kMaxDecodedBytes;
+    // Where analyses reserve their scratch memory (null: shared_memory_budget()).
+    MemoryBudget* memory = nullptr;
 };
 
 // A value: copies are whole (SceneAnalysis holds indices, not pointers).
 struct PreparedScene {
     Scene scene;
-    std::vector<Image> images; // decoded, index = Scene::images (entries naming one file share pixels)
+    // Decoded pixels: one Image per (file, colour key) that an element
+    // shows, however many image entries name it (by any path or symlink);
+    // images no element shows are not decoded.
+    std::vector<Image> decoded;
+    // index = Scene::images: its entry in `decoded`, or kNotDecoded.
+    static constexpr std::size_t kNotDecoded = std::size_t(-1);
+    std::vector<std::size_t> pixels;
+    // The pixels of Scene::images[i]; for an image no element shows, one
+    // transparent texel (renderers can upload it; nothing samples it).
+    ImageView view(std::size_t image) const {
+        static const std::uint8_t none[4] = {0, 0, 0, 0};
+        return pixels[image] == kNotDecoded ? ImageView{none, 1, 1, 4} : decoded[pixels[image]].view();
+    }
+    // view(i) for every image, index = Scene::images (what renderers take).
+    std::vector<ImageView> views() const {
+        std::vector<ImageView> out;
+        out.reserve(pixels.size());
+        for (std::size_t i = 0; i < pixels.size(); ++i) out.push_back(view(i));
+        return out;
+    }
     SceneAnalysis analysis;    // per distinct (image file, rect), and per element
     int analyzed = 0, cache_hits = 0;
 };
@@ -105,6 +189,7 @@ struct AtlasPolygonOptions {
     unsigned threads = 0;    // 0: all cores
     std::function<void(std::size_t done, std::size_t total)> progress; // called from worker threads
     bool plist = false; // write a cocos2d-x format 3 plist (one page only)
+    MemoryBudget* memory = nullptr; // as PrepareOptions::memory
 };
 struct AtlasAnalysis {
     io::Atlas atlas;

@@ -3,6 +3,7 @@
 #include "depthcull/analyze.h"
 
 #include <algorithm>
+#include <new>
 
 namespace depthcull {
 
@@ -54,6 +55,39 @@ ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& op
     s.opaque_covered_texels = count_covered_opaque_texels(image, rect, result.opaque);
     s.opaque_coverage = counts.opaque ? double(s.opaque_covered_texels) / double(counts.opaque) : 0.0;
     return result;
+}
+
+std::uint64_t analysis_scratch_bytes(Rect rect, const AnalyzeOptions& options) {
+    if (rect.empty()) return 0;
+    const std::uint64_t texels = std::uint64_t(rect.w) * std::uint64_t(rect.h);
+    // Bytes per texel measured on fully opaque images (the worst case) from
+    // 2048^2 to 8192^2 (peak resident size less the decoded image), rounded
+    // up: the boundary stage's masks; the safe mask with its row and column
+    // sums (the paper's search); the growth's own grids; both for fast.
+    std::uint64_t per_texel = 2;
+    std::uint64_t extra = 0;
+    if (options.opaque.max_polygons > 0) switch (options.opaque.method) {
+        case OpaqueMethod::paper: per_texel += 12; break;
+        case OpaqueMethod::grow: per_texel += 22; break;
+        case OpaqueMethod::fast:
+            per_texel += 28;
+            // The paper's candidate quads the fast search keeps: bounded by
+            // its work budget (about 64 MiB at most), fewer on small rects.
+            extra = std::min<std::uint64_t>(std::uint64_t(64) << 20, 16 * texels);
+            break;
+        }
+    return per_texel * texels + extra + (std::uint64_t(rect.w) + std::uint64_t(rect.h)) * 64 + 4096;
+}
+
+AnalyzeStatus analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options, std::uint64_t max_scratch_bytes,
+                            ImageAnalysis& out) {
+    if (analysis_scratch_bytes(rect, options) > max_scratch_bytes) return AnalyzeStatus::over_memory_limit;
+    try {
+        out = analyze_image(image, rect, options);
+    } catch (const std::bad_alloc&) {
+        return AnalyzeStatus::out_of_memory;
+    }
+    return AnalyzeStatus::ok;
 }
 
 } // namespace depthcull

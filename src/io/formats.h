@@ -38,11 +38,7 @@ std::string read_image_head(const std::string& path, std::size_t size); // file.
 // in rows without overlap (sprite_folder.cpp).
 bool is_sprite_source(const std::string& path);
 Scene load_sprite_folder(const std::string& path, const LoadOptions& options);
-// The same for any image load_image reads (PNG, JPEG, WebP), told by
-// content; the file kept in `files` as png_size keeps it. Otherwise a
-// PNG's header alone is read (JPEG and WebP are read whole: their sizes
-// lie after variable-length segments).
-void image_size(const std::string& path, int* width, int* height, ImageFiles* files = nullptr); // image_formats.cpp
+// image_size (io.h): the same for any image load_image reads.
 
 // io::Error "<where>: ..." unless the viewport is finite, within
 // limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).
@@ -107,7 +103,11 @@ auto guarded(const std::string& path, F&& fn) -> decltype(fn()) {
     } catch (const Error&) {
         throw;
     } catch (const std::bad_alloc&) {
-        throw Error(path + ": out of memory");
+        // Within every limit (README, "Limits") yet beyond this machine: the
+        // limits that bound memory are named so the user knows what held.
+        throw Error(path + ": out of memory (the limits allow " + std::to_string(limits::kMaxDecodedBytes >> 20) +
+                    " MiB of decoded images, kMaxDecodedBytes, and " + std::to_string(kMaxAnalysisBytes >> 20) +
+                    " MiB of analysis memory, kMaxAnalysisBytes)");
     } catch (const std::filesystem::filesystem_error& e) {
         throw Error(path + ": " + e.code().message() + " (" + e.path1().string() + ")");
     } catch (const std::exception& e) {

@@ -142,7 +142,8 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
         int id = int_attr(tile, "id", -1, here);
         std::vector<std::pair<Tile, int>> frames;
         for (pugi::xml_node frame : tile.child("animation").children("frame")) {
-            if (frames.size() >= 65536) throw Error(here + ": more than 65536 frames");
+            if (frames.size() >= limits::kMaxAnimationFrames)
+                throw Error(here + ": more than " + std::to_string(limits::kMaxAnimationFrames) + " frames (kMaxAnimationFrames)");
             int tile_id = int_attr(frame, "tileid", -1, here);
             Tile still = tile_id < 0 ? Tile{} : ts.tile(std::uint32_t(tile_id));
             if (still.image < 0) throw Error(here + ": frame names no tile (" + std::to_string(tile_id) + ")");

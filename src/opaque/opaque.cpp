@@ -15,6 +15,9 @@ std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const 
     if (stats) *stats = {};
     if (rect.empty() || !image.contains(rect) || options.max_polygons <= 0) return result;
     Mask safe = safe_mask(image, rect, filter);
+    // No texel may be touched: no polygon, and none of the searches' grids
+    // (about 20-30 bytes per texel) for a transparent or translucent image.
+    if (std::all_of(safe.bits.begin(), safe.bits.end(), [](std::uint8_t b) { return b == 0; })) return result;
     SearchCounters counters;
     std::vector<HalfPolygon> polygons;
     switch (options.method) {

@@ -9,8 +9,8 @@
 
 namespace depthcull::pipeline {
 
-ImageAnalysis analyze_animation(const std::vector<Image>& images, const Animation& animation, const AnalyzeOptions& options,
-                                const std::string& cache_dir, bool* hit) {
+ImageAnalysis analyze_animation(const std::vector<ImageView>& images, const Animation& animation, const AnalyzeOptions& options,
+                                const std::string& cache_dir, bool* hit, const std::string& name, MemoryBudget* budget) {
     const AnimationFrame& first = animation.frames.front();
     const int w = first.rect.w, h = first.rect.h;
     Image combined;
@@ -19,7 +19,7 @@ ImageAnalysis analyze_animation(const std::vector<Image>& images, const Animatio
     combined.rgba.assign(std::size_t(w) * std::size_t(h) * 4, 0);
     std::vector<std::uint8_t> any(std::size_t(w) * std::size_t(h), 0), all(std::size_t(w) * std::size_t(h), 1);
     for (const AnimationFrame& f : animation.frames) {
-        ImageView view = images[std::size_t(f.image)].view();
+        const ImageView& view = images[std::size_t(f.image)];
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const std::uint8_t a = view.alpha(f.rect.x + x, f.rect.y + y);
@@ -29,7 +29,7 @@ ImageAnalysis analyze_animation(const std::vector<Image>& images, const Animatio
             }
     }
     for (std::size_t i = 0; i < any.size(); ++i) combined.rgba[4 * i + 3] = all[i] ? 255 : any[i] ? 128 : 0;
-    ImageAnalysis a = analyze_cached(combined.view(), {0, 0, w, h}, options, cache_dir, hit);
+    ImageAnalysis a = analyze_cached(combined.view(), {0, 0, w, h}, options, cache_dir, hit, name, budget);
     const double dx = first.rect.x, dy = first.rect.y;
     for (auto* polygons : {&a.boundary, &a.opaque})
         for (Polygon& p : *polygons)

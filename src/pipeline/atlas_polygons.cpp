@@ -23,6 +23,18 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
     if (plist && atlas.pages.size() > 1)
         throw io::Error(path + ": a cocos2d-x plist holds one page; this multipack has " + std::to_string(atlas.pages.size()) +
                         " (write JSON, or one plist per page)");
+    // Every page is decoded and held: their total is checked on the
+    // headers first (three pages naming one 16384^2 PNG are 3 GiB).
+    std::uint64_t decoded = 0;
+    for (const io::AtlasPage& p : atlas.pages) {
+        int w = 0, h = 0;
+        io::image_size(p.image_path, &w, &h);
+        decoded += std::uint64_t(w) * std::uint64_t(h) * 4;
+        if (decoded > limits::kMaxDecodedBytes)
+            throw io::Error(path + ": page " + p.image_path + " (" + std::to_string(w) + "x" + std::to_string(h) + ") brings the decoded pages to " +
+                            std::to_string((decoded + (1 << 20) - 1) >> 20) + " MiB, over the limit of " +
+                            std::to_string(limits::kMaxDecodedBytes >> 20) + " MiB (kMaxDecodedBytes)");
+    }
     result.pages.clear();
     for (const io::AtlasPage& p : atlas.pages) {
         result.pages.push_back(io::load_image(p.image_path));
@@ -42,7 +54,8 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
     parallel_for(atlas.frames.size(), options.threads, [&](std::size_t i) {
         bool from_cache = false;
         result.frames[i] = analyze_cached(result.pages[std::size_t(atlas.frames[i].page)].view(), atlas.frames[i].frame, options.analyze,
-                                          options.cache_dir, &from_cache);
+                                          options.cache_dir, &from_cache, atlas.pages[std::size_t(atlas.frames[i].page)].image_path + ": frame '" +
+                                          atlas.frames[i].name + "'", options.memory);
         hit[i] = from_cache;
         if (options.progress) options.progress(++done, atlas.frames.size());
     });

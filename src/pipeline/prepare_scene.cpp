@@ -14,6 +14,8 @@
 
 #include <filesystem>
 
+#include <sys/stat.h>
+
 #include "depthcull/limits.h"
 #include "depthcull/pipeline.h"
 #include "io/cache.h"
@@ -73,20 +75,106 @@ std::string default_cache_dir() {
     return {};
 }
 
-ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& cache_dir, bool* hit) {
+MemoryBudget::Hold::~Hold() {
+    if (budget_) budget_->release(bytes_);
+}
+
+MemoryBudget::Hold MemoryBudget::reserve(std::uint64_t bytes) {
+    bytes = std::min(bytes, limit_); // more would wait for ever; callers refuse it first
+    std::unique_lock lock(mutex_);
+    freed_.wait(lock, [&] { return held_ + bytes <= limit_; });
+    held_ += bytes;
+    peak_ = std::max(peak_, held_);
+    return Hold(this, bytes);
+}
+
+void MemoryBudget::release(std::uint64_t bytes) {
+    {
+        std::lock_guard lock(mutex_);
+        held_ -= bytes;
+    }
+    freed_.notify_all();
+}
+
+std::uint64_t MemoryBudget::peak() const {
+    std::lock_guard lock(mutex_);
+    return peak_;
+}
+
+MemoryBudget& shared_memory_budget() {
+    static MemoryBudget budget(kMaxAnalysisBytes);
+    return budget;
+}
+
+namespace {
+
+std::string mib_text(std::uint64_t bytes) { return std::to_string((bytes + (std::uint64_t(1) << 20) - 1) >> 20) + " MiB"; }
+
+// The core's analysis within the budget: refused up front when it would
+// need more than the whole budget, else run once its bytes are reserved.
+std::string rect_name(const std::string& name, Rect rect) {
+    return name + ": rect " + std::to_string(rect.x) + "," + std::to_string(rect.y) + " " + std::to_string(rect.w) + "x" + std::to_string(rect.h);
+}
+
+std::string limit_text(const MemoryBudget& budget) { return "the limit of " + mib_text(budget.limit()) + " (kMaxAnalysisBytes)"; }
+
+ImageAnalysis analyze_within(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& name, MemoryBudget& budget) {
+    check_analysis_memory(name, rect, options, &budget);
+    const std::uint64_t need = analysis_scratch_bytes(rect, options);
+    const std::string where = rect_name(name, rect), limit = limit_text(budget);
+    MemoryBudget::Hold hold = budget.reserve(need);
+    ImageAnalysis out;
+    switch (analyze_image(image, rect, options, budget.limit(), out)) {
+    case AnalyzeStatus::ok: break;
+    case AnalyzeStatus::over_memory_limit: // checked above; kept for completeness
+        throw io::Error(where + ": analysing it needs about " + mib_text(need) + " of memory, over " + limit);
+    case AnalyzeStatus::out_of_memory:
+        throw io::Error(where + ": out of memory analysing it (about " + mib_text(need) + ", within " + limit +
+                        "; fewer threads, -j, need less at once)");
+    }
+    return out;
+}
+
+} // namespace
+
+void check_analysis_memory(const std::string& name, Rect rect, const AnalyzeOptions& options, MemoryBudget* budget) {
+    const MemoryBudget& memory = budget ? *budget : shared_memory_budget();
+    const std::uint64_t need = analysis_scratch_bytes(rect, options);
+    if (need > memory.limit())
+        throw io::Error(rect_name(name, rect) + ": analysing it needs about " + mib_text(need) + " of memory, over " + limit_text(memory));
+}
+
+ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& cache_dir, bool* hit,
+                             const std::string& name, MemoryBudget* budget) {
+    MemoryBudget& memory = budget ? *budget : shared_memory_budget();
     if (hit) *hit = false;
-    if (cache_dir.empty()) return analyze_image(image, rect, options);
+    if (cache_dir.empty()) return analyze_within(image, rect, options, name, memory);
     const io::CacheKey key = io::analysis_key(image, rect, options);
     if (auto cached = io::cache_load(cache_dir, key, rect)) {
         if (hit) *hit = true;
         return std::move(*cached);
     }
-    ImageAnalysis analysis = analyze_image(image, rect, options);
+    ImageAnalysis analysis = analyze_within(image, rect, options, name, memory);
     io::cache_store(cache_dir, key, analysis);
     return analysis;
 }
 
 namespace {
+
+// Which file a path names: its device and inode, so that two spellings or
+// a symlink share one decode; the path itself when it cannot be stat'ed
+// (the decode then reports why).
+std::string file_identity(const std::string& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) == 0) return "\n" + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+    return path;
+}
+
+std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (std::uint64_t(1) << 20) - 1) >> 20) + " MiB"; }
+
+std::string image_name(const std::string& path, const SceneImage& img, std::size_t i) {
+    return path + ": image " + std::to_string(i) + " \"" + img.id + "\" (" + (img.has_fill ? "fill " + io::colour_key_text(img.fill) : img.path) + ")";
+}
 
 PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     PreparedScene out;
@@ -102,32 +190,68 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     AnalyzeOptions analyze = options.analyze;
     analyze.filter = scene.filter;
 
-    // Decode each (file, colour key) once; image entries naming the same
-    // file with the same key share it.
-    std::map<std::string, std::size_t> first_with_path;
-    std::vector<std::size_t> canon(scene.images.size());
-    std::vector<std::size_t> to_decode;
-    for (std::size_t i = 0; i < scene.images.size(); ++i) {
-        const SceneImage& img = scene.images[i];
-        auto [it, fresh] = first_with_path.emplace(img.has_fill ? "\nfill " + io::colour_key_text(img.fill)
-                                                                : img.path + (img.has_trans ? "\n" + io::colour_key_text(img.trans) : std::string()),
-                                                   i);
-        canon[i] = it->second;
-        if (fresh) to_decode.push_back(i);
+    // Animations are checked on their frames' rects, before any pixel is
+    // decoded: each frame is read once per texel to combine them.
+    for (std::size_t a = 0; a < scene.animations.size(); ++a) {
+        const Animation& animation = scene.animations[a];
+        if (animation.frames.empty()) continue;
+        const AnimationFrame& first = animation.frames.front();
+        const std::string where = image_name(path, scene.images[std::size_t(first.image)], std::size_t(first.image)) + ": animation " +
+                                  std::to_string(a) + " at " + std::to_string(first.rect.x) + "," + std::to_string(first.rect.y);
+        if (animation.frames.size() > limits::kMaxAnimationFrames)
+            throw Error(where + ": " + std::to_string(animation.frames.size()) + " frames, more than " +
+                        std::to_string(limits::kMaxAnimationFrames) + " (kMaxAnimationFrames)");
+        const std::uint64_t texels = std::uint64_t(animation.frames.size()) * std::uint64_t(std::max(first.rect.w, 0)) *
+                                     std::uint64_t(std::max(first.rect.h, 0));
+        if (texels > limits::kMaxAnimationTexels)
+            throw Error(where + ": " + std::to_string(animation.frames.size()) + " frames of " + std::to_string(first.rect.w) + "x" +
+                        std::to_string(first.rect.h) + " are " + std::to_string(texels) + " texels, more than " +
+                        std::to_string(limits::kMaxAnimationTexels) + " (kMaxAnimationTexels)");
     }
-    out.images.resize(scene.images.size());
+
+    // Only images an element shows are decoded (an animated element shows
+    // all its frames' images), each (file, colour key) once: entries naming
+    // one file, by any path or symlink, with one key share its pixels.
+    std::vector<std::uint8_t> shown(scene.images.size(), 0);
+    for (const Element& e : scene.elements) {
+        shown[std::size_t(e.image)] = 1;
+        if (e.animation >= 0)
+            for (const AnimationFrame& f : scene.animations[std::size_t(e.animation)].frames) shown[std::size_t(f.image)] = 1;
+    }
+    std::map<std::string, std::size_t> decode_of_key;
+    out.pixels.assign(scene.images.size(), PreparedScene::kNotDecoded);
+    std::vector<std::size_t> to_decode; // image index of each decode
+    std::uint64_t total = 0;
+    for (std::size_t i = 0; i < scene.images.size(); ++i) {
+        if (!shown[i]) continue;
+        const SceneImage& img = scene.images[i];
+        auto [it, fresh] = decode_of_key.emplace(img.has_fill ? "\nfill " + io::colour_key_text(img.fill)
+                                                              : file_identity(img.path) + (img.has_trans ? "\n" + io::colour_key_text(img.trans) : std::string()),
+                                                 to_decode.size());
+        out.pixels[i] = it->second;
+        if (!fresh) continue;
+        to_decode.push_back(i);
+        // Sizes are the headers' (the loaders read them): the total is
+        // known before the first decode allocates.
+        const std::uint64_t bytes = std::uint64_t(std::max(img.width, 0)) * std::uint64_t(std::max(img.height, 0)) * 4;
+        total += bytes;
+        if (total > options.max_decoded_bytes)
+            throw Error(image_name(path, img, i) + ": " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                        " brings the decoded images to " + mib(total) + ", over the limit of " + mib(options.max_decoded_bytes) +
+                        " (kMaxDecodedBytes)");
+    }
+    out.decoded.resize(to_decode.size());
     parallel_for(to_decode.size(), options.threads, [&](std::size_t k) {
         std::size_t i = to_decode[k];
         const SceneImage& img = scene.images[i];
-        out.images[i] = io::load_scene_image(img, &files);
-        if (out.images[i].width != img.width || out.images[i].height != img.height)
+        out.decoded[k] = io::load_scene_image(img, &files);
+        if (out.decoded[k].width != img.width || out.decoded[k].height != img.height)
             throw Error(path + ": image " + std::to_string(i) + " \"" + img.id + "\": " + img.path + " is " +
-                        std::to_string(out.images[i].width) + "x" + std::to_string(out.images[i].height) + ", expected " +
+                        std::to_string(out.decoded[k].width) + "x" + std::to_string(out.decoded[k].height) + ", expected " +
                         std::to_string(img.width) + "x" + std::to_string(img.height));
     });
     files.clear(); // decoded: the compressed bytes are not needed again
-    for (std::size_t i = 0; i < scene.images.size(); ++i)
-        if (canon[i] != i) out.images[i] = out.images[canon[i]];
+    const std::vector<ImageView> views = out.views();
 
     // Distinct (file, rect) in order of first use: deterministic indices.
     // An animated element's analysis is its animation's (all frames).
@@ -137,7 +261,7 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     std::vector<int> work_animation;
     for (std::size_t i = 0; i < scene.elements.size(); ++i) {
         const Element& e = scene.elements[i];
-        std::size_t file = canon[std::size_t(e.image)];
+        std::size_t file = out.pixels[std::size_t(e.image)];
         auto key = e.animation >= 0 ? std::make_tuple(SIZE_MAX, e.animation, 0, 0, 0) : std::make_tuple(file, e.rect.x, e.rect.y, e.rect.w, e.rect.h);
         auto [it, fresh] = distinct.emplace(key, work.size());
         if (fresh) {
@@ -152,10 +276,17 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     std::atomic<std::size_t> done{0};
     parallel_for(work.size(), options.threads, [&](std::size_t k) {
         bool from_cache = false;
-        if (work_animation[k] >= 0)
-            analyses[k] = analyze_animation(out.images, scene.animations[std::size_t(work_animation[k])], analyze, options.cache_dir, &from_cache);
-        else
-            analyses[k] = analyze_cached(out.images[work[k].first].view(), work[k].second, analyze, options.cache_dir, &from_cache);
+        if (work_animation[k] >= 0) {
+            const Animation& animation = scene.animations[std::size_t(work_animation[k])];
+            const std::size_t image = std::size_t(animation.frames.front().image);
+            analyses[k] = analyze_animation(views, animation, analyze, options.cache_dir, &from_cache,
+                                            image_name(path, scene.images[image], image) + ": animation " + std::to_string(work_animation[k]),
+                                            options.memory);
+        } else {
+            const std::size_t image = to_decode[work[k].first];
+            analyses[k] = analyze_cached(out.decoded[work[k].first].view(), work[k].second, analyze, options.cache_dir, &from_cache,
+                                         image_name(path, scene.images[image], image), options.memory);
+        }
         hit[k] = from_cache;
         if (options.progress) options.progress(++done, work.size());
     });

@@ -45,7 +45,8 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
         AnalyzeOptions o = analyze;
         o.boundary.max_vertices = plan.budgets[b];
         bool h = false;
-        plan.candidates[w] = analyze_cached(prepared.images[std::size_t(e.image)].view(), e.rect, o, options.cache_dir, &h);
+        plan.candidates[w] = analyze_cached(prepared.view(std::size_t(e.image)), e.rect, o, options.cache_dir, &h,
+                                             scene.images[std::size_t(e.image)].path, options.memory);
         hit[w] = h;
     });
     for (std::size_t w = 0; w < keys * nb; ++w) {

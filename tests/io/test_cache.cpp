@@ -127,7 +127,7 @@ TEST(Cache, ConcurrentRunsAgreeAndStrayFilesAreIgnored) {
     o.threads = 1;
     pipeline::PreparedScene reference = pipeline::prepare_scene(scene, pipeline::PrepareOptions{});
     // A killed writer's temporary file beside where an entry will go.
-    CacheKey first_key = analysis_key(reference.images[0].view(), reference.analysis.images[0].rect, o.analyze);
+    CacheKey first_key = analysis_key(reference.view(0), reference.analysis.images[0].rect, o.analyze);
     std::string entry = cache_entry_path(o.cache_dir, first_key);
     std::filesystem::create_directories(std::filesystem::path(entry).parent_path());
     dir.write(std::filesystem::relative(std::filesystem::path(entry).parent_path() / ".stray.tmp123.4", dir.root).string(), "garbage");

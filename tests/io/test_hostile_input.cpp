@@ -353,7 +353,7 @@ TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
     pipeline::PreparedScene first = pipeline::prepare_scene(scene, o);
     ASSERT_EQ(first.analyzed, 1);
     const ImageAnalysis good = first.analysis.images[0];
-    const io::CacheKey key = io::analysis_key(first.images[0].view(), good.rect, o.analyze);
+    const io::CacheKey key = io::analysis_key(first.view(0), good.rect, o.analyze);
     const std::string entry = io::cache_entry_path(o.cache_dir, key);
     // Damaged before it was summed: the checksum matches, the content lies.
     auto corrupt = [&](auto&& damage) {

@@ -282,15 +282,15 @@ TEST(TiledAnimation, OneAnalysisCoversEveryFrame) {
     EXPECT_EQ(a.rect, (Rect{0, 0, 16, 16}));
     ASSERT_FALSE(a.opaque.empty());
     // Each frame, with the polygons moved onto its rect, keeps both guarantees.
-    const Image& image = p.images[0];
+    const ImageView image = p.view(0);
     for (const AnimationFrame& f : s.animations[0].frames) {
         auto moved = [&](std::vector<Polygon> polygons) {
             for (Polygon& poly : polygons)
                 for (Vec2& v : poly) v = {v.x + f.rect.x, v.y + f.rect.y};
             return polygons;
         };
-        EXPECT_EQ(count_uncontained_texels(image.view(), f.rect, moved(a.boundary), Filter::nearest), 0) << f.rect.x;
-        EXPECT_EQ(count_opaque_violations(image.view(), f.rect, moved(a.opaque), Filter::nearest), 0) << f.rect.x;
+        EXPECT_EQ(count_uncontained_texels(image, f.rect, moved(a.boundary), Filter::nearest), 0) << f.rect.x;
+        EXPECT_EQ(count_opaque_violations(image, f.rect, moved(a.opaque), Filter::nearest), 0) << f.rect.x;
     }
     for (const Polygon& poly : a.opaque)
         for (const Vec2& v : poly) {
@@ -298,7 +298,7 @@ TEST(TiledAnimation, OneAnalysisCoversEveryFrame) {
             EXPECT_LE(v.x, 12.0);
         }
     // Frame 0 alone would have had opaque texels in columns 0..3: not here.
-    ImageAnalysis alone = analyze_image(image.view(), {0, 0, 16, 16}, {});
+    ImageAnalysis alone = analyze_image(image, {0, 0, 16, 16}, {});
     EXPECT_GT(alone.stats.opaque_covered_texels, a.stats.opaque_covered_texels);
 
     // Recorded in our scene JSON (and read back) and in the meshes JSON.

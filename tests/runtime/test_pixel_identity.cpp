@@ -33,9 +33,7 @@ void expect_identical(test::RuntimeHost& h, const Scene& scene, const std::vecto
 }
 
 void expect_identical(test::RuntimeHost& h, const pipeline::PreparedScene& p, const std::string& label) {
-    std::vector<ImageView> views;
-    for (const Image& i : p.images) views.push_back(i.view());
-    expect_identical(h, p.scene, views, p.analysis, label);
+    expect_identical(h, p.scene, p.views(), p.analysis, label);
 }
 
 class PixelIdentity : public testing::TestWithParam<render::GlApi> {};
