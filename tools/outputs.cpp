@@ -1,34 +1,47 @@
 #include "outputs.h"
 
 #include <cctype>
+#include <filesystem>
 #include <set>
+
+#include <sys/stat.h>
 
 #include "cli.h"
 
 namespace depthcull::cli {
 
+namespace fs = std::filesystem;
+
+RunOutputs::FileKey RunOutputs::key_of(const std::string& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) == 0) return "inode " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+    std::error_code ec;
+    const fs::path canonical = fs::weakly_canonical(path, ec);
+    return "path " + (ec ? fs::path(path).lexically_normal() : canonical).string();
+}
+
 void RunOutputs::add_inputs(const std::vector<std::string>& inputs) {
-    inputs_.insert(inputs_.end(), inputs.begin(), inputs.end());
-    for (std::size_t i = 0; i < outputs_.size(); ++i) check(i);
+    for (const std::string& in : inputs) {
+        if (in.empty() || in == "-") continue;
+        const FileKey key = key_of(in);
+        const auto out = outputs_.find(key);
+        if (out != outputs_.end()) throw CliError(out->second + ": refusing to overwrite an input (" + in + ") with an output");
+        inputs_.emplace(key, in);
+    }
 }
 
 void RunOutputs::add(const std::string& path) {
     if (path.empty()) return;
-    targets_.push_back(io::resolve_output(path));
-    outputs_.push_back(path);
-    check(outputs_.size() - 1);
-}
-
-void RunOutputs::check(std::size_t i) const {
-    const std::string& out = outputs_[i];
-    for (const std::string& in : inputs_)
-        if (io::same_file(out, in)) throw CliError(out + ": refusing to overwrite an input (" + in + ") with an output");
+    const io::OutputTarget target = io::resolve_output(path);
+    if (path == "-") return; // stdout: never an input's file by name
+    const FileKey key = key_of(path);
+    const auto in = inputs_.find(key);
+    if (in != inputs_.end()) throw CliError(path + ": refusing to overwrite an input (" + in->second + ") with an output");
     // /dev/null or stdout twice clobbers nothing; any other file twice
     // would keep only the last.
-    if (io::output_may_repeat(targets_[i])) return;
-    for (std::size_t j = 0; j < outputs_.size(); ++j)
-        if (j != i && !io::output_may_repeat(targets_[j]) && io::same_file(out, outputs_[j]))
-            throw CliError(out + ": two outputs name the same file (" + outputs_[j] + ")");
+    if (io::output_may_repeat(target)) return;
+    const auto [out, added] = outputs_.emplace(key, path);
+    if (!added) throw CliError(path + ": two outputs name the same file (" + out->second + ")");
 }
 
 namespace {

@@ -4,6 +4,7 @@
 // writes none of them, and no output ever replaces an input.
 #pragma once
 
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,7 +15,7 @@ namespace depthcull::cli {
 
 class RunOutputs {
 public:
-    explicit RunOutputs(std::vector<std::string> inputs = {}) : inputs_(std::move(inputs)) {}
+    explicit RunOutputs(const std::vector<std::string>& inputs = {}) { add_inputs(inputs); }
     // More inputs (a scene's images, known once it is loaded): the outputs
     // declared so far are checked against them.
     void add_inputs(const std::vector<std::string>& inputs);
@@ -27,9 +28,13 @@ public:
     void commit() { files_.commit(); }
 
 private:
-    void check(std::size_t output) const;
-    std::vector<std::string> inputs_, outputs_;
-    std::vector<io::OutputTarget> targets_;
+    // Which file a path names, as io::same_file decides it (the inode when
+    // it exists, else the canonical path), computed once per path: an
+    // atlas of 100,000 frames has 200,000 previews, far too many to compare
+    // pair by pair.
+    using FileKey = std::string;
+    static FileKey key_of(const std::string& path);
+    std::map<FileKey, std::string> inputs_, outputs_;
     io::StagedFiles files_;
 };
 
