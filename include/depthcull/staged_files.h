@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <string>
 #include <string_view>
@@ -72,6 +73,7 @@ private:
     void discard(Staged& staged);
     std::mutex mutex_;
     std::vector<Staged> staged_;
+    std::map<std::string, std::vector<std::string>> stale_; // per directory: dead writers' temporaries
 };
 
 // The name of the temporary that stands for `target` (a file's path) while

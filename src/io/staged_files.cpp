@@ -31,18 +31,22 @@ std::string temp_prefix(const std::string& name) {
 
 bool process_gone(long pid) { return pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH; }
 
-// Removes the temporaries a killed writer (kill -9, power loss) left
-// beside `target`: those whose pid names no running process.
-void remove_stale_temps(const fs::path& dir, const fs::path& target) {
-    const std::string prefix = temp_prefix(target.filename().string());
+// The temporaries a killed writer (kill -9, power loss) left in `dir`:
+// ".NAME.tmp.<pid>.<n>" whose pid names no running process. Listed once
+// per directory and run, then removed as each NAME is written (a scan per
+// file made writing 20,000 Godot scenes into one directory quadratic).
+std::vector<std::string> stale_temps(const fs::path& dir) {
+    std::vector<std::string> stale;
     std::error_code ec;
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-        std::string name = it->path().filename().string();
-        if (name.compare(0, prefix.size(), prefix) != 0) continue;
+        const std::string name = it->path().filename().string();
+        const std::size_t tmp = name.rfind(".tmp.");
+        if (name.empty() || name[0] != '.' || tmp == std::string::npos || tmp == 0) continue;
         char* tail = nullptr;
-        long pid = std::strtol(name.c_str() + prefix.size(), &tail, 10);
-        if (tail && *tail == '.' && process_gone(pid)) fs::remove(it->path(), ec), ec.clear();
+        const long pid = std::strtol(name.c_str() + tmp + 5, &tail, 10);
+        if (tail && *tail == '.' && process_gone(pid)) stale.push_back(name);
     }
+    return stale;
 }
 
 // "/dev/stdout", "/dev/fd/3", "/proc/self/fd/3", "/proc/<our pid>/fd/3":
@@ -172,7 +176,19 @@ void StagedFiles::stage(const std::string& path, const std::function<void(const 
     std::FILE* f = nullptr;
     if (s.target.kind == OutputTarget::file) {
         const fs::path target(s.target.target);
-        remove_stale_temps(target.parent_path().empty() ? fs::path(".") : target.parent_path(), target);
+        const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+        std::vector<std::string> remove;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            auto found = stale_.find(dir.string());
+            if (found == stale_.end()) found = stale_.emplace(dir.string(), stale_temps(dir)).first;
+            // Only this target's: another file's may be a writer elsewhere.
+            const std::string prefix = temp_prefix(target.filename().string());
+            for (const std::string& name : found->second)
+                if (name.compare(0, prefix.size(), prefix) == 0 && std::strtol(name.c_str() + prefix.size(), nullptr, 10) > 0) remove.push_back(name);
+        }
+        std::error_code ec;
+        for (const std::string& name : remove) fs::remove(dir / name, ec);
         // A unique name per process and call, so concurrent writers never
         // share a temporary; rename() then replaces the target atomically.
         static std::atomic<unsigned long long> counter{0};
