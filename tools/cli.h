@@ -90,7 +90,8 @@ CLI::Validator choice(std::vector<std::pair<std::string, E>> names) {
 CLI::Validator finite_number();
 
 // CliError when an output names the same file as an input or as another
-// output (io::same_file): `import m.tmx -o m.tmx` overwrote the map.
+// output (io::same_file): `import m.tmx -o m.tmx` overwrote the map; or
+// when an output is never written (a directory). See RunOutputs (outputs.h).
 void check_distinct_files(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
 // A scene's files: the scene and its images.
 std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene);

@@ -14,6 +14,7 @@
 #include "depthcull/io.h"
 #include "depthcull/pipeline.h"
 #include "depthcull/report.h"
+#include "outputs.h"
 #include "progress.h"
 #include "target_common.h"
 
@@ -142,10 +143,10 @@ struct Result {
 };
 
 // Preview file names: the image's stem, its rect when one was given, and
-// -2, -3... for repeats, so every input gets its own pair of files.
+// -2, -3... for repeats (distinct_names: ignoring case, skipping names
+// another input gives), so every input gets its own pair of files.
 std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
-    std::vector<std::string> names;
-    std::map<std::string, int> seen;
+    std::vector<std::string> stems;
     for (const Input& in : inputs) {
         std::string name = fs::path(in.path).stem().string();
         if (in.has_rect)
@@ -153,13 +154,12 @@ std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
                     std::to_string(in.rect.h);
         for (char& c : name)
             if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
-        const int n = ++seen[name];
-        names.push_back(n > 1 ? name + "-" + std::to_string(n) : name);
+        stems.push_back(name);
     }
-    return names;
+    return distinct_names(stems, 4); // .png, .svg
 }
 
-Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base) {
+Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base, RunOutputs& outputs) {
     // The analysis' memory is checked on the header, before the decode:
     // a 649-byte JPEG can say 16384^2.
     int header_w = 0, header_h = 0;
@@ -219,8 +219,8 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
         report::PreviewOptions options;
         options.title = fs::path(in.path).filename().string();
         const report::Preview preview = report::make_preview(image.view(), rect, {&r.analysis}, options);
-        io::save_png(preview_base + ".png", preview.png.view());
-        io::write_file_atomic(preview_base + ".svg", preview.svg);
+        outputs.stage(preview_base + ".png", io::encode_png(preview.png.view()));
+        outputs.stage(preview_base + ".svg", preview.svg);
     }
     if (args.check) {
         r.uncontained = count_uncontained_texels(image.view(), rect, r.analysis.boundary, args.options.filter);
@@ -300,21 +300,31 @@ void run_analyze(const AnalyzeArgs& args) {
         if (!io::valid_utf8(in.path)) throw CliError(in.path + ": file name is not valid UTF-8 (JSON output needs it)");
         paths.push_back(in.path);
     }
-    check_distinct_files(paths, {args.output});
+    // Every output (the JSON, two previews per input) checked against every
+    // input and every other output before the first is written; all are
+    // committed together once every image is analyzed (`analyze . --preview
+    // .` would have replaced the images with their previews).
+    RunOutputs outputs(paths);
+    const bool json_output = !args.summary || !args.output.empty();
+    if (json_output) outputs.add(args.output.empty() ? "-" : args.output);
     std::vector<std::string> previews(inputs.size());
     if (!args.preview_dir.empty()) {
+        const std::vector<std::string> names = preview_names(inputs);
+        for (std::size_t i = 0; i < inputs.size(); ++i) {
+            previews[i] = (fs::path(args.preview_dir) / names[i]).string();
+            outputs.add(previews[i] + ".png");
+            outputs.add(previews[i] + ".svg");
+        }
         std::error_code ec;
         fs::create_directories(args.preview_dir, ec);
         if (!fs::is_directory(args.preview_dir))
             throw CliError(args.preview_dir + ": cannot create the preview directory" + (ec ? " (" + ec.message() + ")" : ""));
-        const std::vector<std::string> names = preview_names(inputs);
-        for (std::size_t i = 0; i < inputs.size(); ++i) previews[i] = (fs::path(args.preview_dir) / names[i]).string();
     }
     std::vector<Result> results(inputs.size());
     {
         Progress progress("analyze", "images", inputs.size(), args.quiet);
         pipeline::parallel_for(inputs.size(), args.threads, [&](std::size_t i) {
-            results[i] = analyze_input(inputs[i], args, previews[i]);
+            results[i] = analyze_input(inputs[i], args, previews[i], outputs);
             progress.add();
         });
     }
@@ -342,13 +352,14 @@ void run_analyze(const AnalyzeArgs& args) {
                          opaque_polygons, linear ? " (nor come within half a texel of one)" : "");
         }
     }
-    if (!args.summary || !args.output.empty()) {
+    if (json_output) {
         // One image per line: diffable, and still one JSON document.
         std::string text = "{\"images\": [\n";
         for (std::size_t i = 0; i < inputs.size(); ++i)
             text += " " + result_json(inputs[i], results[i], args.timing, args).dump() + (i + 1 < inputs.size() ? ",\n" : "\n");
-        write_output(args.output, text + "]}\n");
+        outputs.stage(args.output.empty() ? "-" : args.output, text + "]}\n");
     }
+    outputs.commit();
     if (args.summary) {
         std::string text = summary_text(results, wall);
         int hits = 0;

@@ -5,10 +5,10 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 
 #include "cli.h"
 #include "depthcull/report.h"
+#include "outputs.h"
 #include "progress.h"
 
 namespace depthcull::cli {
@@ -34,14 +34,47 @@ std::string safe_name(std::string name) {
     return name;
 }
 
-// The page with every frame's polygons, and one preview per frame in
-// DIR/frames/ (frame names made file-safe, numbered to stay distinct).
-void write_previews(const AtlasArgs& args, const pipeline::AtlasAnalysis& a, bool quiet) {
+// The files --preview and --godot write, named before any is written:
+// DIR/<page>.png/.svg (the page with every frame's polygons), one pair per
+// frame in DIR/frames/ (numbered: distinct whatever the names), and
+// GODOT/<frame>.tscn; names made file-safe, distinct (distinct_names: two
+// multipack pages both named sheet.png, frames a.png, a.jpg and a-2) and
+// cut to 255 bytes.
+struct AtlasFiles {
+    std::vector<std::string> pages, frames, godot; // pages / frames: without the extension
+};
+
+AtlasFiles atlas_files(const AtlasArgs& args, const pipeline::AtlasAnalysis& a) {
+    AtlasFiles files;
+    std::vector<std::string> stems;
+    if (!args.preview_dir.empty()) {
+        const fs::path dir(args.preview_dir), frames_dir = dir / "frames";
+        for (const io::AtlasPage& page : a.atlas.pages) stems.push_back(safe_name(fs::path(page.image_path).stem().string()));
+        for (const std::string& name : distinct_names(stems, 4)) files.pages.push_back((dir / name).string());
+        stems.clear();
+        for (std::size_t i = 0; i < a.atlas.frames.size(); ++i) {
+            char number[24];
+            std::snprintf(number, sizeof number, "%04zu_", i);
+            stems.push_back(number + safe_name(fs::path(a.atlas.frames[i].name).stem().string()));
+        }
+        for (const std::string& name : distinct_names(stems, 4)) files.frames.push_back((frames_dir / name).string());
+    }
+    if (!args.godot_dir.empty()) {
+        stems.clear();
+        for (const io::AtlasFrame& frame : a.atlas.frames) stems.push_back(safe_name(fs::path(frame.name).replace_extension().string()));
+        for (const std::string& name : distinct_names(stems, 5)) files.godot.push_back((fs::path(args.godot_dir) / (name + ".tscn")).string());
+    }
+    return files;
+}
+
+void make_directory(const fs::path& dir, const std::string& what) {
     std::error_code ec;
-    const fs::path dir(args.preview_dir), frames_dir = dir / "frames";
-    fs::create_directories(frames_dir, ec);
-    if (!fs::is_directory(frames_dir))
-        throw CliError(args.preview_dir + ": cannot create the preview directory" + (ec ? " (" + ec.message() + ")" : ""));
+    fs::create_directories(dir, ec);
+    if (!fs::is_directory(dir)) throw CliError(dir.string() + ": cannot create the " + what + " directory" + (ec ? " (" + ec.message() + ")" : ""));
+}
+
+void write_previews(const AtlasArgs& args, const pipeline::AtlasAnalysis& a, const AtlasFiles& files, RunOutputs& outputs, bool quiet) {
+    make_directory(fs::path(args.preview_dir) / "frames", "preview");
     for (std::size_t k = 0; k < a.atlas.pages.size(); ++k) {
         std::vector<const ImageAnalysis*> all;
         for (std::size_t i = 0; i < a.frames.size(); ++i)
@@ -49,50 +82,44 @@ void write_previews(const AtlasArgs& args, const pipeline::AtlasAnalysis& a, boo
         report::PreviewOptions page_options;
         page_options.title = fs::path(a.atlas.pages[k].image_path).filename().string();
         page_options.size = 1024;
-        const std::string page_base = (dir / safe_name(fs::path(a.atlas.pages[k].image_path).stem().string())).string();
         const report::Preview page = report::make_preview(a.pages[k].view(), a.pages[k].view().bounds(), all, page_options);
-        io::save_png(page_base + ".png", page.png.view());
-        io::write_file_atomic(page_base + ".svg", page.svg);
+        outputs.stage(files.pages[k] + ".png", io::encode_png(page.png.view()));
+        outputs.stage(files.pages[k] + ".svg", page.svg);
     }
     Progress progress("atlas", "previews", a.frames.size(), quiet);
     pipeline::parallel_for(a.frames.size(), args.threads, [&](std::size_t i) {
         report::PreviewOptions options;
         options.title = a.atlas.frames[i].name;
-        char number[16];
-        std::snprintf(number, sizeof number, "%04zu_", i);
-        const std::string base = (frames_dir / (number + safe_name(fs::path(a.atlas.frames[i].name).stem().string()))).string();
         const report::Preview p =
             report::make_preview(a.pages[std::size_t(a.atlas.frames[i].page)].view(), a.atlas.frames[i].frame, {&a.frames[i]}, options);
-        io::save_png(base + ".png", p.png.view());
-        io::write_file_atomic(base + ".svg", p.svg);
+        outputs.stage(files.frames[i] + ".png", io::encode_png(p.png.view()));
+        outputs.stage(files.frames[i] + ".svg", p.svg);
         progress.add();
     });
 }
 
-// DIR/<frame>.tscn per frame (names made file-safe, numbered to stay
-// distinct), the page named relative to DIR.
-void write_godot(const AtlasArgs& args, const pipeline::AtlasAnalysis& a) {
+// GODOT/<frame>.tscn per frame, the page named relative to GODOT.
+void write_godot(const AtlasArgs& args, const pipeline::AtlasAnalysis& a, const AtlasFiles& files, RunOutputs& outputs) {
     std::error_code ec;
     const fs::path dir(args.godot_dir);
-    fs::create_directories(dir, ec);
-    if (!fs::is_directory(dir)) throw CliError(args.godot_dir + ": cannot create the Godot directory" + (ec ? " (" + ec.message() + ")" : ""));
-    std::map<std::string, int> seen;
+    make_directory(dir, "Godot");
     for (std::size_t i = 0; i < a.frames.size(); ++i) {
         const io::AtlasFrame& frame = a.atlas.frames[i];
-        std::string stem = safe_name(fs::path(frame.name).replace_extension().string());
-        const int n = ++seen[stem];
-        if (n > 1) stem += "-" + std::to_string(n);
         fs::path page = fs::absolute(a.atlas.pages[std::size_t(frame.page)].image_path, ec);
         std::string texture = fs::relative(page, fs::absolute(dir, ec), ec).generic_string();
         if (texture.empty()) texture = page.generic_string();
-        io::write_file_atomic((dir / (stem + ".tscn")).string(), io::godot_polygon_scene(frame, a.frames[i].boundary, texture));
+        outputs.stage(files.godot[i], io::godot_polygon_scene(frame, a.frames[i].boundary, texture));
     }
 }
 
 void run_atlas(AtlasArgs& args) {
     std::vector<std::string> inputs{args.input};
     for (const io::AtlasPage& page : io::load_texturepacker(args.input).pages) inputs.push_back(page.image_path);
-    check_distinct_files(inputs, {args.output});
+    // Every output checked against every input and every other output
+    // before the first is written, all committed together at the end:
+    // `atlas --preview .` would have replaced the page with its preview.
+    RunOutputs outputs(inputs);
+    outputs.add(args.output.empty() ? "-" : args.output);
     pipeline::AtlasPolygonOptions options;
     // A .plist output is cocos2d-x's format 3 with polygons, whatever the input.
     options.plist = args.output.size() > 6 && args.output.compare(args.output.size() - 6, 6, ".plist") == 0;
@@ -107,9 +134,20 @@ void run_atlas(AtlasArgs& args) {
         options.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
         text = pipeline::atlas_with_polygons(args.input, options, &stats, &analysis);
     }
-    write_output(args.output, text);
-    if (!args.preview_dir.empty()) write_previews(args, analysis, args.quiet);
-    if (!args.godot_dir.empty()) write_godot(args, analysis);
+    std::vector<std::string> pages;
+    for (const io::AtlasPage& page : analysis.atlas.pages) pages.push_back(page.image_path);
+    outputs.add_inputs(pages);
+    const AtlasFiles files = atlas_files(args, analysis);
+    for (const std::vector<std::string>* bases : {&files.pages, &files.frames})
+        for (const std::string& base : *bases) {
+            outputs.add(base + ".png");
+            outputs.add(base + ".svg");
+        }
+    for (const std::string& path : files.godot) outputs.add(path);
+    outputs.stage(args.output.empty() ? "-" : args.output, text);
+    if (!args.preview_dir.empty()) write_previews(args, analysis, files, outputs, args.quiet);
+    if (!args.godot_dir.empty()) write_godot(args, analysis, files, outputs);
+    outputs.commit();
     if (stats.rectangle_frames > 0)
         std::fprintf(stderr, "warning: %s: %d frames written as their rectangle (cocos2d-x plist vertices are integers; rounding their polygon would cut texels)\n",
                      args.input.c_str(), stats.rectangle_frames);

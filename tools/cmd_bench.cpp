@@ -21,6 +21,7 @@
 #include "progress.h"
 
 #ifdef DEPTHCULL_HAVE_RENDER
+#include "outputs.h"
 #include "render_common.h"
 #include "target_common.h"
 #endif
@@ -266,7 +267,10 @@ void run_bench(BenchArgs& args) {
     else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
     const char* lp_threads = std::getenv("LP_NUM_THREADS");
 
-    check_distinct_files(args.scenes, {args.output, args.report});
+    // Checked first, committed together at the end: a failure writes none.
+    RunOutputs outputs(args.scenes);
+    outputs.add(args.output);
+    outputs.add(args.report);
     args.opaque_given = args.input.opaque;
     std::unique_ptr<render::GlRenderer> renderer;
     std::unique_ptr<render::GlHost> host;
@@ -288,7 +292,7 @@ void run_bench(BenchArgs& args) {
         progress.stage(path + ": analyzing");
         pipeline::PreparedScene prepared = prepare_for_render(path, args.input);
         check_frame_fits(path, prepared, args.input);
-        check_distinct_files(scene_inputs(path, prepared.scene), {args.output, args.report});
+        outputs.add_inputs(scene_inputs(path, prepared.scene));
         std::unique_ptr<pipeline::TargetPlan> plan;
         if (!args.input.target.empty()) {
             progress.stage(path + ": choosing for --target");
@@ -344,11 +348,17 @@ void run_bench(BenchArgs& args) {
         run.command = g_command_line;
         run.renderer = description;
         run.options = report_options(args.input, args.frames, args.warmup, args.instrumented ? "instrumented (render --compare's)" : "runtime (plain sprite, depthcull::runtime)");
-        io::write_file_atomic(args.report, report::report_html(run));
-        if (!args.quiet) std::fprintf(stderr, "depthcull: %s: report of %zu scene%s written to %s\n", command, args.scenes.size(),
-                                      args.scenes.size() == 1 ? "" : "s", args.report.c_str());
+        outputs.stage(args.report, report::report_html(run));
     }
-    if (args.report_only) return;
+    const auto report_written = [&] {
+        if (!args.report.empty() && !args.quiet)
+            std::fprintf(stderr, "depthcull: %s: report of %zu scene%s written to %s\n", command, args.scenes.size(),
+                         args.scenes.size() == 1 ? "" : "s", args.report.c_str());
+    };
+    if (args.report_only) {
+        outputs.commit();
+        return report_written();
+    }
 
     std::string text;
     if (args.json_output) {
@@ -386,7 +396,9 @@ void run_bench(BenchArgs& args) {
                     "#   is on no texel edge (with nearest filtering it must be 0).\n";
         }
     }
-    write_output(args.output, text);
+    outputs.stage(args.output.empty() ? "-" : args.output, text);
+    outputs.commit();
+    report_written();
 }
 
 } // namespace

@@ -10,6 +10,7 @@
 #include "depthcull/pipeline.h"
 #include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
+#include "outputs.h"
 #include "progress.h"
 
 namespace depthcull::cli {
@@ -87,7 +88,14 @@ void run_optimize(OptimizeArgs& args) {
     // No opaque pass: skip the opaque search rather than compute and drop it.
     if (!args.opaque) prepare.analyze.opaque.max_polygons = 0;
     prepare.cache_dir = args.cache.directory();
-    check_distinct_files({args.scene}, {args.output, args.binary});
+    // Checked before the analysis, staged and committed together at the end:
+    // a failure writes neither file.
+    const bool hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();
+    const bool json = !hold_back && (!args.output.empty() || args.binary.empty());
+    const std::string json_path = args.output.empty() ? "-" : args.output;
+    RunOutputs outputs({args.scene});
+    if (json) outputs.add(json_path);
+    outputs.add(args.binary);
     pipeline::PreparedScene prepared;
     StageSeconds seconds;
     {
@@ -97,7 +105,7 @@ void run_optimize(OptimizeArgs& args) {
         prepared = pipeline::prepare_scene(args.scene, prepare);
         seconds.analysis = analysis.seconds();
     }
-    check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.binary});
+    outputs.add_inputs(scene_inputs(args.scene, prepared.scene));
 
     if (args.reconstruct.sort == SortMethod::paper && prepared.scene.elements.size() > kPaperSortMaxElements)
         std::fprintf(stderr, "depthcull: warning: --sort paper is quadratic (paper 2.3.1); %zu elements may take long\n",
@@ -127,10 +135,12 @@ void run_optimize(OptimizeArgs& args) {
 
     // stats.seconds in the files: the reconstruction's wall time, or 0.
     const double written_seconds = args.timing ? seconds.reconstruction : 0.0;
-    if (!args.binary.empty()) io::write_meshes_binary(args.binary, prepared.scene, meshes, written_seconds);
+    if (!args.binary.empty())
+        outputs.stage(args.binary, [&](const io::WriteBytes& write) {
+            io::stream_meshes_binary(write, prepared.scene, meshes, args.binary, written_seconds);
+        });
     // No -o on a terminal: 100 KB of JSON on the screen helps nobody; say
     // where it goes instead (-o - still prints it; a pipe gets it as before).
-    const bool hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();
     if (hold_back) {
         std::size_t bytes = 0; // counted as it is made, not built
         io::stream_meshes_json([&bytes](std::string_view piece) { bytes += piece.size(); }, prepared.scene, meshes, "", written_seconds);
@@ -138,11 +148,12 @@ void run_optimize(OptimizeArgs& args) {
                      "depthcull: optimize: the meshes JSON (%zu KB) is not printed on a terminal: give -o MESHES.json and/or "
                      "--binary MESHES.bin to write it, -o - to print it, or pipe stdout\n",
                      (bytes + 1023) / 1024);
-    } else if (!args.output.empty() || args.binary.empty()) {
+    } else if (json) {
         // Streamed: a large scene's meshes JSON is never one string.
         const std::string path = args.output == "-" ? std::string() : args.output;
-        write_output(path, [&](const io::WriteBytes& write) { io::stream_meshes_json(write, prepared.scene, meshes, path, written_seconds); });
+        outputs.stage(json_path, [&](const io::WriteBytes& write) { io::stream_meshes_json(write, prepared.scene, meshes, path, written_seconds); });
     }
+    outputs.commit();
 
     // Counted, not built: the other columns' meshes are never drawn here.
     const SceneStats overpaint = overpaint_stats(prepared.scene);

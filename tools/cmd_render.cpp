@@ -8,6 +8,7 @@
 #include "cli.h"
 
 #ifdef DEPTHCULL_HAVE_RENDER
+#include "outputs.h"
 #include "render_common.h"
 #include "target_common.h"
 #endif
@@ -48,7 +49,7 @@ SceneMeshes meshes_for(render::Mode mode, const pipeline::PreparedScene& prepare
 
 // Overpaint | the mode drawn (optimized when that is overpaint) | ideal,
 // all counted by the CPU analyzer, which needs no GL.
-void write_heatmap(const pipeline::PreparedScene& prepared, const SceneMeshes& drawn, const RenderArgs& args) {
+void write_heatmap(const pipeline::PreparedScene& prepared, const SceneMeshes& drawn, const RenderArgs& args, RunOutputs& outputs) {
     render::OverdrawMap over, other, ideal;
     const double od_over = render::analyze_overdraw(overpaint_meshes(prepared.scene), &over).overdraw();
     render::Mode other_mode = args.mode == render::Mode::overpaint ? render::Mode::optimized : args.mode;
@@ -58,20 +59,24 @@ void write_heatmap(const pipeline::PreparedScene& prepared, const SceneMeshes& d
     Image picture = render::overdraw_heatmap({{title("overpaint", od_over), &over},
                                               {title(render::mode_name(other_mode), od_other), &other},
                                               {title("ideal", od_ideal), &ideal}});
-    io::save_png(args.heatmap, picture.view());
+    outputs.stage(args.heatmap, io::encode_png(picture.view()));
 }
 
 void run_render(RenderArgs& args) {
     if (args.output.empty() && args.heatmap.empty() && !args.compare)
         throw UsageError("render: nothing to do: give -o FRAME.png, --heatmap HEAT.png or --compare");
-    check_distinct_files({args.scene}, {args.output, args.heatmap});
+    // Checked first, committed together once all is drawn: a failure
+    // (no GL context, a frame too large) writes neither file.
+    RunOutputs outputs({args.scene});
+    outputs.add(args.output);
+    outputs.add(args.heatmap);
     pipeline::PreparedScene prepared = prepare_for_render(args.scene, args.input);
-    const auto plan = apply_render_target(args.scene, prepared, args.input, false);
-    check_distinct_files(scene_inputs(args.scene, prepared.scene), {args.output, args.heatmap});
     check_frame_fits(args.scene, prepared, args.input);
+    const auto plan = apply_render_target(args.scene, prepared, args.input, false);
+    outputs.add_inputs(scene_inputs(args.scene, prepared.scene));
     const SceneMeshes meshes = meshes_for(args.mode, prepared, args);
-    if (!args.heatmap.empty()) write_heatmap(prepared, meshes, args);
-    if (args.output.empty() && !args.compare) return;
+    if (!args.heatmap.empty()) write_heatmap(prepared, meshes, args, outputs);
+    if (args.output.empty() && !args.compare) return outputs.commit();
 
     auto renderer = open_renderer(args.input);
     renderer->set_images(image_views(prepared), prepared.scene.filter);
@@ -79,7 +84,7 @@ void run_render(RenderArgs& args) {
     renderer->set_meshes(meshes, maps);
     const render::FrameCounts counts = renderer->draw_counted();
     const Image frame = renderer->read_pixels();
-    if (!args.output.empty()) io::save_png(args.output, frame.view());
+    if (!args.output.empty()) outputs.stage(args.output, io::encode_png(frame.view()));
 
     const double pixels = double(prepared.scene.viewport.width) * double(prepared.scene.viewport.height);
     render::OverdrawMap ideal_map;
@@ -91,6 +96,9 @@ void run_render(RenderArgs& args) {
                  args.scene.c_str(), render::mode_name(args.mode), counts.draw_calls, counts.triangles, od, ideal,
                  ideal > 0 ? od / ideal : 0.0, prepared.scene.viewport.width, prepared.scene.viewport.height, 100 * covered_share(ideal_map),
                  renderer->description().c_str());
+    // Committed before the comparison: the files are whole and right, and a
+    // frame that differs from overpaint is what one wants to look at.
+    outputs.commit();
     if (!args.compare) return;
 
     // Both frames drawn from meshes with coverage skirts, where GL's vertex

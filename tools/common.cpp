@@ -6,6 +6,8 @@
 #include "cli.h"
 #include "depthcull/io.h"
 #include "depthcull/limits.h"
+#include "depthcull/staged_files.h"
+#include "outputs.h"
 
 namespace depthcull::cli {
 
@@ -16,12 +18,11 @@ void write_output(const std::string& path, const std::string& text) {
 }
 
 void write_output(const std::string& path, const std::function<void(const io::WriteBytes&)>& produce) {
-    if (path.empty() || path == "-") {
-        produce([](std::string_view bytes) { std::fwrite(bytes.data(), 1, bytes.size(), stdout); });
-        std::fflush(stdout);
-        return;
-    }
-    io::write_file_atomic(path, produce);
+    // Staged like every output: stdout ("" or "-") too, so a failed write
+    // to it (a full disk behind `> file`) is an error, not exit 0.
+    io::StagedFiles files;
+    files.stage(path, produce);
+    files.commit();
 }
 
 CLI::Validator finite_number() {
@@ -36,14 +37,8 @@ CLI::Validator finite_number() {
 }
 
 void check_distinct_files(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
-    for (std::size_t i = 0; i < outputs.size(); ++i) {
-        for (const std::string& in : inputs)
-            if (io::same_file(outputs[i], in))
-                throw CliError(outputs[i] + ": refusing to overwrite an input (" + in + ") with an output");
-        for (std::size_t j = 0; j < i; ++j)
-            if (io::same_file(outputs[i], outputs[j]))
-                throw CliError(outputs[i] + ": two outputs name the same file (" + outputs[j] + ")");
-    }
+    RunOutputs plan(inputs);
+    for (const std::string& out : outputs) plan.add(out);
 }
 
 std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene) {

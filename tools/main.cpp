@@ -1,4 +1,5 @@
 // depthcull: depth-cull optimization of 2D scenes for 3D graphics hardware.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -7,6 +8,10 @@
 #include "depthcull/io.h"
 
 int main(int argc, char** argv) {
+    // Past RLIMIT_FSIZE a write raises SIGXFSZ, which kills the run and
+    // leaves its temporary; ignored, the write fails with EFBIG and the
+    // run reports "OUT: write failed (File too large)" and cleans up.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"depthcull: depth-cull optimization of 2D scenes for 3D graphics hardware"};
     app.name("depthcull");
     app.require_subcommand(1);

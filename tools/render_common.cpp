@@ -65,6 +65,11 @@ double covered_share(const render::OverdrawMap& ideal) {
 }
 
 void check_frame_fits(const std::string& path, const pipeline::PreparedScene& prepared, const RenderInput& input) {
+    const Viewport& frame = prepared.scene.viewport;
+    if (std::int64_t(frame.width) * frame.height > limits::kMaxFramePixels)
+        throw CliError(path + ": the " + std::to_string(frame.width) + "x" + std::to_string(frame.height) + " frame has " +
+                       std::to_string(std::int64_t(frame.width) * frame.height) + " pixels, more than " +
+                       std::to_string(limits::kMaxFramePixels) + " (8192x8192, kMaxFramePixels): give a smaller --viewport");
     if (input.prepare.load.has_viewport || prepared.scene.elements.empty()) return;
     const Viewport& vp = prepared.scene.viewport;
     if (vp.width < kMaxImageSide && vp.height < kMaxImageSide) return;

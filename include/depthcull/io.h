@@ -81,7 +81,9 @@ std::string read_file(const std::string& path);
 // Writes to a temporary file beside `path` (".NAME.tmp.<pid>.<n>"), then
 // renames it over `path`, so a reader never sees a half-written file and a
 // failure leaves none; temporaries that a killed writer left there (whose
-// pid is gone) are removed first.
+// pid is gone) are removed first. A symlink is followed and its target
+// replaced; a device, FIFO or /dev/stdout is written in place; a directory
+// is refused (depthcull/staged_files.h).
 void write_file_atomic(const std::string& path, std::string_view bytes);
 // Bytes handed over in pieces, in order (a large output is written as it is
 // made, never held whole).

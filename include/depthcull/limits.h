@@ -39,6 +39,11 @@ inline constexpr int kMaxNestingDepth = 256;
 // enough; far beyond any screen).
 inline constexpr double kMaxCoordinate = 1e9;
 
+// Frames drawn (render, bench, report): a viewport of at most this many
+// pixels (8192 x 8192). Each frame is held several times over (colour,
+// depth, read back, compared), so a 16384^2 viewport would need GiBs.
+inline constexpr std::int64_t kMaxFramePixels = std::int64_t(1) << 26;
+
 // Scenes.
 inline constexpr std::size_t kMaxSceneImages = std::size_t(1) << 16;
 inline constexpr std::int64_t kMaxSceneElements = std::int64_t(1) << 24; // scene JSON
