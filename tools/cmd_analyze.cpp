@@ -43,6 +43,7 @@ struct AnalyzeArgs {
     CacheChoice cache;
     std::string cache_dir; // resolved from `cache`
     bool quiet = false;
+    bool strict = false;         // --strict: refuse what a decode assumed (io::report_warnings)
     std::string target;          // --target: the profile's name or file
     bool has_profile = false;
     CostProfile profile;         // resolved from target
@@ -139,6 +140,7 @@ struct Result {
     bool cache_hit = false;
     int chosen_budget = -1;      // --target: the vertex budget chosen (0: the plain rect)
     double seconds = 0;          // wall time this run spent on the analysis (a cache read on a hit)
+    std::vector<std::string> warnings; // what the decode assumed (a CMYK JPEG, an animated WebP)
 };
 
 // Preview file names: the image's stem, its rect when one was given, and
@@ -160,7 +162,9 @@ std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
 }
 
 Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base) {
-    Image image = io::load_image(in.path);
+    std::vector<std::string> warnings;
+    Image image = io::load_image(in.path, &warnings);
+    if (args.strict && !warnings.empty()) throw CliError(warnings.front() + " (--strict)");
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))
         throw CliError(in.path + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," +
@@ -207,6 +211,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
         r.chosen_budget = c < budgets.size() ? budgets[c] : 0;
     }
     r.seconds = stopwatch.seconds();
+    r.warnings = std::move(warnings);
     if (!preview_base.empty()) {
         report::PreviewOptions options;
         options.title = fs::path(in.path).filename().string();
@@ -311,6 +316,13 @@ void run_analyze(const AnalyzeArgs& args) {
         });
     }
     const double wall = stopwatch.seconds();
+    // In input order, each line once (the cells of one sheet share theirs),
+    // whatever the threads did first.
+    std::vector<std::string> warnings;
+    for (const Result& r : results) warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
+    io::LoadOptions report;
+    report.warning = [](const std::string& line) { std::fprintf(stderr, "warning: %s\n", line.c_str()); };
+    io::report_warnings(warnings, report);
 
     if (args.check) {
         for (std::size_t i = 0; i < results.size(); ++i) {
@@ -377,6 +389,9 @@ void add_analyze_command(CLI::App& app) {
                     "triangles, figures")
         ->type_name("DIR");
     add_cache_options(*cmd, args->cache);
+    cmd->add_flag("--strict", args->strict,
+                  "Refuse an image we read by an assumption (a CMYK JPEG without its colour profile, an animated WebP's first frame) "
+                  "instead of warning");
     add_target_option(*cmd, args->target);
     add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] {

@@ -61,6 +61,11 @@ void check_input_file(const std::string& path); // file.cpp
 // and our walks of the document recurse (json_checks.cpp).
 void check_json_depth(std::string_view text, const std::string& path);
 
+// io::Error "<path>: not valid JSON at line L, column C (byte B): <what>"
+// for an exception nlohmann's parse threw over `text` (B counted from 0):
+// the one form of every JSON reader, quoting none of the file's bytes.
+[[noreturn]] void throw_json_error(const std::exception& e, std::string_view text, const std::string& path);
+
 // Colour keys (SceneImage::trans) as files write them: "RRGGBB" or
 // "#RRGGBB" in, "rrggbb" out.
 std::uint32_t parse_colour_key(const std::string& text, const std::string& where);

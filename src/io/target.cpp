@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/target.h"
+#include "io/formats.h"
 
 namespace depthcull::io {
 
@@ -38,10 +39,8 @@ CostProfile profile_from_json(const std::string& text, const std::string& name) 
     json j;
     try {
         j = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw Error(name + ": not JSON: " + std::string(e.what()).substr(0, 200));
-    } catch (const std::exception& e) {
-        throw Error(name + ": not JSON: " + e.what());
+    } catch (const std::exception& e) { // nlohmann's, or std::bad_alloc ("out of memory")
+        throw_json_error(e, text, name);
     }
     if (!j.is_object()) throw Error(name + ": a profile is a JSON object");
     CostProfile p;

@@ -105,15 +105,20 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
         if (fresh) to_decode.push_back(i);
     }
     out.images.resize(scene.images.size());
+    // Decode warnings (a CMYK JPEG, an animated WebP) per image, reported
+    // after the decodes in image order: the same lines for any thread count.
+    std::vector<std::vector<std::string>> warnings(to_decode.size());
     parallel_for(to_decode.size(), options.threads, [&](std::size_t k) {
         std::size_t i = to_decode[k];
         const SceneImage& img = scene.images[i];
-        out.images[i] = io::load_scene_image(img, &files);
+        out.images[i] = io::load_scene_image(img, &files, &warnings[k]);
+        if (options.load.strict && !warnings[k].empty()) io::report_warnings(warnings[k], options.load);
         if (out.images[i].width != img.width || out.images[i].height != img.height)
             throw Error(path + ": image " + std::to_string(i) + " \"" + img.id + "\": " + img.path + " is " +
                         std::to_string(out.images[i].width) + "x" + std::to_string(out.images[i].height) + ", expected " +
                         std::to_string(img.width) + "x" + std::to_string(img.height));
     });
+    for (const std::vector<std::string>& lines : warnings) io::report_warnings(lines, options.load);
     files.clear(); // decoded: the compressed bytes are not needed again
     for (std::size_t i = 0; i < scene.images.size(); ++i)
         if (canon[i] != i) out.images[i] = out.images[canon[i]];
