@@ -62,6 +62,8 @@ void png_error_exit(png_structp png, png_const_charp message) {
 
 void png_silent(png_structp, png_const_charp) {}
 
+constexpr const char* kOutOfMemory = "out of memory"; // told apart by address
+
 struct PngMemory {
     const unsigned char* data;
     std::size_t size, at;
@@ -80,11 +82,11 @@ void png_read_memory(png_structp png, png_bytep out, png_size_t n) {
 const char* png_decode(const unsigned char* data, std::size_t size, PngError& err, Image& image,
                        std::vector<png_bytep>& rows, const std::string& name, std::string& problem) {
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &err, png_error_exit, png_silent);
-    if (!png) return "out of memory";
+    if (!png) return kOutOfMemory;
     png_infop info = png_create_info_struct(png);
     if (!info) {
         png_destroy_read_struct(&png, nullptr, nullptr);
-        return "out of memory";
+        return kOutOfMemory;
     }
     if (setjmp(err.jump)) {
         png_destroy_read_struct(&png, &info, nullptr);
@@ -127,11 +129,12 @@ const char* png_decode(const unsigned char* data, std::size_t size, PngError& er
         });
     } catch (const Error&) {
         png_destroy_read_struct(&png, &info, nullptr);
-        return "out of memory";
+        return kOutOfMemory;
     }
     for (png_uint_32 y = 0; y < h; ++y) rows[y] = image.rgba.data() + std::size_t(y) * w * 4;
     png_read_image(png, rows.data());
-    png_read_end(png, nullptr);
+    // No png_read_end: chunks after the image data (text, a missing IEND)
+    // change no texel, and browsers show such files.
     png_destroy_read_struct(&png, &info, nullptr);
     return nullptr;
 }
@@ -147,7 +150,7 @@ Image decode_png(const void* data, std::size_t size, const std::string& name) {
     std::string problem;
     const char* failed = png_decode(bytes, size, err, image, rows, name, problem);
     if (!problem.empty()) throw Error(name + ": " + problem);
-    if (failed && std::strcmp(failed, "out of memory") == 0) throw Error(name + ": out of memory");
+    if (failed == kOutOfMemory) throw Error(name + ": out of memory");
     if (failed) throw Error(name + ": corrupt PNG (" + std::string(failed) + ")");
     return image;
 }
