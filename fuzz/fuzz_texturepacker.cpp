@@ -1,7 +1,10 @@
 // Fuzzes the TexturePacker atlas reader (hash and array JSON forms): every
-// input is an atlas whose frames are found by name and lie inside the page
-// (when meta.size gives it), and place where they belong, or an io::Error.
+// input is an atlas whose frames are found by name and, once
+// check_atlas_pages has passed them against a page of the stated size (the
+// reader checks frames against the decoded page, not meta.size), lie inside
+// it, and place where they belong, or an io::Error.
 // Seeds: fuzz/corpus/texturepacker/.
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <string_view>
@@ -13,6 +16,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     depthcull::io::Atlas atlas;
     try {
         atlas = depthcull::io::texturepacker_from_text(text, "atlas/fuzz.json");
+        std::vector<std::array<int, 2>> sizes;
+        for (const depthcull::io::AtlasPage& page : atlas.pages)
+            sizes.push_back(page.width > 0 ? std::array<int, 2>{page.width, page.height}
+                                           : std::array<int, 2>{depthcull::kMaxImageSide, depthcull::kMaxImageSide});
+        depthcull::io::check_atlas_pages(atlas, sizes);
     } catch (const depthcull::io::Error&) {
         return 0;
     }

@@ -44,6 +44,7 @@ struct AnalyzeArgs {
     CacheChoice cache;
     std::string cache_dir; // resolved from `cache`
     bool quiet = false;
+    bool strict = false;         // --strict: refuse what a decode assumed (io::report_warnings)
     std::string target;          // --target: the profile's name or file
     bool has_profile = false;
     CostProfile profile;         // resolved from target
@@ -140,6 +141,7 @@ struct Result {
     bool cache_hit = false;
     int chosen_budget = -1;      // --target: the vertex budget chosen (0: the plain rect)
     double seconds = 0;          // wall time this run spent on the analysis (a cache read on a hit)
+    std::vector<std::string> warnings; // what the decode assumed (a CMYK JPEG, an animated WebP)
 };
 
 // Preview file names: the image's stem, its rect when one was given, and
@@ -168,7 +170,9 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
     if (!header_rect.empty() && header_rect.x >= 0 && header_rect.y >= 0 && header_rect.x <= header_w - header_rect.w &&
         header_rect.y <= header_h - header_rect.h)
         pipeline::check_analysis_memory(in.path, header_rect, args.options);
-    Image image = io::load_image(in.path);
+    std::vector<std::string> warnings;
+    Image image = io::load_image(in.path, &warnings);
+    if (args.strict && !warnings.empty()) throw CliError(warnings.front() + " (--strict)");
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))
         throw CliError(in.path + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," +
@@ -215,6 +219,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
         r.chosen_budget = c < budgets.size() ? budgets[c] : 0;
     }
     r.seconds = stopwatch.seconds();
+    r.warnings = std::move(warnings);
     if (!preview_base.empty()) {
         report::PreviewOptions options;
         options.title = fs::path(in.path).filename().string();
@@ -329,6 +334,13 @@ void run_analyze(const AnalyzeArgs& args) {
         });
     }
     const double wall = stopwatch.seconds();
+    // In input order, each line once (the cells of one sheet share theirs),
+    // whatever the threads did first.
+    std::vector<std::string> warnings;
+    for (const Result& r : results) warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
+    io::LoadOptions report;
+    report.warning = [](const std::string& line) { std::fprintf(stderr, "warning: %s\n", line.c_str()); };
+    io::report_warnings(warnings, report);
 
     if (args.check) {
         for (std::size_t i = 0; i < results.size(); ++i) {
@@ -396,6 +408,9 @@ void add_analyze_command(CLI::App& app) {
                     "triangles, figures")
         ->type_name("DIR");
     add_cache_options(*cmd, args->cache);
+    cmd->add_flag("--strict", args->strict,
+                  "Refuse an image we read by an assumption (a CMYK JPEG without its colour profile, an animated WebP's first frame) "
+                  "instead of warning");
     add_target_option(*cmd, args->target);
     add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] {

@@ -25,6 +25,7 @@ struct AtlasArgs {
     CacheChoice cache;
     std::string godot_dir;
     bool quiet = false;
+    bool strict = false;
     unsigned threads = 0;
 };
 
@@ -126,6 +127,8 @@ void run_atlas(AtlasArgs& args) {
     options.analyze = args.analyze;
     options.cache_dir = args.cache.directory();
     options.threads = args.threads;
+    options.strict = args.strict;
+    options.warning = [](const std::string& line) { std::fprintf(stderr, "warning: %s\n", line.c_str()); };
     io::AtlasPolygonStats stats;
     pipeline::AtlasAnalysis analysis;
     std::string text;
@@ -179,6 +182,9 @@ void add_atlas_command(CLI::App& app) {
                     "Write a Godot scene per frame here (FRAME.tscn: a Polygon2D with texture, polygon, uv and polygons from our boundary polygons)")
         ->type_name("DIR");
     add_cache_options(*cmd, args->cache);
+    cmd->add_flag("--strict", args->strict,
+                  "Refuse what we read by an assumption (a page whose size differs from the atlas' meta.size, a CMYK JPEG, ...) "
+                  "instead of warning");
     cmd->add_option("-j,--threads", args->threads, "Worker threads (0: all cores); output never depends on it")->capture_default_str();
     add_quiet_flag(*cmd, args->quiet);
     cmd->callback([args] { run_atlas(*args); });

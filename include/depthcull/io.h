@@ -31,9 +31,14 @@ struct Error : std::runtime_error {
 Image load_png(const std::string& path);
 // Any image we read, told by its content (not its name): PNG, JPEG (no
 // alpha: every texel fully opaque) or WebP (lossy or lossless, with or
-// without alpha), as RGBA8; the same limits as load_png.
-Image load_image(const std::string& path);
-Image decode_image(const void* data, std::size_t size, const std::string& name);
+// without alpha), as RGBA8; the same limits as load_png. PNG samples are
+// the file's own (no gamma conversion; 16 bits rounded to 8), as WebGL,
+// stb_image and Tiled read them. Files engines load that we read by an
+// assumption add one line each to `warnings` (when given) naming the file
+// and the assumption: a CMYK JPEG (converted as (1-C)(1-K), no colour
+// profile), an animated WebP (its first frame).
+Image load_image(const std::string& path, std::vector<std::string>* warnings = nullptr);
+Image decode_image(const void* data, std::size_t size, const std::string& name, std::vector<std::string>* warnings = nullptr);
 class ImageFiles;
 // An image's width and height from its header, without decoding (so a
 // size can be checked before the decode allocates): for any image
@@ -68,7 +73,7 @@ private:
 };
 // The pixels a SceneImage stands for: its file decoded (from `files` when
 // they hold it), its colour key (SceneImage::trans) applied.
-Image load_scene_image(const SceneImage& image, const ImageFiles* files = nullptr);
+Image load_scene_image(const SceneImage& image, const ImageFiles* files = nullptr, std::vector<std::string>* warnings = nullptr);
 // Texels of colour 0xRRGGBB become fully transparent (alpha 0).
 void apply_colour_key(Image& image, std::uint32_t rgb);
 Image decode_png(const void* data, std::size_t size, const std::string& name);
@@ -125,6 +130,10 @@ struct LoadOptions {
     ImageFiles* image_files = nullptr;
 };
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
+// Warning lines (a reader's or decode_image's) as LoadOptions asks: each
+// distinct line once, in order, to options.warning; with options.strict
+// an io::Error "<first line> (--strict)" instead.
+void report_warnings(const std::vector<std::string>& lines, const LoadOptions& options);
 
 // Our scene JSON format, as load_scene reads it: viewport, filter, images
 // {id, path}, elements {image, rect, transform, color, blend}. Image paths
@@ -162,6 +171,14 @@ struct Atlas {
     std::string image_path;  // pages[0].image_path
     int width = 0, height = 0; // pages[0]'s stated size
     std::vector<AtlasFrame> frames; // in file order (page by page)
+    // meta.scale as PixiJS reads it (a number or a numeric string; 1 when
+    // absent, 0 when unreadable). We place frames at their texel size, as
+    // Phaser does; a scene that uses a sheet with scale != 1 is warned.
+    double scale = 1;
+    // What the reader assumed to read the file as engines do (a trimmed
+    // sprite reaching past its sourceSize): one line each naming the file
+    // and the frame (report_warnings prints them, or refuses with --strict).
+    std::vector<std::string> warnings;
     // Frame index by name (load_texturepacker fills it); find() searches
     // linearly when it does not describe `frames`.
     std::unordered_map<std::string, std::size_t> by_name;
@@ -176,8 +193,15 @@ struct Atlas {
 // Frames whose spriteSourceSize w/h differ from the frame's (Aseprite, some
 // Flash exporters) are read as Phaser and PixiJS read them: the frame's
 // size is the trimmed sprite's, spriteSourceSize x/y its offset.
+// Frames are texels of the decoded page, as PixiJS and Phaser read them
+// (neither reads meta.size): check_atlas_pages checks them against it.
 Atlas load_texturepacker(const std::string& path);
 inline Atlas load_atlas(const std::string& path) { return load_texturepacker(path); }
+// Against the pages' real sizes (`sizes[k]` = {width, height} of
+// pages[k]'s image, from its header or its decode): io::Error for a frame
+// whose texels lie outside its page; a warning line in atlas.warnings for
+// a page whose stated size (meta.size) differs.
+void check_atlas_pages(Atlas& atlas, const std::vector<std::array<int, 2>>& sizes);
 
 // Where an element showing `frame` samples the page and how it is placed:
 // `sprite_transform` maps the untrimmed sprite's texel space (origin at

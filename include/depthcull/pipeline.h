@@ -190,6 +190,10 @@ struct AtlasPolygonOptions {
     std::function<void(std::size_t done, std::size_t total)> progress; // called from worker threads
     bool plist = false; // write a cocos2d-x format 3 plist (one page only)
     MemoryBudget* memory = nullptr; // as PrepareOptions::memory
+    // What the atlas reader and the page decodes assumed (io::report_warnings):
+    // one line each to `warning`, in file order, or an io::Error with `strict`.
+    std::function<void(const std::string&)> warning;
+    bool strict = false;
 };
 struct AtlasAnalysis {
     io::Atlas atlas;

@@ -129,12 +129,16 @@ Atlas load_cocos2d_plist(const std::string& path) {
                 throw Error(where + ": offset puts the trimmed sprite off the texel grid");
         }
         frame.trimmed = w != frame.source_w || h != frame.source_h;
+        // As in TexturePacker JSON (texturepacker.cpp): a trimmed sprite
+        // past its source size is drawn where it lies, with a warning; the
+        // frame's texels are checked against the decoded page
+        // (check_atlas_pages), not metadata.size.
         const Rect& s = frame.sprite_source;
         if (s.x < 0 || s.y < 0 || s.x + s.w > frame.source_w || s.y + s.h > frame.source_h)
-            throw Error(where + ": trimmed sprite lies outside its source size");
-        const Rect& r = frame.frame;
-        if (atlas.width > 0 && (r.x + r.w > atlas.width || r.y + r.h > atlas.height))
-            throw Error(where + ": texels lie outside the " + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) + " page");
+            atlas.warnings.push_back(where + ": trimmed sprite at " + std::to_string(s.x) + "," + std::to_string(s.y) + " size " +
+                                     std::to_string(s.w) + "x" + std::to_string(s.h) + " reaches outside its source size " +
+                                     std::to_string(frame.source_w) + "x" + std::to_string(frame.source_h) +
+                                     "; drawn where the plist puts it, as cocos2d-x draws it");
         if (!atlas.by_name.emplace(name, atlas.frames.size()).second) throw Error(where + ": duplicate frame name");
         atlas.frames.push_back(std::move(frame));
     }

@@ -73,6 +73,11 @@ std::uint64_t json_document_bytes(std::string_view text, const std::string& path
 std::uint64_t xml_document_bytes(std::string_view text);
 void check_documents_held(std::uint64_t bytes, const std::string& path);
 
+// io::Error "<path>: not valid JSON at line L, column C (byte B): <what>"
+// for an exception nlohmann's parse threw over `text` (B counted from 0):
+// the one form of every JSON reader, quoting none of the file's bytes.
+[[noreturn]] void throw_json_error(const std::exception& e, std::string_view text, const std::string& path);
+
 // Colour keys (SceneImage::trans) as files write them: "RRGGBB" or
 // "#RRGGBB" in, "rrggbb" out.
 std::uint32_t parse_colour_key(const std::string& text, const std::string& where);

@@ -1,13 +1,16 @@
 // Images by content, not by name: PNG (libpng), JPEG (libjpeg-turbo) and
 // WebP (libwebp), all converted to RGBA8. JPEG has no alpha, so its texels
 // are fully opaque (alpha 255), which the opaque-polygon analysis exploits;
-// WebP without an alpha chunk decodes to alpha 255 the same way.
+// WebP without an alpha chunk decodes to alpha 255 the same way. What
+// engines load but we read by an assumption (a CMYK JPEG's colours, an
+// animated WebP's first frame) adds a warning line naming the file.
 #include <csetjmp>
 #include <cstddef>
 #include <cstdio>
 
 #include <jpeglib.h> // after <cstdio>: it uses FILE and size_t
 #include <webp/decode.h>
+#include <webp/demux.h>
 
 #include <cstring>
 #include <filesystem>
@@ -55,8 +58,10 @@ void jpeg_silent(j_common_ptr, int) {}
 
 // Decodes into `pixels` (resized by the caller after the header through
 // `on_size`); returns false with `err.message` set on a libjpeg error.
+// *cmyk tells whether the file held CMYK (or YCCK) ink values, converted
+// here to RGB.
 bool jpeg_decode(const unsigned char* data, std::size_t size, bool header_only, int* width, int* height,
-                 std::vector<std::uint8_t>* rgb, JpegError& err, const char** problem) {
+                 std::vector<std::uint8_t>* rgb, JpegError& err, const char** problem, bool* cmyk = nullptr) {
     jpeg_decompress_struct cinfo;
     cinfo.err = jpeg_std_error(&err.mgr);
     err.mgr.error_exit = jpeg_error_exit;
@@ -74,7 +79,12 @@ bool jpeg_decode(const unsigned char* data, std::size_t size, bool header_only, 
         jpeg_destroy_decompress(&cinfo);
         return true;
     }
-    cinfo.out_color_space = JCS_EXT_RGBA; // libjpeg-turbo: alpha filled with 255
+    // libjpeg converts no CMYK to RGB: it hands us the inks, and we make
+    // RGB below as (1-C)(1-K) (no colour profile, as browsers without
+    // colour management show it).
+    const bool inks = cinfo.jpeg_color_space == JCS_CMYK || cinfo.jpeg_color_space == JCS_YCCK;
+    if (cmyk) *cmyk = inks;
+    cinfo.out_color_space = inks ? JCS_CMYK : JCS_EXT_RGBA; // libjpeg-turbo: alpha filled with 255
     jpeg_start_decompress(&cinfo);
     if (cinfo.output_components != 4) {
         *problem = "unexpected JPEG output components";
@@ -91,6 +101,18 @@ bool jpeg_decode(const unsigned char* data, std::size_t size, bool header_only, 
         JSAMPROW row = rgb->data() + stride * cinfo.output_scanline;
         jpeg_read_scanlines(&cinfo, &row, 1);
     }
+    if (inks) {
+        // Photoshop, which writes nearly every CMYK JPEG, stores inverted
+        // inks (255: no ink) and marks its files with an Adobe APP14
+        // segment; without one the values are plain inks.
+        const bool inverted = cinfo.saw_Adobe_marker;
+        for (std::size_t i = 0; i + 3 < rgb->size(); i += 4) {
+            std::uint8_t* p = rgb->data() + i;
+            const unsigned k = inverted ? p[3] : 255u - p[3];
+            for (int c = 0; c < 3; ++c) p[c] = std::uint8_t(((inverted ? p[c] : 255u - p[c]) * k + 127) / 255);
+            p[3] = 255;
+        }
+    }
     jpeg_finish_decompress(&cinfo);
     jpeg_destroy_decompress(&cinfo);
     return true;
@@ -103,7 +125,7 @@ void jpeg_size(std::string_view bytes, const std::string& name, int* w, int* h) 
         throw Error(name + ": corrupt JPEG (" + std::string(problem ? problem : err.message) + ")");
 }
 
-Image decode_jpeg(const void* data, std::size_t size, const std::string& name) {
+Image decode_jpeg(const void* data, std::size_t size, const std::string& name, std::vector<std::string>* warnings) {
     int w = 0, h = 0;
     JpegError err{};
     const char* problem = nullptr;
@@ -115,8 +137,12 @@ Image decode_jpeg(const void* data, std::size_t size, const std::string& name) {
     image.width = w;
     image.height = h;
     guarded(name, [&] { image.rgba.resize(std::size_t(w) * std::size_t(h) * 4); });
-    if (!jpeg_decode(bytes, size, false, &w, &h, &image.rgba, err, &problem))
+    bool cmyk = false;
+    if (!jpeg_decode(bytes, size, false, &w, &h, &image.rgba, err, &problem, &cmyk))
         throw Error(name + ": corrupt JPEG (" + std::string(problem ? problem : err.message) + ")");
+    if (cmyk && warnings)
+        warnings->push_back(name + ": CMYK JPEG: converted to RGB as (1-C)(1-K) without its colour profile (colours may differ from a "
+                                   "colour-managed viewer's)");
     return image;
 }
 
@@ -124,10 +150,46 @@ void webp_size(const void* data, std::size_t size, const std::string& name, int*
     if (!WebPGetInfo(static_cast<const std::uint8_t*>(data), size, w, h)) throw Error(name + ": corrupt WebP (bad header)");
 }
 
-Image decode_webp(const void* data, std::size_t size, const std::string& name) {
+// An animated WebP's first frame, composited on its canvas (what a
+// browser shows before it animates).
+Image decode_webp_animation(const void* data, std::size_t size, const std::string& name, int w, int h,
+                            std::vector<std::string>* warnings) {
+    WebPAnimDecoderOptions options;
+    if (!WebPAnimDecoderOptionsInit(&options)) throw Error(name + ": animated WebP: libwebp version mismatch");
+    options.color_mode = MODE_RGBA;
+    options.use_threads = 0;
+    const WebPData bytes{static_cast<const std::uint8_t*>(data), size};
+    WebPAnimDecoder* decoder = WebPAnimDecoderNew(&bytes, &options);
+    if (!decoder) throw Error(name + ": corrupt animated WebP (bad animation chunks)");
+    WebPAnimInfo info{};
+    std::uint8_t* frame = nullptr;
+    int timestamp = 0;
+    const bool ok = WebPAnimDecoderGetInfo(decoder, &info) && int(info.canvas_width) == w && int(info.canvas_height) == h &&
+                    WebPAnimDecoderGetNext(decoder, &frame, &timestamp);
+    Image image;
+    image.width = w;
+    image.height = h;
+    try {
+        if (ok) guarded(name, [&] { image.rgba.assign(frame, frame + std::size_t(w) * std::size_t(h) * 4); });
+    } catch (...) {
+        WebPAnimDecoderDelete(decoder);
+        throw;
+    }
+    WebPAnimDecoderDelete(decoder);
+    if (!ok) throw Error(name + ": corrupt animated WebP (its first frame does not decode)");
+    if (warnings)
+        warnings->push_back(name + ": animated WebP (" + std::to_string(info.frame_count) + " frames): its first frame is used");
+    return image;
+}
+
+Image decode_webp(const void* data, std::size_t size, const std::string& name, std::vector<std::string>* warnings) {
     int w = 0, h = 0;
     webp_size(data, size, name, &w, &h);
     if (std::string p = size_problem(w, h); !p.empty()) throw Error(name + ": " + p);
+    WebPBitstreamFeatures features;
+    if (WebPGetFeatures(static_cast<const std::uint8_t*>(data), size, &features) != VP8_STATUS_OK)
+        throw Error(name + ": corrupt WebP (bad header)");
+    if (features.has_animation) return decode_webp_animation(data, size, name, w, h, warnings);
     Image image;
     image.width = w;
     image.height = h;
@@ -143,19 +205,19 @@ Image decode_webp(const void* data, std::size_t size, const std::string& name) {
 
 } // namespace
 
-Image decode_image(const void* data, std::size_t size, const std::string& name) {
+Image decode_image(const void* data, std::size_t size, const std::string& name, std::vector<std::string>* warnings) {
     switch (sniff(static_cast<const unsigned char*>(data), size)) {
     case Format::png: return decode_png(data, size, name);
-    case Format::jpeg: return decode_jpeg(data, size, name);
-    case Format::webp: return decode_webp(data, size, name);
+    case Format::jpeg: return decode_jpeg(data, size, name, warnings);
+    case Format::webp: return decode_webp(data, size, name, warnings);
     case Format::unknown: break;
     }
     unknown_format(name);
 }
 
-Image load_image(const std::string& path) {
+Image load_image(const std::string& path, std::vector<std::string>* warnings) {
     std::string bytes = read_file(path);
-    return decode_image(bytes.data(), bytes.size(), path);
+    return decode_image(bytes.data(), bytes.size(), path, warnings);
 }
 
 namespace {

@@ -1,5 +1,9 @@
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
+
+#include <nlohmann/json.hpp>
 
 #include "depthcull/limits.h"
 #include "io/formats.h"
@@ -23,7 +27,56 @@ std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (std::uint
                 mib(limits::kMaxDocumentBytes) + " MiB (kMaxDocumentBytes)");
 }
 
+// The 0-based offset of the first number in `text` (outside strings) that
+// overflows a double: where nlohmann's out_of_range.406 arose.
+std::size_t first_overflowing_number(std::string_view text) {
+    bool in_string = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (in_string) {
+            if (c == '\\') ++i;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '-' || (c >= '0' && c <= '9')) {
+            std::size_t end = i;
+            while (end < text.size() && std::string_view("0123456789+-.eE").find(text[end]) != std::string_view::npos) ++end;
+            const std::string number(text.substr(i, end - i));
+            if (!std::isfinite(std::strtod(number.c_str(), nullptr))) return i;
+            i = end - 1;
+        }
+    }
+    return text.size();
+}
+
 } // namespace
+
+void throw_json_error(const std::exception& e, std::string_view text, const std::string& path) {
+    // nlohmann's messages quote the bytes it read last ("last read: '...'",
+    // "number overflow parsing '...'"): a file's content never goes to
+    // stderr, so we keep only its own words and say where.
+    std::size_t at = text.size();
+    std::string what;
+    if (const auto* p = dynamic_cast<const nlohmann::json::parse_error*>(&e)) {
+        at = p->byte > 0 ? std::min<std::size_t>(p->byte - 1, text.size()) : 0; // nlohmann counts from 1
+        std::string message = exception_text(e); // "parse error at line L, column C: syntax error while ..."
+        const std::size_t colon = message.find(": ");
+        what = colon == std::string::npos ? "syntax error" : message.substr(colon + 2);
+        if (std::size_t cut = what.find("; last read: '"); cut != std::string::npos) what.resize(cut);
+    } else if (const auto* r = dynamic_cast<const nlohmann::json::out_of_range*>(&e); r && r->id == 406) {
+        at = first_overflowing_number(text);
+        what = "number out of the range of a double";
+    } else if (dynamic_cast<const std::bad_alloc*>(&e)) {
+        throw Error(path + ": out of memory");
+    } else {
+        what = "unreadable";
+    }
+    std::size_t line = 1, line_start = 0;
+    for (std::size_t i = 0; i < at; ++i)
+        if (text[i] == '\n') ++line, line_start = i + 1;
+    throw Error(path + ": not valid JSON at line " + std::to_string(line) + ", column " + std::to_string(at - line_start + 1) + " (byte " +
+                std::to_string(at) + "): " + what);
+}
 
 // nlohmann::json's layout (16-byte values; arrays a heap std::vector of
 // values, objects a heap std::map whose nodes hold key and value, strings

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +18,13 @@ void check_viewport(const Viewport& v, const std::string& where) {
         throw Error(where + ": x and y must be finite and within +-1e9 (kMaxCoordinate)");
     if (v.width <= 0 || v.height <= 0 || v.width > kMaxImageSide || v.height > kMaxImageSide)
         throw Error(where + ": width and height must be 1.." + std::to_string(kMaxImageSide) + " (kMaxImageSide)");
+}
+
+void report_warnings(const std::vector<std::string>& lines, const LoadOptions& options) {
+    if (options.strict && !lines.empty()) throw Error(lines.front() + " (--strict)");
+    std::set<std::string> seen;
+    for (const std::string& line : lines)
+        if (seen.insert(line).second && options.warning) options.warning(line);
 }
 
 namespace {

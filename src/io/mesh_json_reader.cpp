@@ -232,11 +232,8 @@ LoadedMeshes read_json(std::string_view text, const std::string& name, const std
     check_json_depth(text, name);
     try {
         doc = json::parse(text);
-    } catch (const json::parse_error& e) {
-        // nlohmann counts bytes from 1; our offsets (as the binary reader's) from 0.
-        throw Error(name + ": byte " + std::to_string(e.byte ? e.byte - 1 : 0) + ": not valid JSON (" + exception_text(e) + ")");
-    } catch (const json::exception& e) { // out_of_range for numbers like 1e400
-        throw Error(name + ": not valid JSON (" + exception_text(e) + ")");
+    } catch (const json::exception& e) { // parse_error; out_of_range for numbers like 1e400
+        throw_json_error(e, text, name); // byte offsets from 0, as the binary reader's
     }
     if (!doc.is_object()) ctx.fail("top level", "expected a JSON object with \"images\" and \"draws\"");
     LoadedMeshes out;

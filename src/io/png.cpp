@@ -1,8 +1,9 @@
-// PNG in and out through libpng's simplified API, which converts every
-// colour type (grey, palette + tRNS, 16-bit, RGB, RGBA) to RGBA8 for us.
+// PNG in through libpng's full API (every colour type to RGBA8, with no
+// gamma conversion: see png_decode), out through its simplified API.
 #include <png.h>
 
 #include <cerrno>
+#include <csetjmp>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
@@ -43,26 +44,114 @@ void png_size(const std::string& path, int* width, int* height, ImageFiles* file
     png_size_from_bytes(read_image_head(path, 24), path, width, height);
 }
 
+namespace {
+
+// libpng reports errors through its error function, which must not
+// return: we longjmp back to decode_png's frame (no C++ objects live
+// between its setjmp and the jump), as the JPEG reader does.
+struct PngError {
+    std::jmp_buf jump;
+    char message[160];
+};
+
+void png_error_exit(png_structp png, png_const_charp message) {
+    auto* err = static_cast<PngError*>(png_get_error_ptr(png));
+    std::snprintf(err->message, sizeof err->message, "%s", message ? message : "error");
+    std::longjmp(err->jump, 1);
+}
+
+void png_silent(png_structp, png_const_charp) {}
+
+constexpr const char* kOutOfMemory = "out of memory"; // told apart by address
+
+struct PngMemory {
+    const unsigned char* data;
+    std::size_t size, at;
+};
+
+void png_read_memory(png_structp png, png_bytep out, png_size_t n) {
+    auto* in = static_cast<PngMemory*>(png_get_io_ptr(png));
+    if (n > in->size - in->at) png_error(png, "file ends early");
+    std::memcpy(out, in->data + in->at, n);
+    in->at += n;
+}
+
+// The decode proper: null on success, else why not (or "" with `problem`
+// set when the size is over our limits). `image` and `rows` are the
+// caller's, so no C++ object of this frame lives across a longjmp.
+const char* png_decode(const unsigned char* data, std::size_t size, PngError& err, Image& image,
+                       std::vector<png_bytep>& rows, const std::string& name, std::string& problem) {
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &err, png_error_exit, png_silent);
+    if (!png) return kOutOfMemory;
+    png_infop info = png_create_info_struct(png);
+    if (!info) {
+        png_destroy_read_struct(&png, nullptr, nullptr);
+        return kOutOfMemory;
+    }
+    if (setjmp(err.jump)) {
+        png_destroy_read_struct(&png, &info, nullptr);
+        return err.message;
+    }
+    PngMemory in{data, size, 0};
+    png_set_read_fn(png, &in, png_read_memory);
+    // Ancillary chunks with bad CRCs are dropped with a (silent) warning,
+    // as the simplified API we used before does.
+    png_set_crc_action(png, PNG_CRC_DEFAULT, PNG_CRC_WARN_DISCARD);
+    png_read_info(png, info);
+    const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+    problem = size_problem(w, h);
+    if (!problem.empty()) {
+        png_destroy_read_struct(&png, &info, nullptr);
+        return "";
+    }
+    // The file's own sample values, as WebGL's texImage2D, stb_image and
+    // Tiled read them: no png_set_gamma (a gAMA chunk changes nothing, so a
+    // colour key compares against what the file holds), and 16-bit samples
+    // rounded to 8 bits, not treated as linear light.
+    const int colour = png_get_color_type(png, info);
+    if (colour == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+    if (colour == PNG_COLOR_TYPE_GRAY || colour == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(png);
+    png_set_expand(png); // low bit depths to 8, tRNS to alpha
+    png_set_scale_16(png);
+    png_set_add_alpha(png, 0xff, PNG_FILLER_AFTER);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    if (png_get_rowbytes(png, info) != std::size_t(w) * 4) {
+        png_destroy_read_struct(&png, &info, nullptr);
+        return "unexpected row size";
+    }
+    image.width = int(w);
+    image.height = int(h);
+    try {
+        guarded(name, [&] {
+            image.rgba.resize(std::size_t(w) * h * 4);
+            rows.resize(h);
+        });
+    } catch (const Error&) {
+        png_destroy_read_struct(&png, &info, nullptr);
+        return kOutOfMemory;
+    }
+    for (png_uint_32 y = 0; y < h; ++y) rows[y] = image.rgba.data() + std::size_t(y) * w * 4;
+    png_read_image(png, rows.data());
+    // No png_read_end: chunks after the image data (text, a missing IEND)
+    // change no texel, and browsers show such files.
+    png_destroy_read_struct(&png, &info, nullptr);
+    return nullptr;
+}
+
+} // namespace
+
 Image decode_png(const void* data, std::size_t size, const std::string& name) {
-    png_image png;
-    std::memset(&png, 0, sizeof png);
-    png.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_memory(&png, data, size))
-        throw Error(name + ": not a readable PNG (" + png.message + ")");
-    if (std::string problem = size_problem(png.width, png.height); !problem.empty()) {
-        png_image_free(&png);
-        throw Error(name + ": " + problem);
-    }
-    png.format = PNG_FORMAT_RGBA;
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    if (size < 8 || png_sig_cmp(bytes, 0, 8) != 0) throw Error(name + ": not a readable PNG (not a PNG signature)");
+    PngError err{};
     Image image;
-    image.width = int(png.width);
-    image.height = int(png.height);
-    guarded(name, [&] { image.rgba.resize(PNG_IMAGE_SIZE(png)); });
-    if (!png_image_finish_read(&png, nullptr, image.rgba.data(), 0, nullptr)) {
-        std::string message = png.message;
-        png_image_free(&png);
-        throw Error(name + ": corrupt PNG (" + message + ")");
-    }
+    std::vector<png_bytep> rows;
+    std::string problem;
+    const char* failed = png_decode(bytes, size, err, image, rows, name, problem);
+    if (!problem.empty()) throw Error(name + ": " + problem);
+    if (failed == kOutOfMemory) throw Error(name + ": out of memory");
+    if (failed) throw Error(name + ": corrupt PNG (" + std::string(failed) + ")");
     return image;
 }
 
@@ -93,7 +182,7 @@ void apply_colour_key(Image& image, std::uint32_t rgb) {
         if (image.rgba[i] == r && image.rgba[i + 1] == g && image.rgba[i + 2] == b) image.rgba[i + 3] = 0;
 }
 
-Image load_scene_image(const SceneImage& image, const ImageFiles* files) {
+Image load_scene_image(const SceneImage& image, const ImageFiles* files, std::vector<std::string>* warnings) {
     if (image.has_fill) {
         Image solid;
         solid.width = solid.height = kFillImageSide;
@@ -107,7 +196,7 @@ Image load_scene_image(const SceneImage& image, const ImageFiles* files) {
         return solid;
     }
     const std::string* bytes = files ? files->find(image.path) : nullptr;
-    Image out = bytes ? decode_image(bytes->data(), bytes->size(), image.path) : load_image(image.path);
+    Image out = bytes ? decode_image(bytes->data(), bytes->size(), image.path, warnings) : load_image(image.path, warnings);
     if (image.has_trans) apply_colour_key(out, image.trans);
     return out;
 }

@@ -5,7 +5,9 @@
 //     "elements": [ {"image", "rect"?, "frame"?, "transform"?, "color"?, "blend"?} ] }
 // Unknown fields are ignored. Every bad value is an io::Error naming the
 // file and the element (or image) index; nothing is half-loaded.
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +21,12 @@
 namespace depthcull::io {
 
 namespace {
+
+std::string number_text(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -178,7 +186,7 @@ Scene scene_json_from_text(std::string_view text, const std::string& path, const
         doc = json::parse(text);
     } catch (const json::exception& e) {
         // parse_error, and out_of_range for numbers like 1e400.
-        ctx.fail("not valid JSON (" + exception_text(e) + ")");
+        throw_json_error(e, text, path);
     }
     if (!doc.is_object()) ctx.fail("expected a JSON object with \"images\" and \"elements\"");
     const fs::path base = fs::path(path).parent_path();
@@ -231,8 +239,9 @@ Scene scene_json_from_text(std::string_view text, const std::string& path, const
     // A multipack atlas's other pages: images "<id>#<page>" after the listed ones.
     for (std::size_t i = 0; i < images.size(); ++i) {
         ImageEntry& entry = entries[i];
-        if (!entry.is_atlas || entry.atlas.pages.size() < 2) continue;
-        entry.page_images.push_back(int(i));
+        if (!entry.is_atlas) continue;
+        std::vector<std::array<int, 2>> sizes{{scene.images[i].width, scene.images[i].height}};
+        if (entry.atlas.pages.size() >= 2) entry.page_images.push_back(int(i));
         for (std::size_t k = 1; k < entry.atlas.pages.size(); ++k) {
             SceneImage img;
             img.id = scene.images[i].id + "#" + std::to_string(k);
@@ -240,9 +249,18 @@ Scene scene_json_from_text(std::string_view text, const std::string& path, const
                 ctx.fail("image id \"" + img.id + "\" (page " + std::to_string(k) + " of atlas \"" + scene.images[i].id + "\") is taken");
             img.path = entry.atlas.pages[k].image_path;
             image_size(img.path, &img.width, &img.height, options.image_files);
+            sizes.push_back({img.width, img.height});
             entry.page_images.push_back(int(scene.images.size()));
             scene.images.push_back(std::move(img));
         }
+        // Frames against the pages' real sizes (the headers just read);
+        // what the atlas reader assumed is warned (or refused, --strict).
+        check_atlas_pages(entry.atlas, sizes);
+        if (entry.atlas.scale != 1)
+            entry.atlas.warnings.push_back(entry.atlas.path + ": meta.scale " + number_text(entry.atlas.scale) +
+                                           ": frames placed at their texel size, as Phaser places them (PixiJS draws them " +
+                                           (entry.atlas.scale > 0 ? number_text(1 / entry.atlas.scale) + "x" : "at another size") + ")");
+        report_warnings(entry.atlas.warnings, options);
     }
     // Animations: frames of one size, each an image rect and a duration.
     if (doc.contains("animations")) {

@@ -40,10 +40,8 @@ CostProfile profile_from_json(const std::string& text, const std::string& name) 
     json j;
     try {
         j = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw Error(name + ": not JSON: " + std::string(e.what()).substr(0, 200));
-    } catch (const std::exception& e) {
-        throw Error(name + ": not JSON: " + e.what());
+    } catch (const std::exception& e) { // nlohmann's, or std::bad_alloc ("out of memory")
+        throw_json_error(e, text, name);
     }
     if (!j.is_object()) throw Error(name + ": a profile is a JSON object");
     CostProfile p;

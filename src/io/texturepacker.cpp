@@ -19,6 +19,7 @@
 // cocos2d-x plists are read in cocos2d_plist.cpp.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <unordered_map>
@@ -72,7 +73,18 @@ bool bool_field(const Json& obj, const char* key, const std::string& where) {
     throw Error(where + ": \"" + key + "\" is not a boolean");
 }
 
-AtlasFrame read_frame(const std::string& name, const Json& f, const std::string& where) {
+// meta.scale as PixiJS reads it: parseFloat of a string ("0.5"), a number
+// as it is, 1 when absent; 0 when it reads as no positive number.
+double meta_scale(const Json& meta) {
+    auto it = meta.find("scale");
+    if (it == meta.end() || it->is_null()) return 1;
+    double v = 0;
+    if (it->is_number()) v = it->get<double>();
+    else if (it->is_string()) v = std::strtod(it->get_ref<const std::string&>().c_str(), nullptr);
+    return std::isfinite(v) && v > 0 ? v : 0;
+}
+
+AtlasFrame read_frame(const std::string& name, const Json& f, const std::string& where, std::vector<std::string>* warnings) {
     if (!f.is_object()) throw Error(where + ": frame is not an object");
     AtlasFrame frame;
     frame.name = name;
@@ -103,11 +115,14 @@ AtlasFrame read_frame(const std::string& name, const Json& f, const std::string&
         frame.source_w = int_field(*it, "w", here, 1, kMaxImageSide);
         frame.source_h = int_field(*it, "h", here, 1, kMaxImageSide);
     }
+    // Aseprite trims a sprite one texel past its sourceSize at times;
+    // PixiJS and Phaser draw it where spriteSourceSize puts it, and so do we.
     const Rect& s = frame.sprite_source;
     if (s.x < 0 || s.y < 0 || s.x + s.w > frame.source_w || s.y + s.h > frame.source_h)
-        throw Error(where + ": trimmed sprite at " + std::to_string(s.x) + "," + std::to_string(s.y) + " size " +
-                    std::to_string(s.w) + "x" + std::to_string(s.h) + " lies outside sourceSize " +
-                    std::to_string(frame.source_w) + "x" + std::to_string(frame.source_h));
+        warnings->push_back(where + ": trimmed sprite at " + std::to_string(s.x) + "," + std::to_string(s.y) + " size " +
+                            std::to_string(s.w) + "x" + std::to_string(s.h) + " reaches outside sourceSize " +
+                            std::to_string(frame.source_w) + "x" + std::to_string(frame.source_h) +
+                            "; drawn where spriteSourceSize puts it, as PixiJS and Phaser draw it");
     return frame;
 }
 
@@ -143,7 +158,7 @@ Json parse_json_text(std::string_view text, const std::string& path, std::vector
         });
         return Json::parse(text);
     } catch (const Json::exception& e) { // parse_error, and out_of_range for numbers like 1e400
-        throw Error(path + ": " + exception_text(e));
+        throw_json_error(e, text, path);
     }
 }
 
@@ -180,17 +195,14 @@ Atlas read_texturepacker(std::string_view text, const std::string& path) {
     }
     atlas.pages.push_back({atlas.image_path, atlas.width, atlas.height});
     atlas.form = frames->is_object() ? AtlasForm::json_hash : AtlasForm::json_array;
+    atlas.scale = meta_scale(meta);
 
+    // Frames are checked against the decoded page (check_atlas_pages), not
+    // meta.size: a page re-saved smaller still loads in PixiJS and Phaser.
     auto add = [&](const std::string& name, const Json& f) {
         std::string where = path + ": frame '" + name + "'";
         if (!atlas.by_name.emplace(name, atlas.frames.size()).second) throw Error(where + ": duplicate frame name");
-        AtlasFrame frame = read_frame(name, f, where);
-        const Rect& r = frame.frame;
-        if (atlas.width > 0 && (r.x + r.w > atlas.width || r.y + r.h > atlas.height))
-            throw Error(where + ": texels " + std::to_string(r.x) + "," + std::to_string(r.y) + " " + std::to_string(r.w) + "x" +
-                        std::to_string(r.h) + " lie outside the " + std::to_string(atlas.width) + "x" +
-                        std::to_string(atlas.height) + " page");
-        atlas.frames.push_back(std::move(frame));
+        atlas.frames.push_back(read_frame(name, f, where, &atlas.warnings));
     };
     if (frames->is_object()) {
         // A name given twice is refused by add(), as the parsed object kept one.
@@ -237,12 +249,8 @@ Atlas read_multipack(const std::string& path, const Json& doc) {
             if (name == f.end() || !name->is_string()) throw Error(where + ": frame " + std::to_string(i) + ": missing \"filename\"");
             std::string here = path + ": frame '" + name->get<std::string>() + "'";
             if (!atlas.by_name.emplace(name->get<std::string>(), atlas.frames.size()).second) throw Error(here + ": duplicate frame name");
-            AtlasFrame frame = read_frame(name->get<std::string>(), f, here);
+            AtlasFrame frame = read_frame(name->get<std::string>(), f, here, &atlas.warnings);
             frame.page = int(k);
-            const Rect& r = frame.frame;
-            if (page.width > 0 && (r.x + r.w > page.width || r.y + r.h > page.height))
-                throw Error(here + ": texels " + std::to_string(r.x) + "," + std::to_string(r.y) + " " + std::to_string(r.w) + "x" +
-                            std::to_string(r.h) + " lie outside the " + std::to_string(page.width) + "x" + std::to_string(page.height) + " page");
             atlas.frames.push_back(std::move(frame));
         }
         atlas.pages.push_back(std::move(page));
@@ -250,6 +258,8 @@ Atlas read_multipack(const std::string& path, const Json& doc) {
     atlas.image_path = atlas.pages[0].image_path;
     atlas.width = atlas.pages[0].width;
     atlas.height = atlas.pages[0].height;
+    const Json meta = doc.contains("meta") && doc["meta"].is_object() ? doc["meta"] : Json::object();
+    atlas.scale = meta_scale(meta);
     return atlas;
 }
 
@@ -266,6 +276,26 @@ Atlas load_texturepacker(const std::string& path) {
 
 Atlas texturepacker_from_text(std::string_view text, const std::string& path) {
     return guarded(path, [&] { return read_texturepacker(text, path); });
+}
+
+void check_atlas_pages(Atlas& atlas, const std::vector<std::array<int, 2>>& sizes) {
+    auto size_text = [](int w, int h) { return std::to_string(w) + "x" + std::to_string(h); };
+    for (std::size_t k = 0; k < atlas.pages.size() && k < sizes.size(); ++k) {
+        const AtlasPage& page = atlas.pages[k];
+        if (page.width > 0 && (page.width != sizes[k][0] || page.height != sizes[k][1]))
+            atlas.warnings.push_back(atlas.path + ": page " + page.image_path + " is " + size_text(sizes[k][0], sizes[k][1]) +
+                                     ", the atlas states " + size_text(page.width, page.height) +
+                                     "; frames read as texels of the image, as PixiJS and Phaser read them");
+    }
+    for (const AtlasFrame& frame : atlas.frames) {
+        const std::size_t k = std::size_t(frame.page);
+        if (k >= sizes.size()) continue;
+        const Rect& r = frame.frame;
+        if (std::int64_t(r.x) + r.w > sizes[k][0] || std::int64_t(r.y) + r.h > sizes[k][1])
+            throw Error(atlas.path + ": frame '" + frame.name + "': texels " + std::to_string(r.x) + "," + std::to_string(r.y) + " " +
+                        size_text(r.w, r.h) + " lie outside the " + size_text(sizes[k][0], sizes[k][1]) + " page " +
+                        atlas.pages[k].image_path);
+    }
 }
 
 FramePlacement place_frame(const AtlasFrame& frame, const std::array<double, 6>& t) {

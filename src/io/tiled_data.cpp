@@ -41,8 +41,9 @@ std::vector<std::uint32_t> parse_csv(std::string_view text, std::size_t count, c
         std::uint32_t value = 0;
         auto [end, ec] = std::from_chars(text.data() + i, text.data() + n, value);
         if (ec != std::errc())
-            throw Error(where + ": bad CSV data at cell " + std::to_string(gids.size()) + " ('" +
-                        std::string(text.substr(i, std::min<std::size_t>(12, n - i))) + "')");
+            // Says what, not the bytes: a file's content never goes to stderr
+            // (it may hold anything, newlines included).
+            throw Error(where + ": bad CSV data at cell " + std::to_string(gids.size()) + " (not a gid: a whole number 0..4294967295)");
         if (gids.size() == count) throw Error(where + ": CSV data has more than the expected " + std::to_string(count) + " cells");
         gids.push_back(value);
         i = std::size_t(end - text.data());

@@ -173,8 +173,8 @@ json parse(std::string_view text, const std::string& path) {
     json doc;
     try {
         doc = json::parse(text.begin(), text.end());
-    } catch (const std::exception& e) {
-        throw Error(path + ": JSON error: " + exception_text(e));
+    } catch (const json::exception& e) {
+        throw_json_error(e, text, path);
     }
     check_object(doc, path);
     return doc;

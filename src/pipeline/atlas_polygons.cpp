@@ -3,6 +3,7 @@
 // the polygons written by io::atlas_polygons_json or, for a plist,
 // io::atlas_polygons_plist. Frames in parallel, results by index: the text
 // is the same for any thread count.
+#include <array>
 #include <atomic>
 
 #include "depthcull/pipeline.h"
@@ -16,7 +17,7 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
                           AtlasAnalysis* analysis_out) {
     AtlasAnalysis local;
     AtlasAnalysis& result = analysis_out ? *analysis_out : local;
-    result.atlas = io::load_texturepacker(path); // validates every frame
+    result.atlas = io::load_texturepacker(path); // every frame's fields; the pages below
     const io::Atlas& atlas = result.atlas;
     const bool plist = options.plist || atlas.form == io::AtlasForm::cocos2d_plist;
     // Refused before any frame is analyzed.
@@ -36,18 +37,22 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
                             std::to_string(limits::kMaxDecodedBytes >> 20) + " MiB (kMaxDecodedBytes)");
     }
     result.pages.clear();
+    std::vector<std::array<int, 2>> sizes;
+    std::vector<std::string> decoded; // what the decodes assumed
     for (const io::AtlasPage& p : atlas.pages) {
-        result.pages.push_back(io::load_image(p.image_path));
-        const Image& page = result.pages.back();
-        if (p.width > 0 && (p.width != page.width || p.height != page.height))
-            throw io::Error(path + ": page size " + std::to_string(p.width) + "x" + std::to_string(p.height) + " differs from " +
-                            p.image_path + " (" + std::to_string(page.width) + "x" + std::to_string(page.height) + ")");
+        result.pages.push_back(io::load_image(p.image_path, &decoded));
+        sizes.push_back({result.pages.back().width, result.pages.back().height});
     }
     result.page = result.pages.front();
-    for (const io::AtlasFrame& frame : atlas.frames)
-        if (!result.pages[std::size_t(frame.page)].view().contains(frame.frame))
-            throw io::Error(path + ": frame '" + frame.name + "': texels lie outside the page " +
-                            atlas.pages[std::size_t(frame.page)].image_path);
+    // Frames are texels of the decoded pages; a stated size that differs
+    // is a warning, as is what the reader and the decodes assumed.
+    io::check_atlas_pages(result.atlas, sizes);
+    std::vector<std::string> warnings = atlas.warnings;
+    warnings.insert(warnings.end(), decoded.begin(), decoded.end());
+    io::LoadOptions report;
+    report.warning = options.warning;
+    report.strict = options.strict;
+    io::report_warnings(warnings, report);
     result.frames.assign(atlas.frames.size(), {});
     std::vector<std::uint8_t> hit(atlas.frames.size(), 0);
     std::atomic<std::size_t> done{0};

@@ -241,15 +241,20 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
                         " (kMaxDecodedBytes)");
     }
     out.decoded.resize(to_decode.size());
+    // Decode warnings (a CMYK JPEG, an animated WebP) per image, reported
+    // after the decodes in image order: the same lines for any thread count.
+    std::vector<std::vector<std::string>> warnings(to_decode.size());
     parallel_for(to_decode.size(), options.threads, [&](std::size_t k) {
         std::size_t i = to_decode[k];
         const SceneImage& img = scene.images[i];
-        out.decoded[k] = io::load_scene_image(img, &files);
+        out.decoded[k] = io::load_scene_image(img, &files, &warnings[k]);
+        if (options.load.strict && !warnings[k].empty()) io::report_warnings(warnings[k], options.load);
         if (out.decoded[k].width != img.width || out.decoded[k].height != img.height)
             throw Error(path + ": image " + std::to_string(i) + " \"" + img.id + "\": " + img.path + " is " +
                         std::to_string(out.decoded[k].width) + "x" + std::to_string(out.decoded[k].height) + ", expected " +
                         std::to_string(img.width) + "x" + std::to_string(img.height));
     });
+    for (const std::vector<std::string>& lines : warnings) io::report_warnings(lines, options.load);
     files.clear(); // decoded: the compressed bytes are not needed again
     const std::vector<ImageView> views = out.views();
 

@@ -315,7 +315,7 @@ TEST(MeshReaders, JsonErrorsNameThePath) {
         {replaced(s, "\"seconds\": 0", "\"seconds\": -1"), "m.json: stats.seconds: must not be negative"},
         {replaced(s, "\"triangles\": 1", "\"triangles\": 1.5"), "m.json: stats.triangles: must be an integer"},
         {"[1, 2]", "m.json: top level: expected a JSON object"},
-        {"{\"viewport\": ", "m.json: byte 13: not valid JSON"},
+        {"{\"viewport\": ", "m.json: not valid JSON at line 1, column 14 (byte 13): "},
     };
     for (const auto& [text, expected] : cases) {
         const std::string error = json_error(text);

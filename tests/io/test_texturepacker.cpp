@@ -147,22 +147,18 @@ TEST(TexturePacker, Errors) {
         std::string text;
         std::string expect;
     } cases[] = {
-        {"junk", "{\"frames\": [", "parse error"},
+        {"junk", "{\"frames\": [", "not valid JSON at line 1, column "},
         {"no_frames", "{\"meta\": {\"image\": \"a.png\"}}", "no \"frames\""},
         {"no_image", "{\"frames\": {}}", "meta.image"},
         {"multipack", "{\"textures\": []}", "\"textures\" must be a non-empty array of pages"},
         {"bad_rect", "{\"frames\": {\"a\": {\"frame\": {\"x\": 0, \"y\": 0, \"w\": -3, \"h\": 2}}}, \"meta\": {\"image\": \"a.png\"}}",
          "frame 'a': frame: \"w\" = -3 is outside"},
-        {"outside", "{\"frames\": {\"a\": {\"frame\": {\"x\": 30, \"y\": 0, \"w\": 4, \"h\": 2}}}, \"meta\": {\"image\": \"a.png\", \"size\": {\"w\": 32, \"h\": 32}}}",
-         "frame 'a': texels 30,0 4x2 lie outside the 32x32 page"},
         {"dup", "{\"frames\": [{\"filename\": \"a\", \"frame\": {\"x\": 0, \"y\": 0, \"w\": 1, \"h\": 1}}, {\"filename\": \"a\", \"frame\": {\"x\": 0, \"y\": 0, \"w\": 1, \"h\": 1}}], \"meta\": {\"image\": \"a.png\"}}",
          "frame 'a': duplicate frame name"},
         {"huge", "{\"frames\": {\"a\": {\"frame\": {\"x\": 1e300, \"y\": 0, \"w\": 1, \"h\": 1}}}, \"meta\": {\"image\": \"a.png\"}}",
          "frame 'a': frame: \"x\" = 1e+300 is outside"},
         {"fraction", "{\"frames\": {\"a\": {\"frame\": {\"x\": 0.5, \"y\": 0, \"w\": 1, \"h\": 1}}}, \"meta\": {\"image\": \"a.png\"}}",
          "frame 'a': frame: \"x\" is not an integer"},
-        {"trim", "{\"frames\": {\"a\": {\"frame\": {\"x\": 0, \"y\": 0, \"w\": 4, \"h\": 2}, \"spriteSourceSize\": {\"x\": 3, \"y\": 0, \"w\": 4, \"h\": 2}, \"sourceSize\": {\"w\": 4, \"h\": 2}}}, \"meta\": {\"image\": \"a.png\"}}",
-         "lies outside sourceSize"},
     };
     for (const Case& c : cases) {
         std::string path = write_temp(std::string(c.name) + ".json", c.text);

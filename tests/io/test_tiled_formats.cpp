@@ -74,7 +74,7 @@ TEST(TiledJson, OldTilesObjectAndBadJson) {
     std::string bad = t.write("bad.tmj", R"({"width":1,"height":1,"tilewidth":3,"tileheight":5,"layers":[{"type":"pie"}]})");
     EXPECT_EQ(error_of([&] { io::load_scene(bad); }), bad + ": layer '': unknown layer type 'pie'");
     std::string broken = t.write("broken.tmj", "{\"layers\": [");
-    EXPECT_NE(error_of([&] { io::load_scene(broken); }).find(broken + ": JSON error: "), std::string::npos);
+    EXPECT_NE(error_of([&] { io::load_scene(broken); }).find(broken + ": not valid JSON at line 1, column "), std::string::npos);
     std::string gid = t.write("gid.tmj", R"({"width":1,"height":1,"tilewidth":3,"tileheight":5,"layers":[{"type":"tilelayer","width":1,"height":1,"data":[-1]}]})");
     EXPECT_EQ(error_of([&] { io::load_scene(gid); }), gid + ": layer '': \"data\" holds a value that is not a gid (a whole number 0..4294967295)");
 }
