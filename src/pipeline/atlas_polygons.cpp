@@ -26,14 +26,14 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
                         " (write JSON, or one plist per page)");
     // Every page is decoded and held: their total is checked on the
     // headers first (three pages naming one 16384^2 PNG are 3 GiB).
-    std::uint64_t decoded = 0;
+    std::uint64_t decoded_bytes = 0;
     for (const io::AtlasPage& p : atlas.pages) {
         int w = 0, h = 0;
         io::image_size(p.image_path, &w, &h);
-        decoded += std::uint64_t(w) * std::uint64_t(h) * 4;
-        if (decoded > limits::kMaxDecodedBytes)
+        decoded_bytes += std::uint64_t(w) * std::uint64_t(h) * 4;
+        if (decoded_bytes > limits::kMaxDecodedBytes)
             throw io::Error(path + ": page " + p.image_path + " (" + std::to_string(w) + "x" + std::to_string(h) + ") brings the decoded pages to " +
-                            std::to_string((decoded + (1 << 20) - 1) >> 20) + " MiB, over the limit of " +
+                            std::to_string((decoded_bytes + (1 << 20) - 1) >> 20) + " MiB, over the limit of " +
                             std::to_string(limits::kMaxDecodedBytes >> 20) + " MiB (kMaxDecodedBytes)");
     }
     result.pages.clear();
