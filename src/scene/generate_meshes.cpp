@@ -173,7 +173,8 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     }
 
     // Paper 2.3 ReconstructScene: graph, sort, depth values, meshes.
-    ElementShapes shapes = element_shapes(scene, analyses, options.opaque_polygons);
+    ElementShapes shapes = element_shapes(scene, analyses, options.opaque_polygons,
+                                          options.texel_margin > 0 && !(options.coverage_margin > 0));
     if (options.cull_to_viewport) cull_to_viewport(scene, shapes);
     std::vector<std::int32_t> keys = mesh_keys(scene);
     std::vector<std::int32_t> blend_keys = keys;

@@ -26,8 +26,12 @@ struct ElementShapes {
 
 bool element_is_valid(const Scene& scene, const Element& e);
 
-// Decides each element's shapes: see the rules in shapes.cpp.
-ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, bool opaque_pass);
+// Decides each element's shapes: see the rules in shapes.cpp. rect_edges:
+// the meshes are for a plain renderer with texel skirts (texel_margin > 0,
+// no coverage skirts), where some elements must draw overpaint's rect
+// edges (needs_rect_edges in shapes.cpp).
+ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, bool opaque_pass,
+                             bool rect_edges = false);
 
 // Marks elements whose rect lies entirely outside the viewport (by more
 // than a pixel, for float rounding) as drawing nothing.
