@@ -82,25 +82,17 @@ Shape boundary_shape(const Scene& scene, const Element& e, const ImageAnalysis* 
 // overpaint's quad, and a pixel centre within the snapping error of the
 // rect's edge may fall on either side of it: inside, overpaint shows the
 // rect's border texel; just outside, it shows the texel past the edge (the
-// next frame of an atlas page, or with clamping the border texel again).
-// The optimized meshes draw such a pixel alike only with an edge snapped
-// from the same two corners: a polygon edge along part of the rect's edge
-// snaps from other vertices, and the texel skirt stops at the rect (it
-// must: past it lie texels the analysis never saw). So an element whose
-// vertices GL snaps draws its whole rect in the blend pass, from
-// overpaint's own corners, when its polygons reach the rect's edge (a
-// non-transparent border texel) or when it is a frame of a larger page
-// (the texels past its edges are unknown here). Tiles (snaps_exactly)
-// and whole images with transparent borders keep their polygons.
-bool needs_rect_edges(const Scene& scene, const Element& e, const ImageAnalysis& a) {
-    if (snaps_exactly(e.transform)) return false;
-    const SceneImage& img = scene.images[std::size_t(e.image)];
-    if (e.rect.x != 0 || e.rect.y != 0 || e.rect.w != img.width || e.rect.h != img.height) return true;
-    const double x0 = e.rect.x, y0 = e.rect.y, x1 = double(e.rect.x) + e.rect.w, y1 = double(e.rect.y) + e.rect.h;
-    for (const Polygon& p : a.boundary)
-        for (const Vec2& v : p)
-            if (v.x <= x0 || v.y <= y0 || v.x >= x1 || v.y >= y1) return true;
-    return false;
+// next frame of an atlas page; past the image, clamping shows the border
+// texel again). The optimized meshes draw such a pixel alike only with an
+// edge snapped from the same two corners: a polygon edge along part of the
+// rect's edge snaps from other vertices, and the texel skirt stops at the
+// rect (it must: past it lie texels the analysis never saw). So an element
+// whose vertices GL snaps draws its whole rect in the blend pass, from
+// overpaint's own corners, when one of those texels is non-transparent
+// (ImageAnalysis::bleeding_edges). Tiles (snaps_exactly) and sprites with
+// a transparent border and ring keep their polygons.
+bool needs_rect_edges(const Element& e, const ImageAnalysis& a) {
+    return a.bleeding_edges && !snaps_exactly(e.transform);
 }
 
 } // namespace
@@ -117,7 +109,7 @@ ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAn
         const ImageAnalysis* a = i < analyses.size() ? analyses[i] : nullptr;
         s.boundary[i] = boundary_shape(scene, e, a);
         if (s.boundary[i] == Shape::none) continue;
-        if (rect_edges && s.boundary[i] == Shape::analysis && needs_rect_edges(scene, e, *a)) s.boundary[i] = Shape::rect;
+        if (rect_edges && s.boundary[i] == Shape::analysis && needs_rect_edges(e, *a)) s.boundary[i] = Shape::rect;
         if (opaque_pass) {
             if (e.blend == Blend::opaque) s.opaque[i] = Shape::rect;
             else if (e.blend == Blend::alpha && e.color[3] == 1.0f && whole_rect_opaque(scene, e, a)) {
