@@ -93,6 +93,10 @@ struct ImageAnalysis {
     std::vector<Polygon> boundary; // empty for a fully transparent rect
     std::vector<Polygon> opaque;
     ImageStats stats;
+    // edges_bleed(image, rect): a turned or scaled element then draws
+    // overpaint's rect edges (src/scene/shapes.cpp). Not cached: it
+    // depends on texels outside the rect, which the cache key leaves out.
+    bool bleeding_edges = false;
 
     friend bool operator==(const ImageAnalysis&, const ImageAnalysis&) = default;
 };
@@ -166,6 +170,14 @@ enum class AnalyzeStatus {
 // nothing). `out` is set only with AnalyzeStatus::ok.
 AnalyzeStatus analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options, std::uint64_t max_scratch_bytes,
                             ImageAnalysis& out);
+
+// True when a pixel centre within GL's snapping error of the rect's edge
+// may show a non-transparent texel in overpaint: one on the rect's border
+// (just inside), or one in the ring of texels just outside it (within the
+// image: an atlas page's next frame, which overpaint's quad shows where
+// its snapped edge passes a centre just outside the rect; past the image,
+// clamping shows the border texel again).
+bool edges_bleed(ImageView image, Rect rect);
 
 // ---- Analyzers and checkers (exact; used by tests and `analyze --check`).
 

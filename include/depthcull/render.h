@@ -261,8 +261,11 @@ SceneMeasurement measure_scene(GlRenderer& renderer, const Scene& scene, const s
 // Differing pixels whose centre lies on no texel edge of an element whose
 // rect holds it: differences rounding cannot explain. A pixel centre
 // exactly on a texel edge (within kTexelEdgeTolerance, the float rounding
-// of the element's map) may show the texel on either side, depending on
-// the last bits of the interpolated u, v of the triangle that covers it;
+// of the element's map, or a few ulps of GL's float interpolation of u, v
+// where that is more: it grows with the texel gradient times the pixel's
+// coordinates, and with the texture size) may show the texel on either
+// side, depending on the last bits of the interpolated u, v of the
+// triangle that covers it;
 // anywhere else a plain renderer must draw the optimized meshes exactly
 // like overpaint (ReconstructOptions::texel_margin).
 inline constexpr double kTexelEdgeTolerance = 1.0 / 65536;

@@ -36,6 +36,22 @@ TexelCounts count_texels(ImageView image, Rect rect) {
 
 } // namespace
 
+bool edges_bleed(ImageView image, Rect rect) {
+    if (rect.empty() || !image.contains(rect)) return false;
+    const int x0 = rect.x, y0 = rect.y, x1 = rect.x + rect.w - 1, y1 = rect.y + rect.h - 1; // inclusive
+    auto visible = [&](int x, int y) {
+        return x >= 0 && y >= 0 && x < image.width && y < image.height && !is_transparent(image.alpha(x, y));
+    };
+    // The rect's border (d = 0) and the ring around it (d = 1).
+    for (int d = 0; d <= 1; ++d) {
+        for (int x = x0 - d; x <= x1 + d; ++x)
+            if (visible(x, y0 - d) || visible(x, y1 + d)) return true;
+        for (int y = y0 - d; y <= y1 + d; ++y)
+            if (visible(x0 - d, y) || visible(x1 + d, y)) return true;
+    }
+    return false;
+}
+
 ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options) {
     ImageAnalysis result;
     result.rect = rect;
@@ -43,6 +59,7 @@ ImageAnalysis analyze_image(ImageView image, Rect rect, const AnalyzeOptions& op
 
     result.boundary = generate_boundary_polygons(image, rect, options.boundary, options.filter);
     result.opaque = generate_opaque_polygons(image, rect, options.opaque, options.filter);
+    result.bleeding_edges = edges_bleed(image, rect);
 
     TexelCounts counts = count_texels(image, rect);
     ImageStats& s = result.stats;

@@ -35,6 +35,9 @@ ImageAnalysis analyze_animation(const std::vector<ImageView>& images, const Anim
         for (Polygon& p : *polygons)
             for (Vec2& v : p) v = {v.x + dx, v.y + dy};
     a.rect = first.rect;
+    // The combined image has no neighbours: ask each frame's page.
+    a.bleeding_edges = false;
+    for (const AnimationFrame& f : animation.frames) a.bleeding_edges |= edges_bleed(images[std::size_t(f.image)], f.rect);
     return a;
 }
 

@@ -152,6 +152,7 @@ ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& o
     const io::CacheKey key = io::analysis_key(image, rect, options);
     if (auto cached = io::cache_load(cache_dir, key, rect)) {
         if (hit) *hit = true;
+        cached->bleeding_edges = edges_bleed(image, rect); // not cached (ImageAnalysis::bleeding_edges)
         return std::move(*cached);
     }
     ImageAnalysis analysis = analyze_within(image, rect, options, name, memory);

@@ -19,7 +19,20 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
-bool on_texel_edge(double t) { return std::abs(t - std::round(t)) <= kTexelEdgeTolerance; }
+bool on_texel_edge(double t, double tolerance) { return std::abs(t - std::round(t)) <= tolerance; }
+
+// How far (texels) GL's float interpolation of a plain renderer's u or v
+// may put a pixel centre from its exact texel position: a few ulps of the
+// terms it sums, which grow with the texel gradient (ux, uy per pixel)
+// times the coordinates (world positions in the vertex shader, window
+// positions in the interpolation) and with the texture size (u, v
+// normalized). At scale 0.3 a centre 1e-4 texel from a texel edge, 477
+// pixels in, may show the texel on either side, depending on which
+// triangle (overpaint's quad or a polygon's) covers it.
+double texel_edge_tolerance(double gradient_x, double gradient_y, double x, double y, double size) {
+    constexpr double ulps = 4.0 / 16777216; // 4 * 2^-24
+    return std::max(kTexelEdgeTolerance, ulps * (std::abs(gradient_x) * std::abs(x) + std::abs(gradient_y) * std::abs(y) + size));
+}
 
 void check(runtime::Status status, const runtime::Renderer& r, const char* what) {
     if (status != runtime::Status::ok) throw Error(std::string("runtime renderer: ") + what + ": " + r.error());
@@ -37,11 +50,16 @@ std::int64_t count_off_texel_edges(ImageView a, ImageView b, const Scene& scene)
             if (std::equal(a.texel(x, y), a.texel(x, y) + 4, b.texel(x, y))) continue;
             const double sx = scene.viewport.x + x + 0.5, sy = scene.viewport.y + y + 0.5;
             bool explained = false;
-            for (const TexelMap& t : maps) {
+            for (std::size_t k = 0; k < maps.size(); ++k) {
+                const TexelMap& t = maps[k];
                 const double u = t.u0 + t.ux * sx + t.uy * sy, v = t.v0 + t.vx * sx + t.vy * sy;
                 const double tol = kTexelEdgeTolerance;
                 if (u < t.rect.x - tol || v < t.rect.y - tol || u > t.rect.x + t.rect.w + tol || v > t.rect.y + t.rect.h + tol) continue;
-                if (on_texel_edge(u) || on_texel_edge(v)) {
+                const SceneImage& img = scene.images[std::size_t(scene.elements[k].image)];
+                // Coordinates: the larger of world and window, both summed by GL.
+                const double cx = std::max(std::abs(sx), double(a.width)), cy = std::max(std::abs(sy), double(a.height));
+                if (on_texel_edge(u, texel_edge_tolerance(t.ux, t.uy, cx, cy, img.width)) ||
+                    on_texel_edge(v, texel_edge_tolerance(t.vx, t.vy, cx, cy, img.height))) {
                     explained = true;
                     break;
                 }

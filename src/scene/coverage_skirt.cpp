@@ -46,8 +46,8 @@ double vertex_edge_distance(const std::vector<Screen>& p, const std::vector<Scre
 
 } // namespace
 
-void MeshBuilder::add_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z) {
-    if (!(margin_ > 0) || !std::isfinite(margin_)) return;
+std::vector<std::uint8_t> MeshBuilder::add_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z) {
+    if (!(margin_ > 0) || !std::isfinite(margin_)) return std::vector<std::uint8_t>(polygons.size(), 0);
     const Element& e = scene_.elements[element];
     const SceneImage& img = scene_.images[std::size_t(e.image)];
     const TexelMap map = texel_map(e);
@@ -85,6 +85,7 @@ void MeshBuilder::add_skirts(Draw& d, std::uint32_t element, const std::vector<P
         const std::size_t n = p.size();
         double area = 0;
         for (std::size_t i = 0; i < n; ++i) area += p[i].x * p[(i + 1) % n].y - p[(i + 1) % n].x * p[i].y;
+        grow[k] = 0;
         if (!(area != 0)) continue;
         const double side = area > 0 ? 1 : -1;
         // Outward unit normal of edge i (p[i] -> p[i+1]); zero for a
@@ -113,6 +114,7 @@ void MeshBuilder::add_skirts(Draw& d, std::uint32_t element, const std::vector<P
             miter[i] = {margin_ * (n1.x + n2.x) / (1 + dot), margin_ * (n1.y + n2.y) / (1 + dot)};
         }
         if (sharp) continue;
+        grow[k] = 1;
         for (std::size_t i = 0; i < n; ++i) {
             const std::size_t j = (i + 1) % n;
             const Screen a = p[i], b = p[j], m = normal[i];
@@ -146,6 +148,7 @@ void MeshBuilder::add_skirts(Draw& d, std::uint32_t element, const std::vector<P
             }
         }
     }
+    return grow;
 }
 
 } // namespace depthcull::detail

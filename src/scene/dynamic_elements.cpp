@@ -38,7 +38,7 @@ ReconstructStatus add_dynamic_elements(const SceneMeshes& static_meshes, const S
         if (!element_is_valid(dynamic, e)) return ReconstructStatus::invalid_scene;
         if (!analyses[i] && e.blend != Blend::opaque && e.blend != Blend::multiply) return ReconstructStatus::invalid_scene;
     }
-    ElementShapes shapes = element_shapes(dynamic, analyses, static_meshes.depth_test);
+    ElementShapes shapes = element_shapes(dynamic, analyses, static_meshes.depth_test, true); // kTexelMargin, no coverage skirts
     std::vector<std::int32_t> keys = mesh_keys(dynamic);
     std::vector<std::int64_t> levels(elements.size());
     std::vector<std::uint32_t> order;

@@ -44,8 +44,13 @@ void MeshBuilder::add_boundary(Draw& d, std::uint32_t element, Shape shape, cons
         if (it == triangulated_.end()) it = triangulated_.emplace(&p, triangulate_polygon(p)).first;
         add_polygon(d, element, p, it->second, z);
     }
-    if (margin_ > 0 && blend != Blend::opaque) add_skirts(d, element, a->boundary, z);
-    if (blend != Blend::opaque) add_texel_skirts(d, element, a->boundary, z);
+    if (blend == Blend::opaque) return;
+    // A polygon with a coverage skirt gets no texel skirt: stacked, the
+    // two overlap outside the polygon, and a pixel that snaps into both
+    // while its texel lies inside the rect but past a texel skirt's clip
+    // (or any pixel, once the rect test passes it) would blend twice.
+    const std::vector<std::uint8_t> skirted = add_skirts(d, element, a->boundary, z);
+    add_texel_skirts(d, element, a->boundary, z, &skirted);
 }
 
 void MeshBuilder::add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z) {
@@ -60,7 +65,7 @@ void MeshBuilder::add_opaque(Draw& d, std::uint32_t element, Shape shape, const 
     // zero-area fan triangles (collinear vertices) are skipped, exactly.
     std::vector<std::uint32_t> fan;
     for (const Polygon& original : a->opaque) {
-        const Polygon p = pull_inward(original);
+        const Polygon p = pull_inward(element, original);
         fan.clear();
         for (std::uint32_t k = 1; k + 1 < p.size(); ++k)
             if (orient(p[0], p[k], p[k + 1]) != 0) fan.insert(fan.end(), {0, k, k + 1});
@@ -168,7 +173,8 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     }
 
     // Paper 2.3 ReconstructScene: graph, sort, depth values, meshes.
-    ElementShapes shapes = element_shapes(scene, analyses, options.opaque_polygons);
+    ElementShapes shapes = element_shapes(scene, analyses, options.opaque_polygons,
+                                          options.texel_margin > 0 && !(options.coverage_margin > 0));
     if (options.cull_to_viewport) cull_to_viewport(scene, shapes);
     std::vector<std::int32_t> keys = mesh_keys(scene);
     std::vector<std::int32_t> blend_keys = keys;

@@ -26,8 +26,12 @@ struct ElementShapes {
 
 bool element_is_valid(const Scene& scene, const Element& e);
 
-// Decides each element's shapes: see the rules in shapes.cpp.
-ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, bool opaque_pass);
+// Decides each element's shapes: see the rules in shapes.cpp. rect_edges:
+// the meshes are for a plain renderer with texel skirts (texel_margin > 0,
+// no coverage skirts), where some elements must draw overpaint's rect
+// edges (needs_rect_edges in shapes.cpp).
+ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, bool opaque_pass,
+                             bool rect_edges = false);
 
 // Marks elements whose rect lies entirely outside the viewport (by more
 // than a pixel, for float rounding) as drawing nothing.
@@ -82,13 +86,19 @@ public:
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
 
     // ReconstructOptions::coverage_margin: a skirt around `polygons` (of
-    // `element`, texel space) when the margin is positive.
-    void add_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z);
+    // `element`, texel space) when the margin is positive. Returns, per
+    // polygon, whether it got one.
+    std::vector<std::uint8_t> add_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z);
 
     // ReconstructOptions::texel_margin (texel_margin.cpp): a skirt around
-    // boundary polygons, clipped to the rect; opaque polygons pulled in.
-    void add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z);
-    Polygon pull_inward(const Polygon& p) const;
+    // boundary polygons, clipped to the rect, but none around a polygon
+    // marked in `skirted` (it has a coverage skirt); opaque polygons pulled in.
+    void add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z,
+                          const std::vector<std::uint8_t>* skirted = nullptr);
+    Polygon pull_inward(std::uint32_t element, const Polygon& p) const;
+    // The texel margin for `element`: texel_margin_, grown where the
+    // element is scaled below 1/8 (texel_margin.cpp).
+    double element_texel_margin(std::uint32_t element) const;
 
 private:
     void add_convex_piece(Draw& d, std::uint32_t element, const Polygon& piece, float z);

@@ -124,8 +124,24 @@ void MeshBuilder::add_convex_piece(Draw& d, std::uint32_t element, const Polygon
     if (!fan_.empty()) add_polygon(d, element, p, fan_, z);
 }
 
-void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z) {
+// Below a scale of 1/8 a fixed margin in texels shrinks under the
+// snapping error on screen: the margin grows there so that it stays
+// 1/256 pixel along the element's most shrunk direction (its smallest
+// singular value), up to half a texel, where a skirt or a pulled-in edge
+// would reach the next texel edge.
+double MeshBuilder::element_texel_margin(std::uint32_t element) const {
     const double m = texel_margin_;
+    if (!(m > 0) || !std::isfinite(m)) return m;
+    const auto& t = scene_.elements[element].transform;
+    const double sum = t[0] * t[0] + t[1] * t[1] + t[2] * t[2] + t[3] * t[3], det = t[0] * t[3] - t[1] * t[2];
+    const double smallest = std::sqrt(std::max(0.0, (sum - std::sqrt(std::max(0.0, sum * sum - 4 * det * det))) / 2));
+    if (!(smallest > 0) || !std::isfinite(smallest)) return m;
+    return std::max(m, std::min(0.5, (1.0 / 256) / smallest));
+}
+
+void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z,
+                                   const std::vector<std::uint8_t>* skirted) {
+    const double m = element_texel_margin(element);
     if (!(m > 0) || !std::isfinite(m) || snaps_exactly(scene_.elements[element].transform)) return;
     // Polygons (or parts of one) closer than the skirt reaches would get
     // each other's skirt over their inside texels, blending those twice:
@@ -141,7 +157,7 @@ void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::ve
         }
     }
     for (std::size_t k = 0; k < polygons.size(); ++k) {
-        if (!grow[k]) continue;
+        if (!grow[k] || (skirted && k < skirted->size() && (*skirted)[k])) continue;
         const Polygon& p = polygons[k];
         const std::size_t n = p.size();
         std::vector<Vec2> normal(n);
@@ -186,8 +202,8 @@ void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::ve
     }
 }
 
-Polygon MeshBuilder::pull_inward(const Polygon& p) const {
-    const double m = texel_margin_;
+Polygon MeshBuilder::pull_inward(std::uint32_t element, const Polygon& p) const {
+    const double m = element_texel_margin(element);
     if (!(m > 0) || p.size() < 3) return p;
     const std::size_t n = p.size();
     // Each edge's line moved m inward; consecutive lines meet at the new

@@ -6,6 +6,7 @@
 // (render::count_off_texel_edges tells them apart: the exact texel
 // position of the centre, from the element's map, is integral).
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <random>
 
@@ -116,6 +117,128 @@ TEST_P(PixelIdentity, EveryCorpusCamera) {
         }
     }
     std::printf("%d corpus cameras\n", cameras);
+}
+
+// Analyses one per element, as the pipeline gives them.
+SceneAnalysis analyse_each(const test::RenderScene& rs) {
+    SceneAnalysis analysis;
+    for (const Element& e : rs.scene.elements) {
+        analysis.of_element.push_back(std::uint32_t(analysis.images.size()));
+        analysis.images.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, {}));
+    }
+    return analysis;
+}
+
+// As expect_identical, for rapidcheck: the runtime's frames of meshes only
+// and optimized differ from its overpaint frame at most where a pixel
+// centre lies exactly on a texel edge.
+void assert_identical(render::GlApi api, const test::RenderScene& rs) {
+    std::string why;
+    test::RuntimeHost* h = test::RuntimeHost::get(api, &why);
+    if (!h) {
+        RC_SUCCEED("no GL host: " + why); // PixelIdentity.BundledExample reports it
+        return;
+    }
+    render::MeasureOptions options;
+    options.frames = 0;
+    options.keep_frames = true;
+    const render::RuntimeMeasurement m = render::measure_runtime(*h->host, rs.scene, rs.views(), analyse_each(rs), options);
+    for (const auto& mode : m.modes) {
+        RC_LOG() << render::mode_name(mode.mode) << ": " << mode.diff.pixels_differ << " pixels differ, " << mode.off_texel_edges
+                 << " off texel edges\n";
+        const ImageView a = m.modes[0].frame.view(), b = mode.frame.view();
+        int shown = 0;
+        for (int y = 0; y < a.height && mode.off_texel_edges && shown < 8; ++y)
+            for (int x = 0; x < a.width && shown < 8; ++x)
+                if (!std::equal(a.texel(x, y), a.texel(x, y) + 4, b.texel(x, y))) {
+                    RC_LOG() << "  pixel " << x << "," << y << ": alpha " << int(a.texel(x, y)[3]) << " in overpaint, "
+                             << int(b.texel(x, y)[3]) << " here\n";
+                    ++shown;
+                }
+        RC_ASSERT(mode.off_texel_edges == 0);
+    }
+}
+
+// The sprites PixelIdentity.RandomScenes draws, and an atlas page of two
+// frames with no gap between them (the next frame's texels lie right
+// past a frame's rect edge, as in a tileset).
+test::RenderScene turned_scene_images() {
+    test::RenderScene rs;
+    rs.scene.viewport = {-8, 4, 120, 90};
+    rs.add_image(test::test_sprite(), {});
+    rs.add_image(test::ascii_image({"..++++..", ".+####+.", "+######+", "+######+", ".+####+.", "..++++.."}), {});
+    rs.add_image(test::ascii_image({
+                     "########++++++++",
+                     "#......#+##..##+",
+                     "#.####.#+#....#+",
+                     "#.####.#+#....#+",
+                     "#......#+##..##+",
+                     "########++++++++",
+                 }),
+                 {});
+    return rs;
+}
+
+Element& add_turned(test::RenderScene& rs, std::array<double, 6> m) {
+    const int image = *rc::gen::inRange(0, 3);
+    const Blend blend = *rc::gen::element(Blend::alpha, Blend::alpha, Blend::add, Blend::multiply, Blend::opaque);
+    const std::array<float, 4> color = *rc::gen::element(std::array<float, 4>{1, 1, 1, 1}, std::array<float, 4>{1, 1, 1, 0.5f},
+                                                         std::array<float, 4>{0.5f, 1, 0.75f, 1});
+    Element& e = rs.add(image, m, blend, color);
+    if (image == 2) e.rect = *rc::gen::element(Rect{0, 0, 8, 6}, Rect{8, 0, 8, 6});
+    return e;
+}
+
+// Issue 21 point 3 in a plain renderer: most sprites scaled down (0.1 ..
+// 3) and turned by arbitrary angles at arbitrary positions.
+void turned_sprites(render::GlApi api) {
+    test::RenderScene rs = turned_scene_images();
+    const int count = *rc::gen::inRange(10, 40);
+    for (int i = 0; i < count; ++i) {
+        const double scale = *rc::gen::inRange(100, 3001) / 1000.0;
+        const double degrees = *rc::gen::inRange(0, 36000) / 100.0;
+        const double x = *rc::gen::inRange(-10000, 110000) / 1000.0, y = *rc::gen::inRange(0, 90000) / 1000.0;
+        auto m = test::rotation(degrees, x, y, scale);
+        if (*rc::gen::inRange(0, 4) == 0) m[0] = -m[0], m[1] = -m[1];
+        add_turned(rs, m);
+    }
+    assert_identical(api, rs);
+}
+
+RC_GTEST_PROP(PixelIdentity, TurnedSpritesScaledDownAndUpGl33, ()) { turned_sprites(render::GlApi::desktop); }
+RC_GTEST_PROP(PixelIdentity, TurnedSpritesScaledDownAndUpEs30, ()) { turned_sprites(render::GlApi::gles); }
+
+// Issue 21 point 2: tile objects as Tiled places them. An object at (x,
+// y) (fractional) with size w x h shows its tile scaled to that size,
+// flipped by its gid's flags, its bottom-left corner at (x, y) and turned
+// about it by `rotation` degrees (clockwise, y down), all moved by its
+// layer's offset (fractional too). Tiles of one tileset are frames of one
+// page with no gap between them.
+RC_GTEST_PROP(PixelIdentity, TiledObjectsTurnedFlippedScaledUnderLayerOffsets, ()) {
+    test::RenderScene rs = turned_scene_images();
+    const int layers = *rc::gen::inRange(1, 4);
+    for (int l = 0; l < layers; ++l) {
+        const double ox = *rc::gen::inRange(-4000, 4001) / 1000.0, oy = *rc::gen::inRange(-4000, 4001) / 1000.0;
+        const int count = *rc::gen::inRange(3, 15);
+        for (int i = 0; i < count; ++i) {
+            const double x = *rc::gen::inRange(-4000, 100000) / 1000.0 + ox, y = *rc::gen::inRange(0, 90000) / 1000.0 + oy;
+            const double sx = *rc::gen::element(1.0, 1.0, 0.5, 2.0, *rc::gen::inRange(100, 3001) / 1000.0);
+            const double sy = *rc::gen::element(sx, sx, *rc::gen::inRange(100, 3001) / 1000.0);
+            const double degrees = *rc::gen::element(0.0, 90.0, 180.0, 270.0, *rc::gen::inRange(-36000, 36000) / 100.0);
+            const bool flip_x = *rc::gen::arbitrary<bool>(), flip_y = *rc::gen::inRange(0, 4) == 0;
+            // Placed below, once the tile's size is known.
+            Element& e = add_turned(rs, {1, 0, 0, 1, 0, 0});
+            const double w = e.rect.w * sx, h = e.rect.h * sy;
+            const double r = degrees * 3.14159265358979323846 / 180, c = std::cos(r), s = std::sin(r);
+            // Local (u, v) in texels: flipped within the tile, scaled, then
+            // (0, -h) from the turning point, turned, moved to (x, y).
+            const double a = flip_x ? -sx : sx, ax = flip_x ? w : 0;
+            const double d = flip_y ? -sy : sy, dy = (flip_y ? h : 0) - h;
+            e.transform = {c * a, s * a, -s * d, c * d, x + c * ax - s * dy, y + s * ax + c * dy};
+        }
+    }
+    assert_identical(render::GlApi::desktop, rs);
+    assert_identical(render::GlApi::gles, rs);
 }
 
 INSTANTIATE_TEST_SUITE_P(Targets, PixelIdentity, testing::Values(render::GlApi::desktop, render::GlApi::gles),
