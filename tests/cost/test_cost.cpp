@@ -111,7 +111,7 @@ TEST(Features, CountsPassesAndRejection) {
 // One rasterizer (issue 22): the model counts the fragments the overdraw
 // analyzer counts, GL's 1/256-pixel vertex snapping and fill rule
 // included, on triangles placed off the pixel grid and overlapping at
-// several depths.
+// several depths (the model's own float scan, before, missed the sliver).
 TEST(Features, FragmentsAreTheOverdrawAnalyzers) {
     SceneMeshes m;
     m.viewport = {0, 0, 40, 40};
@@ -126,6 +126,16 @@ TEST(Features, FragmentsAreTheOverdrawAnalyzers) {
         for (int v = 0; v < 3; ++v)
             d.vertices.insert(d.vertices.end(), {float(coord(rng)) / 1000.0f, float(coord(rng)) / 1000.0f, z, 0, 0, 1, 1, 1, 1});
         d.indices = {0, 1, 2};
+        m.draws.push_back(d);
+    }
+    {
+        // A rect whose left edge GL snaps from x = 10.501 onto the pixel
+        // centres at 10.5, which its fill rule then keeps: 16 fragments,
+        // not the 12 a float scan of x >= 10.501 finds.
+        Draw d;
+        for (auto [x, y] : {std::pair{10.501f, 0.0f}, std::pair{14.0f, 0.0f}, std::pair{14.0f, 4.0f}, std::pair{10.501f, 4.0f}})
+            d.vertices.insert(d.vertices.end(), {x, y, 0.9f, 0, 0, 1, 1, 1, 1});
+        d.indices = {0, 1, 2, 0, 2, 3};
         m.draws.push_back(d);
     }
     const OverdrawStats s = analyze_overdraw(m);
