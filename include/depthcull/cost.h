@@ -54,8 +54,9 @@ struct FrameFeatures {
     std::int64_t rejected_fragments = 0; // either pass: fragments the depth test rejected
 };
 
-// Counts the features of `meshes` by rasterizing them on the CPU (pixel
-// centres, the depth test GREATER from 0 as depthcull::runtime draws).
+// Counts the features of `meshes` by rasterizing them with analyze_overdraw
+// (depthcull/overdraw.h: GL's fill rule, 24-bit depth, GREATER from 0 as
+// depthcull::runtime draws), the rasterizer the overdraw figures come from.
 FrameFeatures frame_features(const SceneMeshes& meshes);
 
 // Predicted milliseconds per frame, and the same split by term.

@@ -28,6 +28,7 @@ struct OverdrawStats {
     std::int64_t pixels = 0;     // viewport pixels
     std::int64_t shaded = 0;     // fragments that passed the depth test
     std::int64_t rasterized = 0; // fragments the triangles cover, before the depth test
+    std::int64_t shaded_opaque = 0; // of shaded, those of Pass::opaque draws (the cost model prices them apart)
     double overdraw() const { return pixels ? double(shaded) / double(pixels) : 0.0; }
 };
 

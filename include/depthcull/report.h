@@ -7,7 +7,8 @@
 // `bench --report` (images embedded as data: URIs). Text in PNGs uses a
 // built-in 5x7 bitmap font, so no font library is needed. Nothing here
 // touches the file system or GL: callers pass what they measured and write
-// what they get back.
+// what they get back. The drawing surface they are made on is internal
+// (src/report/canvas.h).
 #pragma once
 
 #include <cstdint>
@@ -24,34 +25,6 @@ namespace depthcull::report {
 struct Rgba {
     std::uint8_t r = 0, g = 0, b = 0, a = 255;
 };
-
-// ---- Drawing
-
-// An RGBA picture with alpha-blended drawing (source over) and 5x7 text.
-class Canvas {
-public:
-    Canvas(int width, int height, Rgba background);
-    int width() const { return image_.width; }
-    int height() const { return image_.height; }
-    void blend(int x, int y, Rgba c);
-    void fill_rect(int x, int y, int w, int h, Rgba c);
-    // A line `thickness` pixels wide between pixel-space points.
-    void line(Vec2 a, Vec2 b, Rgba c, double thickness = 1.0);
-    // Closed outline, and interior filled by pixel centres (even-odd).
-    void outline(const std::vector<Vec2>& points, Rgba c, double thickness = 1.0);
-    void fill_polygon(const std::vector<Vec2>& points, Rgba c);
-    // Text at (x, y) (top-left), each font pixel scale x scale; characters
-    // outside printable ASCII draw as '?'.
-    void text(int x, int y, std::string_view s, Rgba c, int scale = 1);
-    const Image& image() const { return image_; }
-    Image take() { return std::move(image_); }
-
-private:
-    Image image_;
-};
-
-inline constexpr int kGlyphWidth = 5, kGlyphHeight = 7, kGlyphAdvance = 6, kLineAdvance = 9;
-int text_width(std::string_view s, int scale = 1);
 
 // ---- Polygon previews
 

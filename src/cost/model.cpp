@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "depthcull/cost.h"
+#include "depthcull/overdraw.h"
 
 namespace depthcull {
 
@@ -96,57 +97,19 @@ bool profile_is_complete(const CostProfile& p, std::string* what) {
 
 // ---- Features
 
-namespace {
-
-struct Raster {
-    int width = 0, height = 0;
-    std::vector<float> depth;
-};
-
-// Pixel centres (x + 0.5, y + 0.5) inside the triangle, row by row: the
-// span of each row from the triangle's edges, half-open like GL's fill
-// rule (ties differ from GL's in the last bits, which the model ignores).
-template <class F>
-void scan_triangle(const double* x, const double* y, int width, int height, F&& fragment) {
-    const double ymin = std::min({y[0], y[1], y[2]}), ymax = std::max({y[0], y[1], y[2]});
-    int r0 = std::max(0, int(std::ceil(ymin - 0.5))), r1 = std::min(height - 1, int(std::ceil(ymax - 0.5)) - 1);
-    for (int r = r0; r <= r1; ++r) {
-        const double yc = r + 0.5;
-        double lo = INFINITY, hi = -INFINITY;
-        for (int k = 0; k < 3; ++k) {
-            const int l = (k + 1) % 3;
-            const double ya = y[k], yb = y[l];
-            if ((ya <= yc && yb > yc) || (yb <= yc && ya > yc)) {
-                const double t = (yc - ya) / (yb - ya);
-                const double xi = x[k] + t * (x[l] - x[k]);
-                lo = std::min(lo, xi), hi = std::max(hi, xi);
-            }
-        }
-        if (!(hi > lo)) continue;
-        const int c0 = std::max(0, int(std::ceil(lo - 0.5))), c1 = std::min(width - 1, int(std::ceil(hi - 0.5)) - 1);
-        for (int c = c0; c <= c1; ++c) fragment(c, r);
-    }
-}
-
-} // namespace
-
 FrameFeatures frame_features(const SceneMeshes& meshes) {
     FrameFeatures f;
     const Viewport& vp = meshes.viewport;
-    const int w = std::max(0, vp.width), h = std::max(0, vp.height);
-    f.pixels = std::int64_t(w) * h;
+    f.pixels = std::int64_t(std::max(0, vp.width)) * std::max(0, vp.height);
     f.depth_clear = meshes.depth_test;
-    std::vector<float> depth(meshes.depth_test ? std::size_t(f.pixels) : 0, 0.0f);
     int last_image = -1;
     for (const Draw& d : meshes.draws) {
         if (d.indices.empty()) continue;
         ++f.draw_calls;
         if (d.image != last_image) ++f.texture_switches;
         last_image = d.image;
-        const bool opaque = d.pass == Pass::opaque;
         for (std::size_t t = 0; t + 2 < d.indices.size(); t += 3) {
             double x[3], y[3];
-            float z = 0;
             bool ok = true;
             for (int k = 0; k < 3; ++k) {
                 const std::size_t v = std::size_t(d.indices[t + std::size_t(k)]) * kVertexFloats;
@@ -156,27 +119,21 @@ FrameFeatures frame_features(const SceneMeshes& meshes) {
                 }
                 x[k] = double(d.vertices[v]) - vp.x;
                 y[k] = double(d.vertices[v + 1]) - vp.y;
-                z = d.vertices[v + 2]; // one z per element: any vertex's
             }
             if (!ok) continue;
             ++f.triangles;
             for (int k = 0; k < 3; ++k) f.triangle_perimeter += std::hypot(x[(k + 1) % 3] - x[k], y[(k + 1) % 3] - y[k]);
-            if (!meshes.depth_test) {
-                scan_triangle(x, y, w, h, [&](int, int) { ++f.blend_fragments; });
-                continue;
-            }
-            scan_triangle(x, y, w, h, [&](int c, int r) {
-                float& dz = depth[std::size_t(r) * std::size_t(w) + std::size_t(c)];
-                if (!(z > dz)) {
-                    ++f.rejected_fragments;
-                } else if (opaque) {
-                    ++f.opaque_fragments;
-                    dz = z;
-                } else {
-                    ++f.blend_fragments;
-                }
-            });
         }
+    }
+    // Fragments as GL counts them: the overdraw analyzer's rasterizer (one
+    // for the whole library), pixel centres, GL's fill rule, 24-bit depth.
+    const OverdrawStats s = analyze_overdraw(meshes);
+    if (meshes.depth_test) {
+        f.opaque_fragments = s.shaded_opaque;
+        f.blend_fragments = s.shaded - s.shaded_opaque;
+        f.rejected_fragments = s.rasterized - s.shaded;
+    } else {
+        f.blend_fragments = s.shaded; // without a depth buffer every fragment blends
     }
     return f;
 }

@@ -14,15 +14,6 @@
 
 namespace depthcull::render {
 
-std::string Gl::load() {
-#define DEPTHCULL_GL_LOAD(type, name)                                                                                      \
-    name = reinterpret_cast<type>(eglGetProcAddress("gl" #name));                                                          \
-    if (!name) return "gl" #name;
-    DEPTHCULL_GL_FUNCTIONS(DEPTHCULL_GL_LOAD)
-#undef DEPTHCULL_GL_LOAD
-    return {};
-}
-
 void GlContext::destroy() {
     if (display == EGL_NO_DISPLAY) return;
     eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);

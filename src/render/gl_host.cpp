@@ -1,48 +1,15 @@
 // GlHost: the host side of depthcull::runtime without a window, an EGL
-// context and an offscreen framebuffer. It loads only what a host needs
-// (framebuffer objects, read-back): the runtime loads its own functions
-// through get_proc_address, as it would from an engine.
+// context and an offscreen framebuffer; GlRenderer draws into one too.
+// Its GL functions are runtime's table with the host's (framebuffer
+// objects, read-back) required; the runtime loads its own through
+// get_proc_address, as it would from an engine.
 #include "render/gl.h"
 
 namespace depthcull::render {
 
-namespace {
-
-#define DEPTHCULL_HOST_GL(X)                                                                                               \
-    X(PFNGLGETSTRINGPROC, GetString)                                                                                       \
-    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                                                   \
-    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                                           \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                                                     \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                                           \
-    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                                                                         \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                                                   \
-    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                                                         \
-    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                                                                   \
-    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                                                           \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                                                             \
-    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                                                   \
-    X(PFNGLREADPIXELSPROC, ReadPixels)                                                                                     \
-    X(PFNGLFINISHPROC, Finish)
-
-struct HostGl {
-#define DEPTHCULL_HOST_MEMBER(type, name) type name = nullptr;
-    DEPTHCULL_HOST_GL(DEPTHCULL_HOST_MEMBER)
-#undef DEPTHCULL_HOST_MEMBER
-    std::string load() {
-#define DEPTHCULL_HOST_LOAD(type, name)                                                                                    \
-    name = reinterpret_cast<type>(eglGetProcAddress("gl" #name));                                                          \
-    if (!name) return "gl" #name;
-        DEPTHCULL_HOST_GL(DEPTHCULL_HOST_LOAD)
-#undef DEPTHCULL_HOST_LOAD
-        return {};
-    }
-};
-
-} // namespace
-
 struct GlHost::Impl {
     GlContext context;
-    HostGl gl;
+    runtime::GlFunctions gl;
     std::string description;
     bool software = false;
     GLuint framebuffer = 0, color = 0, depth = 0;
@@ -74,17 +41,14 @@ std::unique_ptr<GlHost> GlHost::create(const GlOptions& options, GlApi api, std:
     impl->context.gles = api == GlApi::gles;
     std::string why = create_gl_context(options.platform, &impl->context);
     if (why.empty()) {
-        std::string missing = impl->gl.load();
+        std::string missing = impl->gl.load(&GlHost::get_proc_address, true);
         if (!missing.empty()) why = impl->context.platform + ": GL lacks " + missing;
     }
     if (!why.empty()) {
         if (error) *error = "no OpenGL context: " + why;
         return nullptr;
     }
-    auto text = [&](GLenum name) {
-        const GLubyte* s = impl->gl.GetString(name);
-        return s ? std::string(reinterpret_cast<const char*>(s)) : std::string("?");
-    };
+    auto text = [&](GLenum name) { return runtime::gl_text(impl->gl, name); };
     const std::string renderer = text(GL_RENDERER);
     impl->description = renderer + ", " + (api == GlApi::gles ? "" : "OpenGL ") + text(GL_VERSION) + ", " + impl->context.platform;
     impl->software = renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
@@ -101,7 +65,7 @@ void GlHost::finish() { impl_->gl.Finish(); }
 void GlHost::bind_framebuffer(int w, int h) {
     Impl& r = *impl_;
     r.make_current();
-    HostGl& gl = r.gl;
+    runtime::GlFunctions& gl = r.gl;
     if (w != r.width || h != r.height || !r.framebuffer) {
         GLint max_size = 0;
         gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);

@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "render/gl.h"
+#include "runtime/shaders.h"
 
 namespace depthcull::render {
 
@@ -34,7 +35,7 @@ namespace {
 // at each pixel: the texel a pixel shows does not depend on how its element
 // was triangulated. Meshes without element maps get each triangle's map
 // solved from its float vertices, which agree only to about 1e-4 texel.
-const char* const kVertexShader = R"(#version 330 core
+const char* const kVertexShader = R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec4 a_color;
 layout(location = 2) in vec2 a_texel_origin;
@@ -56,7 +57,8 @@ void main() {
 )";
 
 // No discard anywhere: it would switch off early depth rejection, the
-// whole point of the opaque pass. Texels are not premultiplied. Nearest
+// whole point of the opaque pass. Texels are not premultiplied (the blend
+// tail, runtime/shaders.h, says what each Blend does with them). Nearest
 // sampling fetches floor(texel position), as GL_NEAREST does.
 //
 // The rect test: a texel position outside the element's rect (x0, y0, x1,
@@ -69,7 +71,7 @@ void main() {
 // fragment that changes nothing. Blend opaque elements draw the same rect
 // quad in every mode (so the same coverage) and keep no test: with
 // blending off alpha 0 would not be a no-op.
-const char* const kFragmentShader = R"(#version 330 core
+const char* const kFragmentShader = R"(
 uniform sampler2D u_texture;
 uniform int u_nearest;
 flat in vec2 v_texel_origin;
@@ -107,32 +109,24 @@ void main() {
 #if !defined(BLEND_OPAQUE)
     if (any(lessThan(cell, v_texel_rect.xy)) || any(greaterThanEqual(cell, v_texel_rect.zw))) c = vec4(0.0);
 #endif
-#if defined(BLEND_MULTIPLY)
-    // DST_COLOR, ONE_MINUS_SRC_ALPHA: a transparent texel leaves the frame as it is.
-    c.rgb *= c.a;
-#elif defined(BLEND_OPAQUE)
-    c.a = 1.0;
-#endif
-    o_color = c;
-}
-)";
+)"; // runtime's kBlendTail ends it, as it ends the runtime's shader
 
 // Per GL vertex: position (3), colour (4), texel map origin (2), axes (4)
 // and rect (4).
 constexpr int kGlVertexFloats = 17;
 
-constexpr int kBlendCount = 4;
+using runtime::kBlendCount;
 
 } // namespace
 
 struct GlRenderer::Impl {
-    GlContext context;
-    Gl gl;
-    std::string description;
-    bool software = false;
+    // The context and the framebuffer (RGBA8 + DEPTH_COMPONENT24, read
+    // back row 0 first) are a GlHost's; the GL functions, blend states and
+    // shader tail runtime's. Declared first, so destroyed last.
+    std::unique_ptr<GlHost> host;
+    runtime::GlFunctions gl;
     GLuint programs[kBlendCount] = {};
     GLint origin_location[kBlendCount] = {}, scale_location[kBlendCount] = {}, nearest_location[kBlendCount] = {};
-    GLuint framebuffer = 0, color_buffer = 0, depth_buffer = 0;
     GLuint query = 0;
     std::vector<GLuint> textures;
     std::vector<std::pair<int, int>> texture_sizes;
@@ -162,11 +156,7 @@ struct GlRenderer::Impl {
 
     // EGL contexts are current per thread; several renderers on one thread
     // (tests compare platforms) each make theirs current before GL calls.
-    void make_current() {
-        eglBindAPI(EGL_OPENGL_API); // a GlHost on this thread may have bound ES
-        if (eglGetCurrentContext() != context.context)
-            eglMakeCurrent(context.display, EGL_NO_SURFACE, EGL_NO_SURFACE, context.context);
-    }
+    void make_current() { host->make_current(); }
 
     void clear_sets() {
         for (MeshSet& m : sets) {
@@ -178,118 +168,43 @@ struct GlRenderer::Impl {
     }
 
     ~Impl() {
-        if (context.context != EGL_NO_CONTEXT && gl.DeleteProgram) {
+        if (host && gl.DeleteProgram) {
             make_current();
             for (GLuint p : programs) gl.DeleteProgram(p);
             gl.DeleteTextures(GLsizei(textures.size()), textures.data());
             clear_sets();
-            gl.DeleteFramebuffers(1, &framebuffer);
-            gl.DeleteRenderbuffers(1, &color_buffer);
-            gl.DeleteRenderbuffers(1, &depth_buffer);
             gl.DeleteQueries(1, &query);
         }
-        context.destroy();
     }
 
-    GLuint compile(GLenum type, const std::string& source) {
-        GLuint shader = gl.CreateShader(type);
-        const char* text = source.c_str();
-        gl.ShaderSource(shader, 1, &text, nullptr);
-        gl.CompileShader(shader);
-        GLint ok = 0;
-        gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-        if (!ok) {
-            char log[512] = {};
-            gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
-            gl.DeleteShader(shader);
-            for (char& c : log)
-                if (c == '\n') c = ' ';
-            throw Error(std::string("GL shader does not compile: ") + log);
-        }
-        return shader;
-    }
-
-    void build_programs() {
-        static const char* const defines[kBlendCount] = {"", "", "#define BLEND_MULTIPLY 1\n", "#define BLEND_OPAQUE 1\n"};
-        std::string fragment_tail = std::strchr(kFragmentShader, '\n') + 1;
+    std::string build_programs() {
+        if (std::string why = runtime::build_blend_programs(gl, runtime::kDesktopHeader, kVertexShader, kFragmentShader, programs);
+            !why.empty())
+            return "GL " + why;
         for (int b = 0; b < kBlendCount; ++b) {
-            GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-            GLuint fs = compile(GL_FRAGMENT_SHADER, std::string("#version 330 core\n") + defines[b] + fragment_tail);
-            GLuint program = gl.CreateProgram();
-            gl.AttachShader(program, vs);
-            gl.AttachShader(program, fs);
-            gl.LinkProgram(program);
-            gl.DeleteShader(vs);
-            gl.DeleteShader(fs);
-            GLint ok = 0;
-            gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
-            if (!ok) throw Error("GL program does not link");
-            programs[b] = program;
-            origin_location[b] = gl.GetUniformLocation(program, "u_origin");
-            scale_location[b] = gl.GetUniformLocation(program, "u_scale");
-            nearest_location[b] = gl.GetUniformLocation(program, "u_nearest");
-            gl.UseProgram(program);
-            gl.Uniform1i(gl.GetUniformLocation(program, "u_texture"), 0);
+            origin_location[b] = gl.GetUniformLocation(programs[b], "u_origin");
+            scale_location[b] = gl.GetUniformLocation(programs[b], "u_scale");
+            nearest_location[b] = gl.GetUniformLocation(programs[b], "u_nearest");
         }
+        return {};
     }
 
     void resize(int w, int h) {
-        if (w == width && h == height) return;
-        GLint max_size = 0;
-        gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
-        if (w <= 0 || h <= 0 || w > max_size || h > max_size)
-            throw Error("viewport " + std::to_string(w) + "x" + std::to_string(h) + " is outside this GL's framebuffer limit " +
-                        std::to_string(max_size));
-        if (!framebuffer) {
-            gl.GenFramebuffers(1, &framebuffer);
-            gl.GenRenderbuffers(1, &color_buffer);
-            gl.GenRenderbuffers(1, &depth_buffer);
-        }
-        gl.BindRenderbuffer(GL_RENDERBUFFER, color_buffer);
-        gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
-        gl.BindRenderbuffer(GL_RENDERBUFFER, depth_buffer);
-        gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_buffer);
-        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_buffer);
-        if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            throw Error("GL framebuffer RGBA8 + DEPTH_COMPONENT24 is incomplete");
+        host->bind_framebuffer(w, h); // throws past the GL's limits
         width = w;
         height = h;
     }
 
-    // GL state per (pass, blend); see the Blend comment in scene.h.
-    void set_state(Pass pass, Blend blend) {
-        if (pass == Pass::opaque || blend == Blend::opaque) {
-            gl.Disable(GL_BLEND);
-        } else {
-            gl.Enable(GL_BLEND);
-            switch (blend) {
-            case Blend::alpha:
-                gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-                break;
-            case Blend::add:
-                gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE, GL_SRC_ALPHA, GL_ONE);
-                break;
-            case Blend::multiply:
-                gl.BlendFuncSeparate(GL_DST_COLOR, GL_ONE_MINUS_SRC_ALPHA, GL_DST_COLOR, GL_ONE_MINUS_SRC_ALPHA);
-                break;
-            case Blend::opaque:
-                break;
-            }
-        }
-        if (set().depth_test) gl.DepthMask(pass == Pass::opaque ? GL_TRUE : GL_FALSE);
-    }
-
     void draw_frame() {
         const MeshSet& m = set();
-        gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        if (width > 0) host->bind_framebuffer(width, height);
         gl.Viewport(0, 0, width, height);
         gl.ClearColor(0, 0, 0, 0);
         // Overpaint needs no depth buffer, so it does not pay for clearing one.
         if (m.depth_test) {
             gl.DepthMask(GL_TRUE);
-            gl.ClearDepth(0.0);
+            if (gl.ClearDepth) gl.ClearDepth(0.0);
+            else gl.ClearDepthf(0.0f);
             gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
             gl.Enable(GL_DEPTH_TEST);
             gl.DepthFunc(GL_GREATER); // larger z is nearer (scene.h)
@@ -315,7 +230,7 @@ struct GlRenderer::Impl {
                 gl.BindTexture(GL_TEXTURE_2D, textures[std::size_t(b.image)]);
                 bound_image = b.image;
             }
-            set_state(b.pass, b.blend);
+            runtime::set_blend_state(gl, b.pass, b.blend, m.depth_test);
             gl.DrawArrays(GL_TRIANGLES, GLint(b.first_vertex), GLsizei(b.vertex_count));
         }
     }
@@ -326,27 +241,18 @@ GlRenderer::~GlRenderer() = default;
 
 std::unique_ptr<GlRenderer> GlRenderer::create(const GlOptions& options, std::string* error) {
     auto impl = std::make_unique<Impl>();
-    std::string why = create_gl_context(options.platform, &impl->context);
-    if (why.empty()) {
-        std::string missing = impl->gl.load();
-        if (!missing.empty()) why = impl->context.platform + ": GL lacks " + missing;
-    }
-    if (!why.empty()) {
-        if (error) *error = "no OpenGL context: " + why;
+    impl->host = GlHost::create(options, GlApi::desktop, error); // "no OpenGL context: ..." when it fails
+    if (!impl->host) return nullptr;
+    runtime::GlFunctions& gl = impl->gl;
+    std::string missing = gl.load(&GlHost::get_proc_address, true);
+    if (missing.empty() && !gl.GetQueryObjectui64v) missing = "glGetQueryObjectui64v"; // draw_counted's
+    if (!missing.empty()) {
+        gl.DeleteProgram = nullptr; // nothing was created
+        if (error) *error = "no OpenGL context: " + impl->host->description() + ": GL lacks " + missing;
         return nullptr;
     }
-    Gl& gl = impl->gl;
-    auto text = [&](GLenum name) {
-        const GLubyte* s = gl.GetString(name);
-        return s ? std::string(reinterpret_cast<const char*>(s)) : std::string("?");
-    };
-    std::string renderer = text(GL_RENDERER);
-    impl->description = renderer + ", OpenGL " + text(GL_VERSION) + ", " + impl->context.platform;
-    impl->software = renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
-    try {
-        impl->build_programs();
-    } catch (const Error& e) {
-        if (error) *error = std::string("no usable OpenGL: ") + e.what();
+    if (std::string why = impl->build_programs(); !why.empty()) {
+        if (error) *error = "no usable OpenGL: " + why;
         return nullptr;
     }
     gl.GenQueries(1, &impl->query);
@@ -355,13 +261,13 @@ std::unique_ptr<GlRenderer> GlRenderer::create(const GlOptions& options, std::st
     return std::unique_ptr<GlRenderer>(new GlRenderer(std::move(impl)));
 }
 
-const std::string& GlRenderer::description() const { return impl_->description; }
-bool GlRenderer::is_software() const { return impl_->software; }
+const std::string& GlRenderer::description() const { return impl_->host->description(); }
+bool GlRenderer::is_software() const { return impl_->host->is_software(); }
 
 void GlRenderer::set_images(const std::vector<ImageView>& images, Filter filter) {
     impl_->make_current();
     Impl& r = *impl_;
-    Gl& gl = r.gl;
+    runtime::GlFunctions& gl = r.gl;
     gl.DeleteTextures(GLsizei(r.textures.size()), r.textures.data());
     r.textures.assign(images.size(), 0);
     r.texture_sizes.clear();
@@ -495,7 +401,7 @@ void vertex_elements(const Draw& d, std::vector<std::uint32_t>& out) {
 int GlRenderer::add_meshes(const SceneMeshes& meshes, const std::vector<TexelMap>& maps) {
     impl_->make_current();
     Impl& r = *impl_;
-    Gl& gl = r.gl;
+    runtime::GlFunctions& gl = r.gl;
     Impl::MeshSet m;
     m.viewport = meshes.viewport;
     m.depth_test = meshes.depth_test;
@@ -583,17 +489,7 @@ FrameCounts GlRenderer::draw_counted() {
     return {r.set().draw_calls, r.set().triangles, std::int64_t(samples)};
 }
 
-Image GlRenderer::read_pixels() {
-    impl_->make_current();
-    Impl& r = *impl_;
-    Image image;
-    image.width = r.width;
-    image.height = r.height;
-    image.rgba.resize(std::size_t(r.width) * std::size_t(r.height) * 4);
-    r.gl.BindFramebuffer(GL_FRAMEBUFFER, r.framebuffer);
-    r.gl.ReadPixels(0, 0, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
-    return image;
-}
+Image GlRenderer::read_pixels() { return impl_->host->read_pixels(); }
 
 std::vector<double> GlRenderer::time_frames(int frames, int warmup) {
     impl_->make_current();

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "depthcull/report.h"
+#include "report/canvas.h"
 
 namespace depthcull::report {
 

@@ -8,6 +8,7 @@
 
 #include "depthcull/io.h"
 #include "depthcull/report.h"
+#include "report/canvas.h"
 
 namespace depthcull::report {
 

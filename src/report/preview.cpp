@@ -11,6 +11,7 @@
 
 #include "depthcull/io.h"
 #include "depthcull/report.h"
+#include "report/canvas.h"
 #include "depthcull/scene.h"
 
 namespace depthcull::report {

@@ -14,22 +14,8 @@
 
 namespace depthcull::runtime {
 
-std::string GlFunctions::load(GlLoader loader) {
-#define DEPTHCULL_RUNTIME_GL_LOAD(type, name)                                                                              \
-    name = reinterpret_cast<type>(loader("gl" #name));                                                                     \
-    if (!name) return "gl" #name;
-    DEPTHCULL_RUNTIME_GL(DEPTHCULL_RUNTIME_GL_LOAD)
-#undef DEPTHCULL_RUNTIME_GL_LOAD
-    ClearDepthf = reinterpret_cast<PFNGLCLEARDEPTHFPROC>(loader("glClearDepthf"));
-    ClearDepth = reinterpret_cast<PFNGLCLEARDEPTHPROC>(loader("glClearDepth"));
-    if (!ClearDepthf && !ClearDepth) return "glClearDepthf";
-    GetQueryObjectui64v = reinterpret_cast<PFNGLGETQUERYOBJECTUI64VPROC>(loader("glGetQueryObjectui64v"));
-    return {};
-}
-
 namespace {
 
-constexpr int kBlendCount = 4;
 constexpr GLenum kSamplesPassed = 0x8914; // GL_SAMPLES_PASSED (desktop GL only)
 
 // One glDrawElements: `count` indices from byte `offset` of the index buffer.
@@ -85,48 +71,13 @@ struct Renderer::Impl {
         return Status::ok;
     }
 
-    GLuint compile(GLenum type, const char* define, const char* body) {
-        GLuint shader = gl.CreateShader(type);
-        const char* parts[3] = {gles ? kEsHeader : kDesktopHeader, define, body};
-        gl.ShaderSource(shader, 3, parts, nullptr);
-        gl.CompileShader(shader);
-        GLint ok = 0;
-        gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-        if (!ok) {
-            char log[512] = {};
-            gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
-            for (char& c : log)
-                if (c == '\n') c = ' ';
-            error = std::string("shader does not compile: ") + log;
-            gl.DeleteShader(shader);
-            return 0;
-        }
-        return shader;
-    }
-
     Status build_programs() {
-        static const char* const defines[kBlendCount] = {"", "", "#define BLEND_MULTIPLY 1\n", "#define BLEND_OPAQUE 1\n"};
+        if (std::string why = build_blend_programs(gl, gles ? kEsHeader : kDesktopHeader, kVertexShader, kFragmentShader, programs);
+            !why.empty())
+            return fail(Status::shader_failed, why);
         for (int b = 0; b < kBlendCount; ++b) {
-            GLuint vs = compile(GL_VERTEX_SHADER, "", kVertexShader);
-            GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, defines[b], kFragmentShader) : 0;
-            if (!vs || !fs) {
-                if (vs) gl.DeleteShader(vs);
-                return Status::shader_failed;
-            }
-            GLuint program = gl.CreateProgram();
-            gl.AttachShader(program, vs);
-            gl.AttachShader(program, fs);
-            gl.LinkProgram(program);
-            gl.DeleteShader(vs);
-            gl.DeleteShader(fs);
-            programs[b] = program;
-            GLint ok = 0;
-            gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
-            if (!ok) return fail(Status::shader_failed, "shader program does not link");
-            camera_location[b] = gl.GetUniformLocation(program, "u_camera");
-            scale_location[b] = gl.GetUniformLocation(program, "u_scale_offset");
-            gl.UseProgram(program);
-            gl.Uniform1i(gl.GetUniformLocation(program, "u_texture"), 0);
+            camera_location[b] = gl.GetUniformLocation(programs[b], "u_camera");
+            scale_location[b] = gl.GetUniformLocation(programs[b], "u_scale_offset");
         }
         return check_gl("building shaders");
     }
@@ -169,29 +120,6 @@ struct Renderer::Impl {
         return Status::ok;
     }
 
-    // Blend state per (pass, blend); docs/engine-integration.md lists it.
-    void set_state(Pass pass, Blend blend) {
-        if (pass == Pass::opaque || blend == Blend::opaque) {
-            gl.Disable(GL_BLEND);
-        } else {
-            gl.Enable(GL_BLEND);
-            switch (blend) {
-            case Blend::alpha:
-                gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-                break;
-            case Blend::add:
-                gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE, GL_SRC_ALPHA, GL_ONE);
-                break;
-            case Blend::multiply:
-                gl.BlendFuncSeparate(GL_DST_COLOR, GL_ONE_MINUS_SRC_ALPHA, GL_DST_COLOR, GL_ONE_MINUS_SRC_ALPHA);
-                break;
-            case Blend::opaque:
-                break;
-            }
-        }
-        if (depth_test) gl.DepthMask(pass == Pass::opaque ? GL_TRUE : GL_FALSE);
-    }
-
     struct Bound {
         int program = -1;
         int image = -1;
@@ -219,7 +147,7 @@ struct Renderer::Impl {
                 gl.BindTexture(GL_TEXTURE_2D, textures[std::size_t(b.image)]);
                 bound.image = b.image;
             }
-            set_state(b.pass, b.blend);
+            set_blend_state(gl, b.pass, b.blend, depth_test);
             gl.DrawElements(GL_TRIANGLES, GLsizei(b.count), GL_UNSIGNED_INT, reinterpret_cast<const void*>(b.offset));
             ++counts.draw_calls;
             counts.triangles += std::int64_t(b.count / 3);

@@ -31,11 +31,7 @@ void main() {
 }
 )";
 
-// Texels are not premultiplied (PNG's). BLEND_MULTIPLY premultiplies, so
-// the blend (GL_DST_COLOR, GL_ONE_MINUS_SRC_ALPHA) gives dst * (src.rgb *
-// src.a + 1 - src.a): a transparent texel leaves dst as it is.
-// BLEND_OPAQUE writes alpha 1 (blending is off for it; the texel's alpha is
-// ignored, the whole rect is opaque).
+// The fragment shader up to its colour `c`; kBlendTail finishes it.
 inline constexpr const char* kFragmentShader = R"(
 uniform sampler2D u_texture;
 in vec2 v_uv;
@@ -43,6 +39,16 @@ in vec4 v_color;
 out vec4 o_color;
 void main() {
     vec4 c = texture(u_texture, v_uv) * v_color;
+)";
+
+// The end of every depthcull fragment shader (this one and render's),
+// one define per Blend (kBlendDefines). Texels are not premultiplied
+// (PNG's). BLEND_MULTIPLY premultiplies, so the blend (GL_DST_COLOR,
+// GL_ONE_MINUS_SRC_ALPHA) gives dst * (src.rgb * src.a + 1 - src.a): a
+// transparent texel leaves dst as it is. BLEND_OPAQUE writes alpha 1
+// (blending is off for it; the texel's alpha is ignored, the whole rect
+// is opaque).
+inline constexpr const char* kBlendTail = R"(
 #if defined(BLEND_MULTIPLY)
     c.rgb *= c.a;
 #elif defined(BLEND_OPAQUE)
@@ -51,5 +57,8 @@ void main() {
     o_color = c;
 }
 )";
+
+// Indexed by int(Blend): alpha, add, multiply, opaque.
+inline constexpr const char* kBlendDefines[] = {"", "", "#define BLEND_MULTIPLY 1\n", "#define BLEND_OPAQUE 1\n"};
 
 } // namespace depthcull::runtime

@@ -1,6 +1,9 @@
 // The overdraw analyzers: what a frame shades (analyze_overdraw, a software
 // rasterizer modelled on meshoptimizer's meshopt_analyzeOverdraw) and the
-// least it could shade (ideal_overdraw). Paper 3 measured overdraw by
+// least it could shade (ideal_overdraw). analyze_overdraw is the one
+// triangle rasterizer in depthcull: the cost model's frame_features reads
+// its fragment counts too, as meshoptimizer's one rasterizer serves both
+// meshopt_analyzeOverdraw and meshopt_analyzeCoverage. Paper 3 measured overdraw by
 // drawing untextured polygons with additive blending; counting on the CPU
 // gives the same figure without a GPU, per pixel, for tests and heatmaps.
 #include <algorithm>
@@ -108,11 +111,16 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map) {
             int y1 = std::min(height - 1, hi(std::max({p[0].y, p[1].y, p[2].y})));
             const bool flat = z[0] == z[1] && z[1] == z[2];
             const std::uint32_t flat_depth = depth24(z[0]);
+            // Edge values step by a (one pixel right, in subpixel units) from
+            // the row's first centre: the same integers as evaluating each
+            // centre afresh, without three products per pixel (the cost
+            // model rasterizes every contestant frame through here).
+            const std::int64_t step = 1 << kSubpixelBits;
+            const std::int64_t cx0 = std::int64_t(x0) * step + step / 2;
             for (int py = y0; py <= y1; ++py) {
-                const std::int64_t cy = std::int64_t(py) * (1 << kSubpixelBits) + (1 << (kSubpixelBits - 1));
-                for (int px = x0; px <= x1; ++px) {
-                    const std::int64_t cx = std::int64_t(px) * (1 << kSubpixelBits) + (1 << (kSubpixelBits - 1));
-                    const std::int64_t w0 = e[0].at(cx, cy), w1 = e[1].at(cx, cy), w2 = e[2].at(cx, cy);
+                const std::int64_t cy = std::int64_t(py) * step + step / 2;
+                std::int64_t w0 = e[0].at(cx0, cy), w1 = e[1].at(cx0, cy), w2 = e[2].at(cx0, cy);
+                for (int px = x0; px <= x1; ++px, w0 += e[0].a * step, w1 += e[1].a * step, w2 += e[2].a * step) {
                     if (w0 < e[0].bias || w1 < e[1].bias || w2 < e[2].bias) continue;
                     const std::size_t pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
                     ++stats.rasterized;
@@ -124,6 +132,7 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map) {
                     }
                     if (map) ++counts[pixel];
                     ++stats.shaded;
+                    if (draw.pass == Pass::opaque) ++stats.shaded_opaque;
                 }
             }
         }

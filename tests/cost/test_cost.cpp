@@ -1,10 +1,12 @@
 // The cost model (issue 14): the Table 2 fit, profiles, features and the
 // --target choice's determinism and guarantees.
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 
 #include "depthcull/cost.h"
+#include "depthcull/overdraw.h"
 #include "depthcull/target.h"
 
 namespace depthcull {
@@ -104,6 +106,44 @@ TEST(Features, CountsPassesAndRejection) {
     EXPECT_EQ(f.blend_fragments, 50);
     EXPECT_EQ(f.rejected_fragments, 50);
     EXPECT_TRUE(f.depth_clear);
+}
+
+// One rasterizer (issue 22): the model counts the fragments the overdraw
+// analyzer counts, GL's 1/256-pixel vertex snapping and fill rule
+// included, on triangles placed off the pixel grid and overlapping at
+// several depths (the model's own float scan, before, missed the sliver).
+TEST(Features, FragmentsAreTheOverdrawAnalyzers) {
+    SceneMeshes m;
+    m.viewport = {0, 0, 40, 40};
+    m.depth_test = true;
+    std::mt19937 rng(22);
+    std::uniform_int_distribution<int> coord(-3000, 43000); // thousandths of a pixel
+    for (int k = 0; k < 120; ++k) {
+        Draw d;
+        d.pass = k % 3 == 0 ? Pass::opaque : Pass::blend;
+        d.image = k % 2;
+        const float z = float(k % 7) / 8.0f;
+        for (int v = 0; v < 3; ++v)
+            d.vertices.insert(d.vertices.end(), {float(coord(rng)) / 1000.0f, float(coord(rng)) / 1000.0f, z, 0, 0, 1, 1, 1, 1});
+        d.indices = {0, 1, 2};
+        m.draws.push_back(d);
+    }
+    {
+        // A rect whose left edge GL snaps from x = 10.501 onto the pixel
+        // centres at 10.5, which its fill rule then keeps: 16 fragments,
+        // not the 12 a float scan of x >= 10.501 finds.
+        Draw d;
+        for (auto [x, y] : {std::pair{10.501f, 0.0f}, std::pair{14.0f, 0.0f}, std::pair{14.0f, 4.0f}, std::pair{10.501f, 4.0f}})
+            d.vertices.insert(d.vertices.end(), {x, y, 0.9f, 0, 0, 1, 1, 1, 1});
+        d.indices = {0, 1, 2, 0, 2, 3};
+        m.draws.push_back(d);
+    }
+    const OverdrawStats s = analyze_overdraw(m);
+    const FrameFeatures f = frame_features(m);
+    EXPECT_EQ(f.opaque_fragments + f.blend_fragments, s.shaded);
+    EXPECT_EQ(f.opaque_fragments + f.blend_fragments + f.rejected_fragments, s.rasterized);
+    m.depth_test = false;
+    EXPECT_EQ(frame_features(m).blend_fragments, analyze_overdraw(m).shaded);
 }
 
 TEST(LeastSquares, ExactLine) {

@@ -3,6 +3,7 @@
 
 #include "depthcull/analyze.h"
 #include "depthcull/report.h"
+#include "report/canvas.h" // internal: the font is tested here
 
 namespace report = depthcull::report;
 using depthcull::Image;
