@@ -126,7 +126,7 @@ void MeshBuilder::add_convex_piece(Draw& d, std::uint32_t element, const Polygon
 
 void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z) {
     const double m = texel_margin_;
-    if (!(m > 0) || !std::isfinite(m) || snaps_exactly(scene_.elements[element].transform)) return;
+    if (!(m > 0) || !std::isfinite(m) || (!always_skirt_ && snaps_exactly(scene_.elements[element].transform))) return;
     // Polygons (or parts of one) closer than the skirt reaches would get
     // each other's skirt over their inside texels, blending those twice:
     // no skirt for them.
