@@ -20,6 +20,9 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <utility>
 #include <span>
 #include <vector>
 
@@ -88,12 +91,34 @@ struct FrameStats {
     std::int64_t over_budget = 0;
 };
 
+// An allocator whose resize() leaves new floats and indices uninitialized:
+// assembly writes every one right after, and zero-filling first would
+// double the memory traffic of a frame (most of its cost).
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
 // One frame's draws: draws[0, opaque_draws) are the opaque pass (front to
 // back), the rest blend draws grouped by insertion point (points). Buffers
 // keep their capacity between frames: reuse one AssembledFrame.
 struct AssembledFrame {
-    std::vector<float> vertices;          // kVertexFloats per vertex
-    std::vector<std::uint32_t> indices;
+    std::vector<float, UninitializedAllocator<float>> vertices;          // kVertexFloats per vertex
+    std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>> indices;
     std::vector<FrameDraw> draws;
     std::size_t opaque_draws = 0;
     std::vector<FramePoint> points;       // fully dynamic frames: one point, static_draw 0
