@@ -96,6 +96,11 @@ struct Scene {
     std::vector<SceneImage> images;
     std::vector<Element> elements;
     std::vector<Animation> animations; // what Element::animation indexes
+    // Where a game draws its moving sprites (depthcull/frame.h): element
+    // indices, ascending; sprites go before elements[i] (elements.size():
+    // on top). Tiled maps: the end of each object layer. For
+    // ReconstructOptions::insertion_points.
+    std::vector<std::size_t> insertion_points;
 };
 
 // Screen position of texel-space point p (relative to the rect's top-left).

@@ -251,6 +251,125 @@ TEST_P(Frames, SpritesAtInsertionPointsEqualOverpaint) {
     EXPECT_TRUE(ok);
 }
 
+// Issue 23's acceptance: every corpus map with an object layer, 1,000 of
+// its own pictures moving in the (first) object layer for 60 frames, each
+// frame equal to the overpaint of static and moving elements in layer
+// order. CI draws every 20th frame; DEPTHCULL_FULL_FRAMES=1 draws all 60.
+TEST_P(Frames, CorpusMapsWithMovingSpritesInTheGameLayer) {
+    if (GetParam() == render::GlApi::gles) GTEST_SKIP() << "corpus frames are drawn on desktop GL only";
+    DEPTHCULL_RUNTIME_HOST(h, GetParam());
+    const bool full = std::getenv("DEPTHCULL_FULL_FRAMES") != nullptr;
+    int maps = 0, frames_drawn = 0, frames_like_static = 0;
+    for (const char* package : {"tiled", "btanks-data"}) {
+        if (std::string why = test::corpus_missing(package); !why.empty()) GTEST_SKIP() << why;
+        std::vector<std::string> paths = test::corpus_files(package, ".tmx");
+        for (const std::string& q : test::corpus_files(package, ".tmx.gz")) paths.push_back(q);
+        for (const std::string& path : paths) {
+            pipeline::PreparedScene p;
+            try {
+                pipeline::PrepareOptions options;
+                options.cache_dir = pipeline::default_cache_dir();
+                p = pipeline::prepare_scene(path, options);
+            } catch (const io::Error&) {
+                continue;
+            }
+            if (p.scene.insertion_points.empty() || p.scene.elements.empty()) continue;
+            ++maps;
+            const Viewport whole = p.scene.viewport;
+            const int w = std::min(1024, whole.width), hgt = std::min(768, whole.height);
+            const Viewport view{whole.x + std::round((whole.width - w) / 2.0), whole.y + std::round((whole.height - hgt) / 2.0), w, hgt};
+            p.scene.viewport = view;
+            const std::size_t at = p.scene.insertion_points[0];
+            ReconstructOptions options;
+            options.insertion_points = {{at, 1000}};
+            SceneMeshes meshes;
+            ASSERT_EQ(reconstruct_scene(p.scene, p.analysis, options, &meshes), ReconstructStatus::ok) << path;
+            // The scene's own pictures: one per distinct analysis.
+            FrameAssembler assembler;
+            std::vector<int> picture_element;
+            std::vector<int> ids;
+            std::vector<std::uint8_t> seen(p.analysis.images.size(), 0);
+            for (std::size_t e = 0; e < p.scene.elements.size(); ++e) {
+                const std::uint32_t a = p.analysis.of_element[e];
+                if (seen[a]) continue;
+                seen[a] = 1;
+                const Element& el = p.scene.elements[e];
+                const SceneImage& img = p.scene.images[std::size_t(el.image)];
+                int id = -1;
+                ASSERT_EQ(assembler.add_image({el.image, img.width, img.height, el.rect, &p.analysis.images[a]}, &id), FrameStatus::ok);
+                ids.push_back(id);
+                picture_element.push_back(int(e));
+            }
+            std::mt19937 rng(23);
+            auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+            std::vector<Sprite> sprites(1000);
+            std::vector<std::array<double, 4>> motion; // x, y, angle, scale
+            std::vector<double> speed;
+            for (Sprite& sp : sprites) {
+                const std::size_t k = std::size_t(rng() % ids.size());
+                const Element& el = p.scene.elements[std::size_t(picture_element[k])];
+                sp.image = ids[k];
+                sp.color = el.color;
+                sp.blend = el.blend;
+                motion.push_back({uniform(view.x - 32, view.x + view.width), uniform(view.y - 32, view.y + view.height), uniform(0, 6.283),
+                                  uniform(0.25, 2)});
+                if (rng() % 4 == 0) sp.color[0] *= 0.7f, sp.color[2] *= 0.8f; // tinted
+                speed.push_back(uniform(-3, 3));
+            }
+            std::vector<ImageView> views;
+            for (const Image& i : p.images) views.push_back(i.view());
+            AssembledFrame frame;
+            for (int f = 0; f < 60; ++f) {
+                for (std::size_t i = 0; i < sprites.size(); ++i) {
+                    auto& m = motion[i];
+                    const double a = m[2] + 0.05 * f * speed[i], x = m[0] + f * speed[i], y = m[1] + 0.5 * f * speed[i];
+                    const double flip = i % 5 == 0 ? -1 : 1;
+                    sprites[i].transform = {flip * m[3] * std::cos(a), flip * m[3] * std::sin(a), -m[3] * std::sin(a), m[3] * std::cos(a), x, y};
+                }
+                if (!full && f % 20 != 0) continue;
+                std::vector<std::span<const Sprite>> lists{sprites};
+                ASSERT_EQ(assembler.assemble_at(meshes, lists, view, &frame), FrameStatus::ok) << path;
+                Scene both = p.scene;
+                both.elements.assign(p.scene.elements.begin(), p.scene.elements.begin() + std::ptrdiff_t(at));
+                for (std::size_t i = 0; i < sprites.size(); ++i) {
+                    const Element& src = p.scene.elements[std::size_t(picture_element[std::size_t(sprites[i].image)])];
+                    Element e = src;
+                    e.transform = sprites[i].transform;
+                    e.color = sprites[i].color;
+                    e.animation = -1;
+                    both.elements.push_back(e);
+                }
+                both.elements.insert(both.elements.end(), p.scene.elements.begin() + std::ptrdiff_t(at), p.scene.elements.end());
+                std::int64_t differ = 0;
+                const std::int64_t off = compare_with_overpaint(*h, both, views, meshes, frame, &differ);
+                // Frames may differ only where the static reconstruction of
+                // the very same elements does (FramesKnownIssue: pixel centres
+                // off texel edges under arbitrary turns and scales).
+                std::int64_t static_differs = 0;
+                if (off) {
+                    SceneAnalysis sa;
+                    sa.images = p.analysis.images;
+                    for (std::size_t e = 0; e < at; ++e) sa.of_element.push_back(p.analysis.of_element[e]);
+                    for (const Sprite& sp : sprites)
+                        sa.of_element.push_back(p.analysis.of_element[std::size_t(picture_element[std::size_t(sp.image)])]);
+                    for (std::size_t e = at; e < p.scene.elements.size(); ++e) sa.of_element.push_back(p.analysis.of_element[e]);
+                    SceneMeshes rec;
+                    ASSERT_EQ(reconstruct_scene(both, sa, {}, &rec), ReconstructStatus::ok);
+                    const Image ref = h->frame(overpaint_meshes(both));
+                    const Image got = h->frame(rec);
+                    static_differs = render::count_off_texel_edges(ref.view(), got.view(), both);
+                    ++frames_like_static;
+                }
+                EXPECT_LE(off, static_differs) << path << " frame " << f << ": " << differ << " pixels differ, " << off
+                                               << " off texel edges (static reconstruction: " << static_differs << ")";
+                ++frames_drawn;
+            }
+        }
+    }
+    std::printf("%d maps with an object layer, %d frames of 1,000 moving sprites compared; %d with pixels off texel edges, none more than the static reconstruction of the same elements\n",
+                maps, frames_drawn, frames_like_static);
+}
+
 INSTANTIATE_TEST_SUITE_P(Targets, Frames, testing::Values(render::GlApi::desktop, render::GlApi::gles),
                          [](const auto& info) { return info.param == render::GlApi::gles ? "es30" : "gl33"; });
 
