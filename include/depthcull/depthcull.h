@@ -45,7 +45,7 @@ extern "C" {
 #endif
 
 #define DC_VERSION_MAJOR 0
-#define DC_VERSION_MINOR 1
+#define DC_VERSION_MINOR 2
 
 typedef enum dc_status {
     DC_OK = 0,
@@ -294,6 +294,52 @@ DC_API dc_status dc_meshes_write_file(const dc_meshes* meshes, const char* path,
 DC_API dc_status dc_meshes_write_memory(const dc_meshes* meshes, dc_format format, unsigned flags, void** data, size_t* size);
 DC_API void dc_free(void* data);
 
+/* ---- Moving sprites depth-culled every frame (depthcull/frame.h; since 0.2)
+ *
+ * An assembler holds pictures (a rect of a texture and its analysis, made
+ * into templates once) and turns each frame's sprites, in painter's order,
+ * into an opaque pass and a blend pass batched by texture where overlap
+ * allows. Reuse one dc_frame: after the first frames (or
+ * dc_assembler_reserve) assembling allocates nothing. Pure: no GL. */
+
+typedef struct dc_assembler dc_assembler;
+typedef struct dc_frame dc_frame;
+
+typedef struct dc_sprite {
+    uint32_t image;       /* dc_assembler_add_image id (ignored with an animation) */
+    int32_t animation;    /* dc_assembler_add_animation id, or -1 */
+    int32_t frame;        /* the animation's frame (modulo its count) */
+    double transform[6];  /* as dc_element */
+    float color[4];
+    int blend;            /* dc_blend */
+} dc_sprite;
+
+typedef struct dc_frame_stats {
+    int64_t sprites, draw_calls, opaque_draws, triangles, blend_batches;
+    int64_t over_budget; /* sprites treated as overlapping all (work bound), batching less */
+} dc_frame_stats;
+
+/* Identity transform, white, alpha, no animation. */
+DC_API void dc_sprite_default(dc_sprite* sprite);
+DC_API dc_status dc_assembler_create(dc_assembler** out);
+DC_API void dc_assembler_destroy(dc_assembler* assembler);
+/* A picture: `rect` of texture `texture` (the renderer's texture index, a
+ * draw's image) of the given size, analysed by `analysis` (copied). */
+DC_API dc_status dc_assembler_add_image(dc_assembler* assembler, uint32_t texture, int texture_width, int texture_height,
+                                        dc_rect rect, const dc_analysis* analysis, uint32_t* id);
+DC_API dc_status dc_assembler_add_animation(dc_assembler* assembler, const uint32_t* images, size_t count, uint32_t* id);
+DC_API dc_status dc_assembler_reserve(dc_assembler* assembler, size_t sprites, dc_frame* frame);
+DC_API dc_status dc_frame_create(dc_frame** out);
+DC_API void dc_frame_destroy(dc_frame* frame);
+/* A fully dynamic frame: `bounds` is the part of the world the overlap
+ * test's grid covers (the camera's view). */
+DC_API dc_status dc_assemble(dc_assembler* assembler, const dc_sprite* sprites, size_t count, dc_viewport bounds, dc_frame* frame);
+DC_API dc_status dc_frame_stats_get(const dc_frame* frame, dc_frame_stats* out);
+/* The frame's vertices (9 floats each, as dc_draw) and indices, valid
+ * until the frame is assembled again, for engines that draw it themselves. */
+DC_API const float* dc_frame_vertices(const dc_frame* frame, size_t* vertex_count);
+DC_API const uint32_t* dc_frame_indices(const dc_frame* frame, size_t* index_count);
+
 /* ---- The runtime renderer (depthcull::runtime) in the host's GL context
  *
  * Draws meshes the way an engine would: a plain sprite shader (texture x
@@ -361,6 +407,11 @@ DC_API dc_status dc_renderer_reserve_dynamic(dc_renderer* renderer, size_t verti
  * place. `options` and `counts` may be NULL. */
 DC_API dc_status dc_renderer_draw(dc_renderer* renderer, const dc_camera* camera, const dc_meshes* dynamic,
                                   const dc_frame_options* options, dc_frame_counts* counts);
+
+/* Draws the static meshes (dc_renderer_set_meshes; none set: nothing
+ * static) and an assembled frame of moving sprites (since 0.2). */
+DC_API dc_status dc_renderer_draw_frame(dc_renderer* renderer, const dc_camera* camera, const dc_frame* frame,
+                                        const dc_frame_options* options, dc_frame_counts* counts);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "depthcull/frame.h"
 #include "depthcull/image.h"
 #include "depthcull/scene.h"
 
@@ -133,6 +134,16 @@ public:
     // mask, program, vertex array and textures as it set them.
     Status draw(const Camera& camera, std::span<const Draw> dynamic = {}, const FrameOptions& options = {},
                 FrameCounts* counts = nullptr);
+
+    // Draws the static meshes (set_meshes; none for a fully dynamic frame)
+    // and an assembled frame of moving sprites (FrameAssembler): the frame's
+    // opaque draws, the static opaque draws, then the static blend draws
+    // with each insertion point's blend draws where FramePoint puts them.
+    // The depth buffer is used when the static meshes or the frame use it.
+    // Uploads the frame's vertices and indices as they are; allocates
+    // nothing once the frame's draw list has fit (reserve_dynamic).
+    Status draw_frame(const Camera& camera, const AssembledFrame& frame, const FrameOptions& options = {},
+                      FrameCounts* counts = nullptr);
 
     // Calibration and benchmarks: draws the static meshes `frames` times
     // (each a whole frame, glFinish after each) and returns the summed wall

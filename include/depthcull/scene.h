@@ -74,6 +74,21 @@ struct Animation {
     std::vector<AnimationFrame> frames;
 };
 
+// Where moving sprites go between a static scene's elements (depthcull/
+// frame.h): before scene.elements[element] (elements.size(): on top), with
+// `levels` depth levels reserved for them, so at most that many sprites a
+// frame. Given in ReconstructOptions::insertion_points (element and levels,
+// ascending elements); SceneMeshes::insertion_points adds what
+// reconstruction made of them.
+struct InsertionPoint {
+    std::size_t element = 0;
+    std::int64_t levels = 0;
+    std::int64_t first_level = 0;  // the first reserved level
+    std::uint32_t blend_draw = 0;  // static draws from this one on are drawn after the point's sprites
+
+    friend bool operator==(const InsertionPoint&, const InsertionPoint&) = default;
+};
+
 // Elements in painter's order: elements[0] is farthest back.
 struct Scene {
     Viewport viewport;
@@ -81,6 +96,11 @@ struct Scene {
     std::vector<SceneImage> images;
     std::vector<Element> elements;
     std::vector<Animation> animations; // what Element::animation indexes
+    // Where a game draws its moving sprites (depthcull/frame.h): element
+    // indices, ascending; sprites go before elements[i] (elements.size():
+    // on top). Tiled maps: the end of each object layer. For
+    // ReconstructOptions::insertion_points.
+    std::vector<std::size_t> insertion_points;
 };
 
 // Screen position of texel-space point p (relative to the rect's top-left).
@@ -201,6 +221,8 @@ struct SceneMeshes {
     // meshes have no depth values (overpaint, meshes only). Reconstruction
     // sets it, the mesh readers from stats.depth_bits (D = 2^(bits-2)).
     std::int64_t depth_denominator = 0;
+    // ReconstructOptions::insertion_points as reconstructed (depthcull/frame.h).
+    std::vector<InsertionPoint> insertion_points;
 };
 
 // texel_map of every element, indexed as ElementSpan::element names them
@@ -266,6 +288,11 @@ struct ReconstructOptions {
     // Fill Draw::element_spans (for renderers that sample through texel
     // maps); off for engines and files.
     bool element_spans = false;
+    // Depth ranges reserved between the elements for moving sprites
+    // (InsertionPoint; FrameAssembler::assemble_at). Static elements before
+    // a point stay behind its sprites, those after it in front, and no
+    // blend draw spans a point. Ascending `element`, each <= elements.
+    std::vector<InsertionPoint> insertion_points;
 };
 
 enum class ReconstructStatus {

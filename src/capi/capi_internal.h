@@ -8,6 +8,7 @@
 #include <string>
 
 #include "depthcull/depthcull.h"
+#include "depthcull/frame.h"
 #include "depthcull/io.h"
 #include "depthcull/scene.h"
 
@@ -22,6 +23,15 @@ struct dc_analysis {
 struct dc_scene {
     depthcull::Scene scene;
     std::vector<std::shared_ptr<const depthcull::ImageAnalysis>> analyses; // per element; null for rect-only blends
+};
+
+struct dc_assembler {
+    depthcull::FrameAssembler assembler;
+};
+
+struct dc_frame {
+    depthcull::AssembledFrame frame;
+    std::vector<depthcull::Sprite> sprites; // the C sprites converted, kept at capacity
 };
 
 struct dc_meshes {

@@ -111,6 +111,25 @@ dc_status dc_renderer_draw(dc_renderer* renderer, const dc_camera* camera, const
     });
 }
 
+dc_status dc_renderer_draw_frame(dc_renderer* renderer, const dc_camera* camera, const dc_frame* frame, const dc_frame_options* options,
+                                 dc_frame_counts* counts) {
+    return guard("dc_renderer_draw_frame", [&] {
+        if (!renderer || !camera || !frame)
+            return fail(DC_ERROR_INVALID_ARGUMENT, "dc_renderer_draw_frame: renderer, camera and frame must not be NULL");
+        const runtime::Camera c{camera->x, camera->y, camera->width, camera->height, camera->flip_y != 0};
+        runtime::FrameOptions o;
+        if (options) {
+            o.clear_color = options->clear_color != 0;
+            o.count_samples = options->count_samples != 0;
+        }
+        runtime::FrameCounts n;
+        if (dc_status s = runtime_status("dc_renderer_draw_frame", renderer->renderer->draw_frame(c, frame->frame, o, &n), *renderer->renderer))
+            return s;
+        if (counts) *counts = dc_frame_counts{n.draw_calls, n.triangles, n.samples_passed};
+        return DC_OK;
+    });
+}
+
 } // extern "C"
 
 #else // no runtime in this build
@@ -133,6 +152,9 @@ dc_status dc_renderer_set_meshes(dc_renderer*, const dc_meshes*) { return unsupp
 dc_status dc_renderer_reserve_dynamic(dc_renderer*, size_t, size_t) { return unsupported("dc_renderer_reserve_dynamic"); }
 dc_status dc_renderer_draw(dc_renderer*, const dc_camera*, const dc_meshes*, const dc_frame_options*, dc_frame_counts*) {
     return unsupported("dc_renderer_draw");
+}
+dc_status dc_renderer_draw_frame(dc_renderer*, const dc_camera*, const dc_frame*, const dc_frame_options*, dc_frame_counts*) {
+    return unsupported("dc_renderer_draw_frame");
 }
 } // extern "C"
 

@@ -519,7 +519,11 @@ void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out, i
             }
         }
         if (kind == "layer") emit_tile_layer(layer, s, out, where);
-        else if (kind == "objectgroup") emit_object_group(layer, s, out, where);
+        else if (kind == "objectgroup") {
+            emit_object_group(layer, s, out, where);
+            // The game layer: moving sprites are drawn over its objects (Scene::insertion_points).
+            out.scene.insertion_points.push_back(out.scene.elements.size());
+        }
         else emit_image_layer(layer, s, out, where);
     }
 }

@@ -51,6 +51,7 @@ struct Renderer::Impl {
     // Static meshes.
     GLuint static_vao = 0, static_vertices = 0, static_indices = 0;
     std::vector<Batch> static_batches;
+    std::vector<std::size_t> static_batch_of_draw; // per static draw (and one past): its first batch
     bool depth_test = false;
     std::int64_t static_triangles = 0;
 
@@ -224,12 +225,97 @@ struct Renderer::Impl {
         return Status::ok;
     }
 
+    // An assembled frame (depthcull/frame.h): its opaque draws, the static
+    // opaque draws, then the static blend draws with each insertion point's
+    // blend draws between them. Uploads the frame's buffers as they are.
+    Status draw_frame(const Camera& camera, const AssembledFrame& frame, const FrameOptions& options, FrameCounts* out) {
+        if (camera.width <= 0 || camera.height <= 0) return fail(Status::bad_meshes, "camera has no pixels");
+        const std::size_t vertex_count = frame.vertices.size() / kVertexFloats;
+        if (frame.vertices.size() % kVertexFloats != 0 || frame.opaque_draws > frame.draws.size())
+            return fail(Status::bad_meshes, "assembled frame is inconsistent");
+        dynamic_batches.clear();
+        for (const FrameDraw& d : frame.draws) {
+            if (d.image < 0 || std::size_t(d.image) >= textures.size())
+                return fail(Status::bad_meshes, "frame draw names image " + std::to_string(d.image) + " but " +
+                                                    std::to_string(textures.size()) + " textures are set");
+            if (std::size_t(d.first_index) + d.index_count > frame.indices.size())
+                return fail(Status::bad_meshes, "frame draw runs past the frame's indices");
+            dynamic_batches.push_back({d.image, d.pass, d.blend, std::size_t(d.first_index) * sizeof(std::uint32_t), d.index_count});
+        }
+        for (std::uint32_t i : frame.indices)
+            if (i >= vertex_count) return fail(Status::bad_meshes, "frame has index " + std::to_string(i) + " past its vertices");
+        for (const FramePoint& p : frame.points)
+            if (p.first_draw > p.end_draw || p.end_draw > frame.draws.size() || p.first_draw < frame.opaque_draws)
+                return fail(Status::bad_meshes, "frame point names draws that do not exist");
+        if (!frame.vertices.empty()) {
+            gl.BindVertexArray(dynamic_vao);
+            gl.BindBuffer(GL_ARRAY_BUFFER, dynamic_vertices);
+            gl_vertex_capacity = std::max(gl_vertex_capacity, frame.vertices.capacity());
+            gl_index_capacity = std::max(gl_index_capacity, frame.indices.capacity());
+            gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(gl_vertex_capacity * sizeof(float)), nullptr, GL_STREAM_DRAW);
+            gl.BufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(frame.vertices.size() * sizeof(float)), frame.vertices.data());
+            gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(gl_index_capacity * sizeof(std::uint32_t)), nullptr, GL_STREAM_DRAW);
+            gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(frame.indices.size() * sizeof(std::uint32_t)), frame.indices.data());
+        }
+        const bool use_depth = depth_test || (frame.depth_test && frame.opaque_draws > 0);
+        const bool counting = options.count_samples && gl.GetQueryObjectui64v && !gles;
+        if (counting) gl.BeginQuery(kSamplesPassed, query);
+        gl.Viewport(0, 0, camera.width, camera.height);
+        GLbitfield clear = 0;
+        if (options.clear_color) {
+            gl.ClearColor(0, 0, 0, 0);
+            clear |= GL_COLOR_BUFFER_BIT;
+        }
+        if (use_depth) {
+            gl.DepthMask(GL_TRUE);
+            if (gl.ClearDepthf) gl.ClearDepthf(0.0f);
+            else gl.ClearDepth(0.0);
+            clear |= GL_DEPTH_BUFFER_BIT;
+        }
+        if (clear) gl.Clear(clear);
+        if (use_depth && !options.no_depth_test) {
+            gl.Enable(GL_DEPTH_TEST);
+            gl.DepthFunc(GL_GREATER);
+        } else {
+            gl.Disable(GL_DEPTH_TEST);
+        }
+        // set_state sets the depth mask only when the static meshes use depth.
+        const bool static_depth = depth_test;
+        depth_test = use_depth;
+        gl.ActiveTexture(GL_TEXTURE0);
+        FrameCounts counts;
+        Bound bound;
+        std::size_t static_blend = std::size_t(
+            std::count_if(static_batches.begin(), static_batches.end(), [](const Batch& b) { return b.pass == Pass::opaque; }));
+        draw_batches(dynamic_batches, 0, frame.opaque_draws, 1, bound, camera, counts);
+        draw_batches(static_batches, 0, static_blend, 0, bound, camera, counts);
+        for (const FramePoint& p : frame.points) {
+            const std::size_t until = p.static_draw < static_batch_of_draw.size() ? static_batch_of_draw[p.static_draw] : static_batches.size();
+            if (until > static_blend) {
+                draw_batches(static_batches, static_blend, until, 0, bound, camera, counts);
+                static_blend = until;
+            }
+            draw_batches(dynamic_batches, p.first_draw, p.end_draw, 1, bound, camera, counts);
+        }
+        draw_batches(static_batches, static_blend, static_batches.size(), 0, bound, camera, counts);
+        depth_test = static_depth;
+        if (counting) {
+            gl.EndQuery(kSamplesPassed);
+            GLuint64 samples = 0;
+            gl.GetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
+            counts.samples_passed = std::int64_t(samples);
+        }
+        if (out) *out = counts;
+        return check_gl("drawing a frame");
+    }
+
     void delete_meshes() {
         if (static_vao) gl.DeleteVertexArrays(1, &static_vao);
         if (static_vertices) gl.DeleteBuffers(1, &static_vertices);
         if (static_indices) gl.DeleteBuffers(1, &static_indices);
         static_vao = static_vertices = static_indices = 0;
         static_batches.clear();
+        static_batch_of_draw.clear();
         static_triangles = 0;
     }
 
@@ -327,8 +413,10 @@ Status Renderer::set_meshes(const SceneMeshes& meshes) {
     std::vector<float> vertices;
     std::vector<std::uint32_t> indices;
     std::vector<Batch> batches;
+    std::vector<std::size_t> batch_of_draw;
     for (const Draw& d : meshes.draws) {
         if (Status s = r.validate(d); s != Status::ok) return s;
+        batch_of_draw.push_back(batches.size());
         if (d.indices.empty()) continue;
         if (vertices.size() / kVertexFloats + d.vertex_count() > std::size_t(UINT32_MAX))
             return r.fail(Status::bad_meshes, "meshes have more than 2^32 vertices");
@@ -338,6 +426,8 @@ Status Renderer::set_meshes(const SceneMeshes& meshes) {
     r.delete_meshes();
     r.depth_test = meshes.depth_test;
     r.static_batches = std::move(batches);
+    batch_of_draw.push_back(r.static_batches.size());
+    r.static_batch_of_draw = std::move(batch_of_draw);
     gl.GenVertexArrays(1, &r.static_vao);
     gl.GenBuffers(1, &r.static_vertices);
     gl.GenBuffers(1, &r.static_indices);
@@ -363,6 +453,10 @@ Status Renderer::reserve_dynamic(std::size_t vertices, std::size_t indices) {
 
 Status Renderer::draw(const Camera& camera, std::span<const Draw> dynamic, const FrameOptions& options, FrameCounts* counts) {
     return impl_->draw(camera, dynamic, options, counts);
+}
+
+Status Renderer::draw_frame(const Camera& camera, const AssembledFrame& frame, const FrameOptions& options, FrameCounts* counts) {
+    return impl_->draw_frame(camera, frame, options, counts);
 }
 
 Status Renderer::time_frames(const Camera& camera, int frames, const FrameOptions& options, FrameTimes* out) {

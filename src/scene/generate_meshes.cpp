@@ -15,6 +15,12 @@
 namespace depthcull::detail {
 
 void MeshBuilder::add_polygon(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z) {
+    if (capture_) {
+        const auto base = std::uint32_t(capture_->points.size());
+        capture_->points.insert(capture_->points.end(), p.begin(), p.end());
+        for (std::uint32_t t : triangles) capture_->indices.push_back(base + t);
+        return;
+    }
     const Element& e = scene_.elements[element];
     const SceneImage& img = scene_.images[std::size_t(e.image)];
     note_element(d, element);
@@ -151,6 +157,51 @@ void append_blend_draws(const Scene& scene, const std::vector<std::uint32_t>& or
     }
 }
 
+// assign_depth_levels with insertion points: the elements before a point
+// keep their levels, the point reserves the next `levels` ones, and every
+// element after it lies above them (as if in front of a sprite at every
+// position), so its sprites fall between the two. Sets first_level.
+std::vector<std::int64_t> assign_levels_with_points(const ElementGraph& graph, std::vector<InsertionPoint>& points) {
+    std::vector<std::int64_t> level(graph.size(), 0);
+    std::int64_t top = -1, floor = 0;
+    std::size_t k = 0;
+    auto open_points = [&](std::size_t i) {
+        for (; k < points.size() && points[k].element == i; ++k) {
+            points[k].first_level = std::max(floor, top + 1);
+            floor = points[k].first_level + points[k].levels;
+        }
+    };
+    for (std::size_t i = 0; i < graph.size(); ++i) {
+        open_points(i);
+        level[i] = floor;
+        for (const std::uint32_t* b = graph.behind_begin(i); b != graph.behind_end(i); ++b)
+            level[i] = std::max(level[i], level[*b] + 1);
+        top = std::max(top, level[i]);
+    }
+    open_points(graph.size());
+    return level;
+}
+
+// The blend-pass order sorted within each segment (elements between
+// insertion points, segment_begin ascending): no element crosses a point.
+std::vector<std::uint32_t> sort_segments(const ElementGraph& graph, const std::vector<std::int32_t>& keys, SortMethod method,
+                                         const std::vector<std::size_t>& segment_begin) {
+    std::vector<std::uint32_t> order;
+    for (std::size_t s = 0; s < segment_begin.size(); ++s) {
+        const std::size_t a = segment_begin[s], b = s + 1 < segment_begin.size() ? segment_begin[s + 1] : graph.size();
+        if (a >= b) continue;
+        ElementGraph sub;
+        for (std::size_t i = a; i < b; ++i) {
+            for (const std::uint32_t* t = graph.behind_begin(i); t != graph.behind_end(i); ++t)
+                if (*t >= a) sub.targets.push_back(std::uint32_t(*t - a));
+            sub.offsets.push_back(std::uint32_t(sub.targets.size()));
+        }
+        const std::vector<std::int32_t> sub_keys(keys.begin() + std::ptrdiff_t(a), keys.begin() + std::ptrdiff_t(b));
+        for (std::uint32_t e : sort_order(sub, sub_keys, method)) order.push_back(std::uint32_t(e + a));
+    }
+    return order;
+}
+
 } // namespace
 
 } // namespace depthcull::detail
@@ -184,12 +235,29 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
         sorted[i] = blend_keys[i] >= 0;
     }
     ElementGraph graph = build_graph(scene, analyses, shapes.boundary, options.graph, &sorted, options.graph_pair_budget);
-    std::vector<std::uint32_t> order = sort_order(graph, blend_keys, options.sort);
-    std::vector<std::int64_t> levels = assign_depth_levels(graph);
+    std::vector<InsertionPoint> points = options.insertion_points;
+    for (std::size_t k = 0; k < points.size(); ++k)
+        if (points[k].element > n || points[k].levels < 0 || points[k].levels > kMaxDepthLevels ||
+            (k > 0 && points[k].element < points[k - 1].element))
+            return ReconstructStatus::invalid_scene;
+    std::vector<std::uint32_t> order;
+    std::vector<std::int64_t> levels;
+    // Segments between insertion points: [segment_begin[s], segment_begin[s + 1]).
+    std::vector<std::size_t> segment_begin{0};
+    if (points.empty()) {
+        order = sort_order(graph, blend_keys, options.sort);
+        levels = assign_depth_levels(graph);
+    } else {
+        levels = assign_levels_with_points(graph, points);
+        for (const InsertionPoint& p : points) segment_begin.push_back(p.element);
+        order = sort_segments(graph, blend_keys, options.sort, segment_begin);
+    }
+    segment_begin.push_back(n);
 
     std::int64_t depth_levels = 0;
     for (std::size_t i = 0; i < n; ++i)
         if (shapes.boundary[i] != Shape::none) depth_levels = std::max(depth_levels, levels[i] + 1);
+    for (const InsertionPoint& p : points) depth_levels = std::max(depth_levels, p.first_level + p.levels);
     if (depth_levels + options.reserved_dynamic_levels > kMaxDepthLevels) return ReconstructStatus::too_many_depth_levels;
     const std::int64_t denominator = depth_denominator(depth_levels + options.reserved_dynamic_levels);
 
@@ -201,8 +269,22 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);
     append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
-    append_blend_draws(scene, order, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
+    if (points.empty()) {
+        append_blend_draws(scene, order, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
+    } else {
+        // One run of blend draws per segment: no draw spans a point, whose
+        // sprites' blend draws go between.
+        std::vector<std::uint32_t> part;
+        std::size_t at = 0;
+        for (std::size_t s = 0; s + 1 < segment_begin.size(); ++s) {
+            if (s > 0) points[s - 1].blend_draw = std::uint32_t(result.draws.size());
+            part.clear();
+            while (at < order.size() && order[at] < segment_begin[s + 1]) part.push_back(order[at++]);
+            append_blend_draws(scene, part, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
+        }
+    }
     result.depth_denominator = denominator;
+    result.insertion_points = std::move(points);
 
     result.stats.elements = std::int64_t(n);
     result.stats.depth_levels = depth_levels;

@@ -65,6 +65,13 @@ ElementGraph build_graph(const Scene& scene, const std::vector<const ImageAnalys
 
 namespace depthcull::detail {
 
+// Polygons captured in texel space instead of drawn (MeshBuilder::capture):
+// the templates a FrameAssembler transforms per sprite.
+struct TexelMesh {
+    std::vector<Vec2> points; // texel positions in the image
+    std::vector<std::uint32_t> indices;
+};
+
 // Appends elements' polygons to draws (paper 2.3.3 AddPolygon), caching
 // the triangulation of each analysis polygon: elements sharing an image
 // rect share the texel-space triangulation, and an affine transform keeps
@@ -83,6 +90,13 @@ public:
             d.element_spans.push_back({id, std::uint32_t(d.vertex_count())});
     }
     void add_boundary(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
+    // From now on polygons go to `mesh` (texel space) instead of a Draw;
+    // always_skirt: texel skirts even where the element's transform snaps
+    // exactly (a template serves every transform).
+    void capture(TexelMesh* mesh, bool always_skirt) {
+        capture_ = mesh;
+        always_skirt_ = always_skirt;
+    }
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
 
     // ReconstructOptions::coverage_margin: a skirt around `polygons` (of
@@ -108,6 +122,8 @@ private:
     double margin_;
     double texel_margin_;
     bool spans_;
+    TexelMesh* capture_ = nullptr;
+    bool always_skirt_ = false;
     std::vector<std::uint32_t> fan_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };

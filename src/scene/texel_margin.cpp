@@ -142,7 +142,7 @@ double MeshBuilder::element_texel_margin(std::uint32_t element) const {
 void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z,
                                    const std::vector<std::uint8_t>* skirted) {
     const double m = element_texel_margin(element);
-    if (!(m > 0) || !std::isfinite(m) || snaps_exactly(scene_.elements[element].transform)) return;
+    if (!(m > 0) || !std::isfinite(m) || (!always_skirt_ && snaps_exactly(scene_.elements[element].transform))) return;
     // Polygons (or parts of one) closer than the skirt reaches would get
     // each other's skirt over their inside texels, blending those twice:
     // no skirt for them.

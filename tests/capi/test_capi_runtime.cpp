@@ -3,11 +3,13 @@
 // pixel for pixel, and bad input is a status with a message.
 #ifdef DEPTHCULL_TEST_CAPI_RUNTIME
 
+#include <cmath>
 #include <cstring>
 
 #include <gtest/gtest.h>
 
 #include "depthcull/depthcull.h"
+#include "depthcull/frame.h"
 #include "depthcull/render.h"
 #include "depthcull/runtime.h"
 #include "depthcull/scene.h"
@@ -136,6 +138,95 @@ TEST(CApiRuntime, DrawsWhatTheCppRuntimeDraws) {
     dc_meshes_destroy(frame);
     dc_meshes_destroy(meshes);
     dc_scene_destroy(scene);
+    dc_analysis_destroy(a);
+}
+
+// Moving sprites through C (since 0.2): dc_assemble + dc_renderer_draw_frame
+// draw what the C++ assembler and runtime draw, which equal overpaint
+// (tests/runtime/test_frames.cpp).
+TEST(CApiRuntime, AssembledFramesDrawLikeTheCppRuntime) {
+    NEED_HOST(h);
+    EXPECT_GE(DC_VERSION_MINOR, 2);
+    const Image image = sprite();
+    const dc_rect whole{0, 0, 10, 10};
+    dc_analysis* a = nullptr;
+    ASSERT_EQ(dc_analyze_image(image.rgba.data(), 10, 10, 40, whole, nullptr, &a), DC_OK);
+    dc_assembler* assembler = nullptr;
+    dc_frame* frame = nullptr;
+    ASSERT_EQ(dc_assembler_create(&assembler), DC_OK);
+    ASSERT_EQ(dc_frame_create(&frame), DC_OK);
+    uint32_t id = 0;
+    ASSERT_EQ(dc_assembler_add_image(assembler, 0, 10, 10, whole, a, &id), DC_OK) << dc_last_error();
+    EXPECT_EQ(dc_assembler_add_image(assembler, 0, 4, 4, whole, a, &id), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(dc_last_error()).find("dc_assembler_add_image"), std::string::npos);
+    std::vector<dc_sprite> sprites(30);
+    std::vector<Element> elements;
+    for (std::size_t i = 0; i < sprites.size(); ++i) {
+        dc_sprite_default(&sprites[i]);
+        sprites[i].image = 0;
+        const double angle = 0.3 * double(i), scale = 0.5 + double(i % 4) / 2;
+        const double m[6] = {scale * std::cos(angle), scale * std::sin(angle), -scale * std::sin(angle), scale * std::cos(angle),
+                             1.3 + double((i * 7) % 40), 0.7 + double((i * 5) % 30)};
+        std::copy(m, m + 6, sprites[i].transform);
+        sprites[i].blend = i % 7 == 6 ? DC_BLEND_ADD : DC_BLEND_ALPHA;
+    }
+    ASSERT_EQ(dc_assemble(assembler, sprites.data(), sprites.size(), {0, 0, 48, 40}, frame), DC_OK) << dc_last_error();
+    dc_frame_stats stats;
+    ASSERT_EQ(dc_frame_stats_get(frame, &stats), DC_OK);
+    EXPECT_EQ(stats.sprites, 30);
+    EXPECT_LT(stats.draw_calls, 30);
+    size_t vertex_count = 0, index_count = 0;
+    EXPECT_NE(dc_frame_vertices(frame, &vertex_count), nullptr);
+    EXPECT_NE(dc_frame_indices(frame, &index_count), nullptr);
+    EXPECT_EQ(std::int64_t(index_count), 3 * stats.triangles);
+    sprites[3].image = 9;
+    EXPECT_EQ(dc_assemble(assembler, sprites.data(), sprites.size(), {0, 0, 48, 40}, frame), DC_ERROR_INVALID_ARGUMENT);
+    sprites[3].image = 0;
+    ASSERT_EQ(dc_assemble(assembler, sprites.data(), sprites.size(), {0, 0, 48, 40}, frame), DC_OK);
+
+    dc_renderer* r = nullptr;
+    ASSERT_EQ(dc_renderer_create(&gl_function, &r), DC_OK) << dc_last_error();
+    const dc_image_pixels pixels{image.rgba.data(), 10, 10, 40};
+    ASSERT_EQ(dc_renderer_upload_images(r, &pixels, 1, DC_FILTER_NEAREST), DC_OK);
+    h.host->bind_framebuffer(48, 40);
+    const dc_camera camera{0, 0, 48, 40, 0};
+    const dc_frame_options frame_options{1, 0};
+    dc_frame_counts counts;
+    ASSERT_EQ(dc_renderer_draw_frame(r, &camera, frame, &frame_options, &counts), DC_OK) << dc_last_error();
+    EXPECT_EQ(counts.draw_calls, stats.draw_calls);
+    const Image from_c = h.host->read_pixels();
+
+    // The C++ assembler and runtime, same sprites.
+    std::string error;
+    auto cpp = runtime::Renderer::create(&render::GlHost::get_proc_address, &error);
+    ASSERT_TRUE(cpp) << error;
+    const ImageView view = image.view();
+    ASSERT_EQ(cpp->upload_images({&view, 1}, Filter::nearest), runtime::Status::ok);
+    ImageAnalysis analysis = analyze_image(view, {0, 0, 10, 10}, {});
+    FrameAssembler cpp_assembler;
+    int cpp_id = -1;
+    ASSERT_EQ(cpp_assembler.add_image({0, 10, 10, {0, 0, 10, 10}, &analysis}, &cpp_id), FrameStatus::ok);
+    std::vector<Sprite> cpp_sprites;
+    for (const dc_sprite& c : sprites) {
+        Sprite s;
+        std::copy(c.transform, c.transform + 6, s.transform.begin());
+        s.blend = Blend(c.blend);
+        cpp_sprites.push_back(s);
+    }
+    AssembledFrame cpp_frame;
+    ASSERT_EQ(cpp_assembler.assemble(cpp_sprites, {0, 0, 48, 40}, &cpp_frame), FrameStatus::ok);
+    runtime::FrameOptions o;
+    o.clear_color = true;
+    ASSERT_EQ(cpp->draw_frame({0, 0, 48, 40, false}, cpp_frame, o), runtime::Status::ok) << cpp->error();
+    const Image from_cpp = h.host->read_pixels();
+    EXPECT_EQ(from_c.rgba, from_cpp.rgba);
+    std::int64_t drawn = 0;
+    for (std::size_t i = 3; i < from_c.rgba.size(); i += 4) drawn += from_c.rgba[i] != 0;
+    EXPECT_GT(drawn, 48 * 40 / 4);
+    cpp.reset();
+    dc_renderer_destroy(r);
+    dc_frame_destroy(frame);
+    dc_assembler_destroy(assembler);
     dc_analysis_destroy(a);
 }
 

@@ -8,6 +8,9 @@
 #include <cstdlib>
 #include <new>
 
+#include <cmath>
+
+#include "depthcull/frame.h"
 #include "depthcull/io.h"
 #include "depthcull/pipeline.h"
 #include "../render/render_scenes.h"
@@ -99,6 +102,62 @@ TEST_P(Runtime, AFrameWithDynamicElementsAllocatesNothing) {
     }
     EXPECT_EQ(g_allocations.load() - before, 0);
     EXPECT_EQ(counts.draw_calls, std::int64_t(static_meshes.draws.size() + dynamic.draws.size()));
+}
+
+// Moving sprites (depthcull/frame.h): once warmed up, assembling a frame
+// and drawing it allocate nothing, however the sprites move.
+TEST_P(Runtime, AssembledFramesAllocateNothing) {
+    DEPTHCULL_RUNTIME_HOST(h, GetParam());
+    pipeline::PreparedScene p = pipeline::prepare_scene(test::source_path("examples/meadow.json"), {});
+    std::vector<ImageView> views;
+    for (const Image& i : p.images) views.push_back(i.view());
+    ASSERT_EQ(h->renderer->upload_images(views, p.scene.filter), runtime::Status::ok);
+    FrameAssembler assembler;
+    std::vector<int> picture_of; // per analysis
+    for (const ImageAnalysis& a : p.analysis.images) {
+        std::size_t element = 0;
+        while (p.analysis.of_element[element] != std::uint32_t(&a - p.analysis.images.data())) ++element;
+        const Element& e = p.scene.elements[element];
+        const SceneImage& img = p.scene.images[std::size_t(e.image)];
+        int id = -1;
+        ASSERT_EQ(assembler.add_image({e.image, img.width, img.height, e.rect, &a}, &id), FrameStatus::ok);
+        picture_of.push_back(id);
+    }
+    std::vector<Sprite> sprites;
+    for (int i = 0; i < 2000; ++i) {
+        const std::size_t element = std::size_t(i) % p.scene.elements.size();
+        Sprite s;
+        s.image = picture_of[p.analysis.of_element[element]];
+        sprites.push_back(s);
+    }
+    auto move = [&](int frame) {
+        for (std::size_t i = 0; i < sprites.size(); ++i) {
+            const double a = 0.01 * double(i) + 0.1 * frame, scale = 0.25 + double((i * 7 + std::size_t(frame)) % 8) / 4;
+            sprites[i].transform = {scale * std::cos(a), scale * std::sin(a), -scale * std::sin(a), scale * std::cos(a),
+                                    double((i * 37 + std::size_t(frame) * 3) % 640), double((i * 53) % 480)};
+        }
+    };
+    const Viewport view{0, 0, 640, 480};
+    SceneMeshes none;
+    none.viewport = view;
+    ASSERT_EQ(h->renderer->set_meshes(none), runtime::Status::ok);
+    h->host->bind_framebuffer(view.width, view.height);
+    AssembledFrame frame;
+    assembler.reserve(sprites.size(), &frame);
+    ASSERT_EQ(h->renderer->reserve_dynamic(frame.vertices.capacity() / kVertexFloats, frame.indices.capacity()), runtime::Status::ok);
+    const runtime::Camera camera = runtime::camera_of(view, false);
+    move(0);
+    ASSERT_EQ(assembler.assemble(sprites, view, &frame), FrameStatus::ok);
+    ASSERT_EQ(h->renderer->draw_frame(camera, frame), runtime::Status::ok) << h->renderer->error();
+    const std::int64_t before = g_allocations.load();
+    for (int f = 1; f <= 5; ++f) {
+        move(f);
+        ASSERT_EQ(assembler.assemble(sprites, view, &frame), FrameStatus::ok);
+        ASSERT_EQ(h->renderer->draw_frame(camera, frame), runtime::Status::ok);
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0);
+    EXPECT_GT(frame.stats.opaque_draws, 0);
+    EXPECT_LT(frame.stats.blend_batches, std::int64_t(sprites.size()) / 4);
 }
 
 INSTANTIATE_TEST_SUITE_P(Targets, Runtime, testing::Values(GlApi::desktop, GlApi::gles),

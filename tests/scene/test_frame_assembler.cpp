@@ -1,0 +1,152 @@
+// FrameAssembler (depthcull/frame.h) and insertion points in the pure
+// core: depth ranges, draw order and batching, statuses. Pixel identity is
+// proven in the runtime (tests/runtime/test_frames.cpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "depthcull/frame.h"
+#include "scene_fixtures.h"
+
+namespace depthcull {
+namespace {
+
+using test::SceneBuilder;
+
+// Level of a vertex from its z (depth_z: blend (2k+1)/D, opaque (2k+2)/D).
+std::int64_t level_of(float z, std::int64_t denominator) { return (std::int64_t(std::llround(double(z) * double(denominator))) - 1) / 2; }
+
+struct Pictures {
+    ImageAnalysis ball, block;
+    FrameAssembler assembler;
+    int ball_id = -1, block_id = -1;
+    explicit Pictures(const AssemblerOptions& options = {}) : assembler(options) {
+        // A 16x16 picture: boundary its rect, an opaque core.
+        ball.rect = block.rect = {0, 0, 16, 16};
+        ball.boundary = {{{0, 0}, {16, 0}, {16, 16}, {0, 16}}};
+        ball.opaque = {{{4, 4}, {12, 4}, {12, 12}, {4, 12}}};
+        ball.stats.nontransparent_texels = 256;
+        ball.stats.opaque_covered_texels = 64;
+        block = ball;
+        EXPECT_EQ(assembler.add_image({0, 16, 16, ball.rect, &ball}, &ball_id), FrameStatus::ok);
+        EXPECT_EQ(assembler.add_image({1, 16, 16, block.rect, &block}, &block_id), FrameStatus::ok);
+    }
+};
+
+Sprite at(int image, double x, double y) {
+    Sprite s;
+    s.image = image;
+    s.transform = {1, 0, 0, 1, x, y};
+    return s;
+}
+
+TEST(FrameAssembler, SpritesOfOneTextureShareOneBlendDrawEvenWhenStacked) {
+    Pictures p;
+    std::vector<Sprite> sprites;
+    for (int i = 0; i < 1000; ++i) sprites.push_back(at(p.ball_id, 100 + (i % 7), 100 + (i % 5)));
+    AssembledFrame frame;
+    ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 640, 480}, &frame), FrameStatus::ok);
+    EXPECT_EQ(frame.stats.blend_batches, 1);
+    EXPECT_EQ(frame.stats.opaque_draws, 1);
+    // Painter's order within the draw: levels ascend.
+    const FrameDraw& d = frame.draws.back();
+    std::int64_t last = -1;
+    for (std::uint32_t k = d.first_index; k < d.first_index + d.index_count; ++k) {
+        const std::int64_t level = level_of(frame.vertices[std::size_t(frame.indices[k]) * kVertexFloats + 2], frame.depth_denominator);
+        EXPECT_GE(level, last);
+        last = level;
+    }
+}
+
+TEST(FrameAssembler, OverlappingTexturesKeepPainterOrderDisjointOnesBatch) {
+    Pictures p;
+    std::vector<Sprite> stacked, apart;
+    for (int i = 0; i < 100; ++i) {
+        stacked.push_back(at(i % 2 ? p.block_id : p.ball_id, 50, 50));
+        apart.push_back(at(i % 2 ? p.block_id : p.ball_id, i % 2 ? 300 : 20, 20 + 2 * i));
+    }
+    AssembledFrame frame;
+    ASSERT_EQ(p.assembler.assemble(stacked, {0, 0, 640, 480}, &frame), FrameStatus::ok);
+    EXPECT_EQ(frame.stats.blend_batches, 100);
+    ASSERT_EQ(p.assembler.assemble(apart, {0, 0, 640, 480}, &frame), FrameStatus::ok);
+    EXPECT_EQ(frame.stats.blend_batches, 2);
+}
+
+TEST(FrameAssembler, PastTheCellBudgetBatchingDegradesOrderHolds) {
+    AssemblerOptions options;
+    options.cell_budget = 0; // every sprite counts as overlapping every other
+    Pictures p(options);
+    std::vector<Sprite> apart;
+    for (int i = 0; i < 100; ++i) apart.push_back(at(i % 2 ? p.block_id : p.ball_id, i % 2 ? 300 : 20, 20 + 2 * i));
+    AssembledFrame frame;
+    ASSERT_EQ(p.assembler.assemble(apart, {0, 0, 640, 480}, &frame), FrameStatus::ok);
+    EXPECT_EQ(frame.stats.blend_batches, 100);
+    EXPECT_EQ(frame.stats.over_budget, 100);
+}
+
+TEST(FrameAssembler, BadInputGetsAStatus) {
+    Pictures p;
+    int id = -1;
+    EXPECT_EQ(p.assembler.add_image({0, 8, 8, {0, 0, 16, 16}, &p.ball}, &id), FrameStatus::bad_image);
+    EXPECT_EQ(p.assembler.add_image({0, 16, 16, {0, 0, 16, 16}, nullptr}, &id), FrameStatus::bad_image);
+    AssembledFrame frame;
+    std::vector<Sprite> sprites{at(7, 0, 0)};
+    EXPECT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite);
+    sprites = {at(p.ball_id, NAN, 0)};
+    EXPECT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite);
+    sprites = {at(p.ball_id, 0, 0)};
+    sprites[0].animation = 3;
+    EXPECT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite);
+}
+
+// A static scene with an insertion point: elements before it keep levels
+// below the reserved range, those after it lie above it, and no static
+// blend draw spans the point.
+TEST(InsertionPoints, ReserveARangeBetweenTheLayers) {
+    SceneBuilder b;
+    const int img = b.image("a", 16, 16);
+    const ImageAnalysis* a = b.full(img);
+    for (int i = 0; i < 6; ++i) b.add(img, a, 10 + 40 * i, 10); // disjoint: all level 0 without a point
+    ReconstructOptions options;
+    options.insertion_points = {{3, 5}};
+    options.element_spans = true;
+    SceneMeshes m;
+    ASSERT_EQ(reconstruct_scene(b.scene, b.analyses, options, &m), ReconstructStatus::ok);
+    ASSERT_EQ(m.insertion_points.size(), 1u);
+    const InsertionPoint& point = m.insertion_points[0];
+    EXPECT_EQ(point.first_level, 1);
+    EXPECT_EQ(m.stats.depth_levels, 1 + 5 + 1);
+    for (std::size_t k = 0; k < m.draws.size(); ++k) {
+        const Draw& d = m.draws[k];
+        for (const ElementSpan& span : d.element_spans) {
+            const std::int64_t level = level_of(d.vertices[std::size_t(span.first_vertex) * kVertexFloats + 2], m.depth_denominator);
+            if (span.element < 3) EXPECT_LT(level, point.first_level);
+            else EXPECT_GE(level, point.first_level + point.levels);
+            if (d.pass == Pass::blend) EXPECT_EQ(k < point.blend_draw, span.element < 3) << "draw " << k;
+        }
+    }
+    // Without the point the six share one draw; with it, one each side.
+    EXPECT_EQ(m.stats.draw_calls, 2);
+
+    // Sprites at the point take levels in its range; more than it holds: a status.
+    Pictures p;
+    std::vector<Sprite> sprites{at(p.ball_id, 0, 0), at(p.ball_id, 5, 5)};
+    std::vector<std::span<const Sprite>> lists{sprites};
+    AssembledFrame frame;
+    ASSERT_EQ(p.assembler.assemble_at(m, lists, {0, 0, 256, 256}, &frame), FrameStatus::ok);
+    ASSERT_EQ(frame.points.size(), 1u);
+    EXPECT_EQ(frame.points[0].static_draw, point.blend_draw);
+    for (std::size_t v = 2; v < frame.vertices.size(); v += kVertexFloats) {
+        const std::int64_t level = level_of(frame.vertices[v], m.depth_denominator);
+        EXPECT_GE(level, point.first_level);
+        EXPECT_LT(level, point.first_level + point.levels);
+    }
+    std::vector<Sprite> many(6, at(p.ball_id, 0, 0));
+    lists = {many};
+    EXPECT_EQ(p.assembler.assemble_at(m, lists, {0, 0, 256, 256}, &frame), FrameStatus::too_many_sprites);
+    options.insertion_points = {{7, 1}};
+    EXPECT_EQ(reconstruct_scene(b.scene, b.analyses, options, &m), ReconstructStatus::invalid_scene);
+}
+
+} // namespace
+} // namespace depthcull
