@@ -15,12 +15,14 @@ import { DepthcullError } from './index.js';
 import { MeshRenderer } from './renderer.js';
 import { loadMeshes } from './meshes.js';
 
-// Pixi packs a sprite's tint and alpha into 8 bits each by truncation
-// (Color._refreshInt: r * 255 | 0; alpha * 255 | 0): the layer's colours
-// are quantized the same way, or a 0.85 tint would differ by one level.
-// Bytes too, as Pixi's batcher passes them (normalized UNSIGNED_BYTE).
-function pixiColorByte(c) {
-  return (Math.min(1, Math.max(0, c)) * 255) | 0;
+// Pixi passes a sprite's tint and alpha to its shader as normalized bytes:
+// the tint rounded (a 0.85 red is 217; measured: truncating to 216 made the
+// tinted rocks of examples/meadow.json one level darker), the alpha
+// truncated (groupColorAlpha: alpha * 255 | 0). The layer's colours are
+// made the same bytes, or the frames would differ by one level.
+function pixiColorByte(c, channel) {
+  const v = Math.min(1, Math.max(0, c)) * 255;
+  return channel === 3 ? v | 0 : Math.round(v);
 }
 
 export class DepthCulledLayer extends RenderContainer {

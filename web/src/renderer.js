@@ -145,7 +145,7 @@ export class MeshRenderer {
   /**
    * The meshes (parseMeshes's result) into one vertex and one index buffer:
    * WebGL 2 has no base vertex, so each draw's indices are offset by its
-   * first vertex. `colorByte(c)`: the colours as normalized bytes (0..255)
+   * first vertex. `colorByte(c, channel)`: the colours as normalized bytes (0..255)
    * instead of floats, as PixiJS's batcher feeds its shader (the GPU's byte
    * to float conversion is not always the correctly rounded c / 255).
    */
@@ -169,7 +169,7 @@ export class MeshRenderer {
         for (let k = 0; k < n; ++k) {
           const src = k * VERTEX_FLOATS, dst = (v + k) * 6;
           for (let c = 0; c < 5; ++c) f32[dst + c] = d.vertices[src + c];
-          for (let c = 0; c < 4; ++c) u8[(dst + 5) * 4 + c] = colorByte(d.vertices[src + 5 + c]);
+          for (let c = 0; c < 4; ++c) u8[(dst + 5) * 4 + c] = colorByte(d.vertices[src + 5 + c], c);
         }
       for (let k = 0; k < d.indices.length; ++k) indices[i + k] = d.indices[k] + v;
       this.draws.push({ image: d.image, pass: d.pass, blend: d.blend, first: i, count: d.indices.length });
