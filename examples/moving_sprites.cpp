@@ -148,8 +148,7 @@ int main(int argc, char** argv) {
         std::string error;
         auto renderer = runtime::Renderer::create(&gl_loader, &error);
         if (!renderer) throw io::Error(error);
-        std::vector<ImageView> images;
-        for (const Image& image : p.images) images.push_back(image.view());
+        const std::vector<ImageView> images = p.views();
         if (renderer->upload_images(images, p.scene.filter) != runtime::Status::ok) throw io::Error(renderer->error());
         if (renderer->set_meshes(static_meshes) != runtime::Status::ok) throw io::Error(renderer->error());
 

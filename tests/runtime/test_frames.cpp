@@ -316,8 +316,7 @@ TEST_P(Frames, CorpusMapsWithMovingSpritesInTheGameLayer) {
                 if (rng() % 4 == 0) sp.color[0] *= 0.7f, sp.color[2] *= 0.8f; // tinted
                 speed.push_back(uniform(-3, 3));
             }
-            std::vector<ImageView> views;
-            for (const Image& i : p.images) views.push_back(i.view());
+            const std::vector<ImageView> views = p.views();
             AssembledFrame frame;
             for (int f = 0; f < 60; ++f) {
                 for (std::size_t i = 0; i < sprites.size(); ++i) {

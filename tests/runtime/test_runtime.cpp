@@ -109,8 +109,7 @@ TEST_P(Runtime, AFrameWithDynamicElementsAllocatesNothing) {
 TEST_P(Runtime, AssembledFramesAllocateNothing) {
     DEPTHCULL_RUNTIME_HOST(h, GetParam());
     pipeline::PreparedScene p = pipeline::prepare_scene(test::source_path("examples/meadow.json"), {});
-    std::vector<ImageView> views;
-    for (const Image& i : p.images) views.push_back(i.view());
+    const std::vector<ImageView> views = p.views();
     ASSERT_EQ(h->renderer->upload_images(views, p.scene.filter), runtime::Status::ok);
     FrameAssembler assembler;
     std::vector<int> picture_of; // per analysis
