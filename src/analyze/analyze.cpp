@@ -99,11 +99,17 @@ std::uint64_t analysis_scratch_bytes(Rect rect, const AnalyzeOptions& options) {
 AnalyzeStatus analyze_image(ImageView image, Rect rect, const AnalyzeOptions& options, std::uint64_t max_scratch_bytes,
                             ImageAnalysis& out) {
     if (analysis_scratch_bytes(rect, options) > max_scratch_bytes) return AnalyzeStatus::over_memory_limit;
+#if defined(__cpp_exceptions)
     try {
         out = analyze_image(image, rect, options);
     } catch (const std::bad_alloc&) {
         return AnalyzeStatus::out_of_memory;
     }
+#else
+    // Built without exceptions (the WebAssembly core): a failed allocation
+    // traps there, so no status can report it.
+    out = analyze_image(image, rect, options);
+#endif
     return AnalyzeStatus::ok;
 }
 
