@@ -191,6 +191,7 @@ private:
         bool boundary_inside = false; // analysis boundary within the rect
         bool has_boundary = false, has_opaque = false;
         bool opaque_covers_all = false;
+        bool bleeding_edges = false; // ImageAnalysis::bleeding_edges: turned or scaled, it draws its rect
         double bx0 = 0, by0 = 0, bx1 = 0, by1 = 0; // what it draws, texels relative to the rect
     };
     struct Plan { // per sprite, this frame

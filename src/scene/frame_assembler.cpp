@@ -98,6 +98,7 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
         TexelMesh quad{{r.begin(), r.end()}, {0, 1, 2, 0, 2, 3}};
         to_template(quad, p.quad);
     }
+    p.bleeding_edges = a->bleeding_edges;
     p.opaque_covers_all = a->stats.nontransparent_texels > 0 && a->stats.opaque_covered_texels == a->stats.nontransparent_texels;
     // The box that holds whatever the sprite draws: its rect (skirts are
     // clipped to it).
@@ -172,6 +173,10 @@ FrameStatus FrameAssembler::plan_sprite(std::size_t i) {
     else if (s.color[3] <= 0.0f || !pic.has_boundary) p.boundary = 0;
     else p.boundary = pic.boundary_inside ? 1 : 2;
     if (p.boundary == 0) return FrameStatus::ok;
+    // Frames are for a plain renderer (texel skirts, no coverage skirts):
+    // a sprite GL snaps whose picture's edges bleed draws its whole rect,
+    // as reconstruction's rect_edges does for such an element.
+    if (p.boundary == 1 && needs_rect_edges(pic.bleeding_edges, s.transform)) p.boundary = 2;
     if (options_.opaque_pass) {
         if (s.blend == Blend::opaque) p.opaque = 2;
         else if (s.blend == Blend::alpha && s.color[3] == 1.0f && pic.has_opaque) p.opaque = 1;

@@ -2,6 +2,7 @@
 // graph, sorting and mesh generation.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +33,10 @@ bool element_is_valid(const Scene& scene, const Element& e);
 // edges (needs_rect_edges in shapes.cpp).
 ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, bool opaque_pass,
                              bool rect_edges = false);
+// With rect_edges: whether an element whose analysis boundary lies within
+// its rect draws its whole rect in the blend pass instead (the rule and its
+// reason in shapes.cpp). bleeding_edges: ImageAnalysis::bleeding_edges.
+bool needs_rect_edges(bool bleeding_edges, const std::array<double, 6>& transform);
 
 // Marks elements whose rect lies entirely outside the viewport (by more
 // than a pixel, for float rounding) as drawing nothing.

@@ -78,6 +78,8 @@ Shape boundary_shape(const Scene& scene, const Element& e, const ImageAnalysis* 
     return inside_rect(a->boundary, e.rect) ? Shape::analysis : Shape::rect;
 }
 
+} // namespace
+
 // In a plain renderer (texel_margin.cpp) GL snaps the corners of
 // overpaint's quad, and a pixel centre within the snapping error of the
 // rect's edge may fall on either side of it: inside, overpaint shows the
@@ -90,12 +92,11 @@ Shape boundary_shape(const Scene& scene, const Element& e, const ImageAnalysis* 
 // whose vertices GL snaps draws its whole rect in the blend pass, from
 // overpaint's own corners, when one of those texels is non-transparent
 // (ImageAnalysis::bleeding_edges). Tiles (snaps_exactly) and sprites with
-// a transparent border and ring keep their polygons.
-bool needs_rect_edges(const Element& e, const ImageAnalysis& a) {
-    return a.bleeding_edges && !snaps_exactly(e.transform);
+// a transparent border and ring keep their polygons. FrameAssembler
+// applies the same rule per sprite per frame (frame_assembler.cpp).
+bool needs_rect_edges(bool bleeding_edges, const std::array<double, 6>& transform) {
+    return bleeding_edges && !snaps_exactly(transform);
 }
-
-} // namespace
 
 ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, bool opaque_pass,
                              bool rect_edges) {
@@ -109,7 +110,7 @@ ElementShapes element_shapes(const Scene& scene, const std::vector<const ImageAn
         const ImageAnalysis* a = i < analyses.size() ? analyses[i] : nullptr;
         s.boundary[i] = boundary_shape(scene, e, a);
         if (s.boundary[i] == Shape::none) continue;
-        if (rect_edges && s.boundary[i] == Shape::analysis && needs_rect_edges(e, *a)) s.boundary[i] = Shape::rect;
+        if (rect_edges && s.boundary[i] == Shape::analysis && needs_rect_edges(a->bleeding_edges, e.transform)) s.boundary[i] = Shape::rect;
         if (opaque_pass) {
             if (e.blend == Blend::opaque) s.opaque[i] = Shape::rect;
             else if (e.blend == Blend::alpha && e.color[3] == 1.0f && whole_rect_opaque(scene, e, a)) {

@@ -84,6 +84,52 @@ TEST(FrameAssembler, PastTheCellBudgetBatchingDegradesOrderHolds) {
     EXPECT_EQ(frame.stats.over_budget, 100);
 }
 
+// Issue 21's rect edges (needs_rect_edges in shapes.cpp), per sprite: a
+// sprite GL snaps whose picture's edges bleed draws its whole rect in the
+// blend pass, from overpaint's four corners and no skirt, as the static
+// reconstruction draws such an element; its opaque polygons stay. A sprite
+// that snaps exactly, or whose picture does not bleed, keeps its polygons.
+TEST(FrameAssembler, TurnedOrScaledSpritesOfBleedingPicturesDrawTheirRect) {
+    ImageAnalysis octagon;
+    octagon.rect = {0, 0, 16, 16};
+    octagon.boundary = {{{4, 0}, {12, 0}, {16, 4}, {16, 12}, {12, 16}, {4, 16}, {0, 12}, {0, 4}}};
+    octagon.opaque = {{{4, 4}, {12, 4}, {12, 12}, {4, 12}}};
+    octagon.stats.nontransparent_texels = 224;
+    octagon.stats.opaque_covered_texels = 64;
+    ImageAnalysis bleeding = octagon;
+    bleeding.bleeding_edges = true;
+    FrameAssembler assembler;
+    int plain_id = -1, bleeding_id = -1;
+    ASSERT_EQ(assembler.add_image({0, 16, 16, octagon.rect, &octagon}, &plain_id), FrameStatus::ok);
+    ASSERT_EQ(assembler.add_image({0, 16, 16, bleeding.rect, &bleeding}, &bleeding_id), FrameStatus::ok);
+    auto blend_vertices = [&](int image, const std::array<double, 6>& transform, AssembledFrame& frame) {
+        Sprite s;
+        s.image = image;
+        s.transform = transform;
+        EXPECT_EQ(assembler.assemble(std::span<const Sprite>(&s, 1), {0, 0, 640, 480}, &frame), FrameStatus::ok);
+        EXPECT_EQ(frame.stats.opaque_draws, 1);
+        std::vector<Vec2> v;
+        const FrameDraw& d = frame.draws.back();
+        EXPECT_EQ(d.pass, Pass::blend);
+        for (std::uint32_t k = d.first_index; k < d.first_index + d.index_count; ++k) {
+            const float* p = &frame.vertices[std::size_t(frame.indices[k]) * kVertexFloats];
+            v.push_back({p[0], p[1]});
+        }
+        return v;
+    };
+    const std::array<double, 6> scaled{0.3, 0, 0, 0.3, 10.3, 20.7}, tile{1, 0, 0, 1, 10, 20};
+    AssembledFrame frame;
+    const std::vector<Vec2> rect = blend_vertices(bleeding_id, scaled, frame);
+    ASSERT_EQ(rect.size(), 6u); // one quad, no skirt
+    for (const Vec2& p : rect) {
+        const double u = (p.x - 10.3) / 0.3, v = (p.y - 20.7) / 0.3;
+        EXPECT_TRUE(std::abs(u) < 1e-3 || std::abs(u - 16) < 1e-3) << u;
+        EXPECT_TRUE(std::abs(v) < 1e-3 || std::abs(v - 16) < 1e-3) << v;
+    }
+    EXPECT_GT(blend_vertices(plain_id, scaled, frame).size(), 6u);   // polygons and their texel skirt
+    EXPECT_GT(blend_vertices(bleeding_id, tile, frame).size(), 6u);  // snaps exactly: polygons
+}
+
 TEST(FrameAssembler, BadInputGetsAStatus) {
     Pictures p;
     int id = -1;
