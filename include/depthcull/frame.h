@@ -148,7 +148,8 @@ struct AssemblerOptions {
 
 class FrameAssembler {
 public:
-    explicit FrameAssembler(const AssemblerOptions& options = {}) : options_(options) {}
+    FrameAssembler() : options_() {}
+    explicit FrameAssembler(const AssemblerOptions& options) : options_(options) {}
 
     // Analysed once: the picture's boundary polygons (triangulated, with
     // their texel skirts) and opaque polygons become templates that every
