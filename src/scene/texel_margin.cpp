@@ -164,17 +164,48 @@ void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::ve
         for (std::size_t i = 0; i < n; ++i) normal[i] = outward_normal(p, i);
         // Reflex corners: the two edges' strips end on the corner's exterior
         // bisector (the offset lines' crossing), so neither reaches into the
-        // polygon; a corner so sharp that this runs far out: no skirt.
+        // polygon. At a sharp corner that crossing runs far out (past the
+        // 3 * m kept clear of other edges): the strips end 2 * m out on the
+        // bisector instead, narrower near the corner but still outside the
+        // polygon. Dropping the whole skirt there (as before) let GL's
+        // snapping miss pixel centres just inside every other edge (issue
+        // 21: a "moons" sprite with a notch). A crack (the edges nearly
+        // folded onto each other): no skirt.
         std::vector<Vec2> offset(n);
-        std::vector<std::uint8_t> reflex(n, 0);
+        std::vector<std::uint8_t> reflex(n, 0), narrow(n, 0);
         bool sharp = false;
         for (std::size_t i = 0; i < n; ++i) {
             const Vec2 n1 = normal[(i + n - 1) % n], n2 = normal[i];
             const double turn = cross(n1, n2), dot = n1.x * n2.x + n1.y * n2.y;
             if (!(turn < 0)) continue; // clockwise polygon: normals turn clockwise at convex corners
-            if (dot < -0.8) sharp = true;
             reflex[i] = 1;
-            offset[i] = (m / (1 + dot)) * (n1 + n2);
+            if (!(dot < -0.8)) {
+                offset[i] = (m / (1 + dot)) * (n1 + n2);
+                continue;
+            }
+            const Vec2 bisector = n1 + n2;
+            const double len = std::hypot(bisector.x, bisector.y);
+            if (!(len > 1e-3)) {
+                sharp = true;
+                continue;
+            }
+            offset[i] = (2 * m / len) * bisector;
+            narrow[i] = 1;
+        }
+        // Each strip must stay on the outer side of the neighbouring edge's
+        // line at a sharp corner (a short neighbour may not shield it).
+        for (std::size_t i = 0; i < n && !sharp; ++i) {
+            const std::size_t j = (i + 1) % n;
+            const Vec2 nm = normal[i];
+            if (nm.x == 0 && nm.y == 0) continue;
+            const Vec2 da = reflex[i] ? offset[i] : m * nm, db = reflex[j] ? offset[j] : m * nm;
+            auto outside = [&](Vec2 q, std::size_t edge) {
+                const Vec2 ne = normal[edge];
+                return (q.x - p[edge].x) * ne.x + (q.y - p[edge].y) * ne.y >= 0;
+            };
+            const std::size_t before = (i + n - 1) % n;
+            if (narrow[j] && !outside(p[i] + da, j)) sharp = true;
+            if (narrow[i] && !outside(p[j] + db, before)) sharp = true;
         }
         if (sharp) continue;
         for (std::size_t i = 0; i < n; ++i) {
