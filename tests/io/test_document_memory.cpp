@@ -18,6 +18,8 @@
 #include "io/formats.h"
 #include "io/tiled_internal.h"
 
+#include "testing/io_error.h"
+
 namespace depthcull::test {
 namespace {
 
@@ -51,22 +53,6 @@ std::string repeat(const std::string& unit, std::size_t times) {
     for (std::size_t i = 0; i < times; ++i) s += unit;
     return s;
 }
-
-template <class F>
-std::string io_error(F&& fn) {
-    try {
-        fn();
-    } catch (const io::Error& e) {
-        return e.what();
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "not an io::Error: " << e.what();
-        return {};
-    }
-    ADD_FAILURE() << "no error";
-    return {};
-}
-
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // 80 MiB of "[]," in a Tiled JSON map, gzipped to a few hundred KB: about
 // 1.3 GB once parsed by nlohmann (the file holds 250 MiB of it and

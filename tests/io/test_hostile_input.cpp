@@ -23,28 +23,12 @@
 #include "io/formats.h"
 #include "test_scene_json_helpers.h"
 
+#include "testing/io_error.h"
+
 namespace depthcull::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The message of the io::Error that fn throws; fails the test when it
-// throws anything else or nothing.
-template <class F>
-std::string io_error(F&& fn) {
-    try {
-        fn();
-    } catch (const io::Error& e) {
-        return e.what();
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "not an io::Error: " << e.what();
-        return {};
-    }
-    ADD_FAILURE() << "no error";
-    return {};
-}
-
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // A PNG that is only a signature and an IHDR claiming w x h: what the map
 // readers look at (png_size), 33 bytes.

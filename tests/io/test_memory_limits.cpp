@@ -17,26 +17,12 @@
 #include "depthcull/pipeline.h"
 #include "test_scene_json_helpers.h"
 
+#include "testing/io_error.h"
+
 namespace depthcull::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-template <class F>
-std::string io_error(F&& fn) {
-    try {
-        fn();
-    } catch (const io::Error& e) {
-        return e.what();
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "not an io::Error: " << e.what();
-        return {};
-    }
-    ADD_FAILURE() << "no error";
-    return {};
-}
-
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // A PNG that is only its signature, IHDR and IEND: its header says
 // width x height, and it holds no pixels. Checks on headers refuse it
