@@ -182,9 +182,10 @@ struct Renderer::Impl {
         return Status::ok;
     }
 
-    Status draw(const Camera& camera, std::span<const Draw> dynamic, const FrameOptions& options, FrameCounts* out) {
-        if (camera.width <= 0 || camera.height <= 0) return fail(Status::bad_meshes, "camera has no pixels");
-        if (Status s = upload_dynamic(dynamic); s != Status::ok) return s;
+    // Starts a frame: the samples query (when counted), the viewport, the
+    // clears and the depth test. Larger z is nearer (scene.h), so depth is
+    // cleared to 0, the farthest. Returns whether samples are counted.
+    bool begin_frame(const Camera& camera, const FrameOptions& options, bool use_depth) {
         const bool counting = options.count_samples && gl.GetQueryObjectui64v && !gles;
         if (counting) gl.BeginQuery(kSamplesPassed, query);
         gl.Viewport(0, 0, camera.width, camera.height);
@@ -193,20 +194,26 @@ struct Renderer::Impl {
             gl.ClearColor(0, 0, 0, 0);
             clear |= GL_COLOR_BUFFER_BIT;
         }
-        if (depth_test) {
+        if (use_depth) {
             gl.DepthMask(GL_TRUE);
             if (gl.ClearDepthf) gl.ClearDepthf(0.0f);
             else gl.ClearDepth(0.0);
             clear |= GL_DEPTH_BUFFER_BIT;
         }
         if (clear) gl.Clear(clear);
-        // Larger z is nearer (scene.h); depth cleared to 0, the farthest.
-        if (depth_test && !options.no_depth_test) {
+        if (use_depth && !options.no_depth_test) {
             gl.Enable(GL_DEPTH_TEST);
             gl.DepthFunc(GL_GREATER);
         } else {
             gl.Disable(GL_DEPTH_TEST);
         }
+        return counting;
+    }
+
+    Status draw(const Camera& camera, std::span<const Draw> dynamic, const FrameOptions& options, FrameCounts* out) {
+        if (camera.width <= 0 || camera.height <= 0) return fail(Status::bad_meshes, "camera has no pixels");
+        if (Status s = upload_dynamic(dynamic); s != Status::ok) return s;
+        const bool counting = begin_frame(camera, options, depth_test);
         gl.ActiveTexture(GL_TEXTURE0);
         FrameCounts counts;
         Bound bound;
@@ -258,27 +265,7 @@ struct Renderer::Impl {
             gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(frame.indices.size() * sizeof(std::uint32_t)), frame.indices.data());
         }
         const bool use_depth = depth_test || (frame.depth_test && frame.opaque_draws > 0);
-        const bool counting = options.count_samples && gl.GetQueryObjectui64v && !gles;
-        if (counting) gl.BeginQuery(kSamplesPassed, query);
-        gl.Viewport(0, 0, camera.width, camera.height);
-        GLbitfield clear = 0;
-        if (options.clear_color) {
-            gl.ClearColor(0, 0, 0, 0);
-            clear |= GL_COLOR_BUFFER_BIT;
-        }
-        if (use_depth) {
-            gl.DepthMask(GL_TRUE);
-            if (gl.ClearDepthf) gl.ClearDepthf(0.0f);
-            else gl.ClearDepth(0.0);
-            clear |= GL_DEPTH_BUFFER_BIT;
-        }
-        if (clear) gl.Clear(clear);
-        if (use_depth && !options.no_depth_test) {
-            gl.Enable(GL_DEPTH_TEST);
-            gl.DepthFunc(GL_GREATER);
-        } else {
-            gl.Disable(GL_DEPTH_TEST);
-        }
+        const bool counting = begin_frame(camera, options, use_depth);
         // set_state sets the depth mask only when the static meshes use depth.
         const bool static_depth = depth_test;
         depth_test = use_depth;
