@@ -37,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (r.w < 1 || r.h < 1 || r.x < 0 || r.y < 0 || r.x > image.width - r.w || r.y > image.height - r.h) std::abort();
     };
     for (std::uint32_t id = 0; id < std::min<std::uint32_t>(ts.tile_count(), 4096); ++id) check(id);
-    for (const auto& [id, tile] : ts.named) check(id);
+    for (const auto& [id, tile] : ts.tables->named) check(id);
     if (ts.tile(ts.tile_count()).image >= 0) std::abort();
     return 0;
 }
