@@ -168,7 +168,9 @@ TEST(InsertionPoints, ReserveARangeBetweenTheLayers) {
             const std::int64_t level = level_of(d.vertices[std::size_t(span.first_vertex) * kVertexFloats + 2], m.depth_denominator);
             if (span.element < 3) EXPECT_LT(level, point.first_level);
             else EXPECT_GE(level, point.first_level + point.levels);
-            if (d.pass == Pass::blend) EXPECT_EQ(k < point.blend_draw, span.element < 3) << "draw " << k;
+            if (d.pass == Pass::blend) {
+                EXPECT_EQ(k < point.blend_draw, span.element < 3) << "draw " << k;
+            }
         }
     }
     // Without the point the six share one draw; with it, one each side.
