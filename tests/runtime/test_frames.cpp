@@ -139,6 +139,17 @@ std::int64_t static_off(test::RuntimeHost& h, const Scene& scene, const std::vec
     return render::count_off_texel_edges(reference.view(), drawn.view(), scene);
 }
 
+// The property both random frame tests check: the frame over `meshes`
+// equals overpaint of `scene` off texel edges wherever the static
+// reconstruction of the same elements does.
+void check_frame_like_static(test::RuntimeHost& h, const Scene& scene, const std::vector<ImageView>& views, const SceneMeshes& meshes,
+                             const AssembledFrame& frame, const SpriteSet& set) {
+    std::int64_t differ = 0;
+    const std::int64_t off = compare_with_overpaint(h, scene, views, meshes, frame, &differ);
+    RC_CLASSIFY(off > 0, "differs where the static meshes differ too");
+    if (off > 0) RC_ASSERT(static_off(h, scene, views, set) > 0);
+}
+
 class Frames : public testing::TestWithParam<render::GlApi> {};
 
 // Property: any sprites (rotated, scaled 0.25-2, flipped, tinted, every
@@ -160,10 +171,7 @@ TEST_P(Frames, FullyDynamicFramesEqualOverpaint) {
         RC_ASSERT(set.assembler.assemble(sprites, scene.viewport, &frame) == FrameStatus::ok);
         SceneMeshes none;
         none.viewport = scene.viewport;
-        std::int64_t differ = 0;
-        const std::int64_t off = compare_with_overpaint(*h, scene, views, none, frame, &differ);
-        RC_CLASSIFY(off > 0, "differs where the static meshes differ too");
-        if (off > 0) RC_ASSERT(static_off(*h, scene, views, set) > 0);
+        check_frame_like_static(*h, scene, views, none, frame, set);
     });
     EXPECT_TRUE(ok);
 }
@@ -243,10 +251,7 @@ TEST_P(Frames, SpritesAtInsertionPointsEqualOverpaint) {
         }
         std::vector<std::span<const Sprite>> lists(moving.begin(), moving.end());
         RC_ASSERT(set.assembler.assemble_at(meshes, lists, base.viewport, &frame) == FrameStatus::ok);
-        std::int64_t differ = 0;
-        const std::int64_t off = compare_with_overpaint(*h, whole, views, meshes, frame, &differ);
-        RC_CLASSIFY(off > 0, "differs where the static meshes differ too");
-        if (off > 0) RC_ASSERT(static_off(*h, whole, views, set) > 0);
+        check_frame_like_static(*h, whole, views, meshes, frame, set);
     });
     EXPECT_TRUE(ok);
 }
