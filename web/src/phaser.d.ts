@@ -1,0 +1,13 @@
+import type * as Phaser from 'phaser';
+import type { Meshes } from './meshes.js';
+export declare function webgl2Context(canvas: HTMLCanvasElement | OffscreenCanvas, attributes?: WebGLContextAttributes): WebGL2RenderingContext;
+export declare function polygonMesh2D(scene: Phaser.Scene, x: number, y: number, texture: string | Phaser.Textures.Texture, frame: string | number,
+  options?: { originX?: number; originY?: number; ordered?: boolean }): Phaser.GameObjects.Mesh2D;
+export declare function atlasMeshes(scene: Phaser.Scene, texture: string | Phaser.Textures.Texture, options?: { originX?: number; originY?: number }):
+  Record<string, { vertices: number[]; indices: number[] }>;
+export declare class DepthCulledExtern extends Phaser.GameObjects.Extern {
+  constructor(scene: Phaser.Scene, meshes: Meshes, textures: (string | Phaser.Textures.Texture | null)[]);
+  static from(scene: Phaser.Scene, url: string, options?: { name?: string }): Promise<DepthCulledExtern>;
+  meshes: Meshes;
+  stats: { draws: number; triangles: number };
+}
