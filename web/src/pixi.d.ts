@@ -6,3 +6,5 @@ export declare class DepthCulledLayer extends RenderContainer {
   meshes: Meshes;
   stats: { draws: number; triangles: number };
 }
+/** A colour channel (0..1) as the normalized byte Pixi's batcher feeds its shader (channel 3: alpha). */
+export declare function pixiColorByte(c: number, channel: number): number;

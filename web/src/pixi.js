@@ -20,7 +20,7 @@ import { loadMeshes } from './meshes.js';
 // tinted rocks of examples/meadow.json one level darker), the alpha
 // truncated (groupColorAlpha: alpha * 255 | 0). The layer's colours are
 // made the same bytes, or the frames would differ by one level.
-function pixiColorByte(c, channel) {
+export function pixiColorByte(c, channel) {
   const v = Math.min(1, Math.max(0, c)) * 255;
   return channel === 3 ? v | 0 : Math.round(v);
 }
