@@ -1,0 +1,143 @@
+// Runs in bench.html: one scene drawn by a PixiJS app as plain sprites and
+// with a DepthCulledLayer (the meshes `depthcull optimize` wrote), timed
+// frame by frame; draws and triangles counted on the GL context (every
+// draw call Pixi or the layer makes). window.bench is what run.js calls.
+import * as PIXI from 'pixi.js';
+import { DepthCulledLayer } from '../src/pixi.js';
+import { loadMeshes } from '../src/meshes.js';
+
+async function keyedSource(url, trans) {
+  const bitmap = await createImageBitmap(await (await fetch(url)).blob(), { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
+  const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+  const ctx = canvas.getContext('2d');
+  ctx.drawImage(bitmap, 0, 0);
+  const data = ctx.getImageData(0, 0, bitmap.width, bitmap.height);
+  const [r, g, b] = [0, 2, 4].map((k) => parseInt(trans.slice(k, k + 2), 16));
+  const px = data.data;
+  for (let i = 0; i < px.length; i += 4) if (px[i] === r && px[i + 1] === g && px[i + 2] === b) px[i] = px[i + 1] = px[i + 2] = px[i + 3] = 0;
+  ctx.putImageData(data, 0, 0);
+  return new PIXI.ImageSource({ resource: canvas, scaleMode: 'nearest', alphaMode: 'premultiply-alpha-on-upload' });
+}
+
+async function sceneSources(scene, sceneUrl) {
+  const out = new Map();
+  for (const img of scene.images) {
+    let source;
+    if (img.fill) {
+      const canvas = new OffscreenCanvas(16, 16);
+      const ctx = canvas.getContext('2d');
+      ctx.fillStyle = `#${img.fill.replace('#', '')}`;
+      ctx.fillRect(0, 0, 16, 16);
+      source = new PIXI.ImageSource({ resource: canvas, scaleMode: 'nearest' });
+    } else if (img.trans) source = await keyedSource(new URL(img.path, sceneUrl).href, img.trans.replace('#', ''));
+    else {
+      source = (await PIXI.Assets.load({ src: new URL(img.path, sceneUrl).href, loadParser: 'loadTextures' })).source;
+      source.scaleMode = 'nearest';
+    }
+    out.set(img.id, source);
+  }
+  return out;
+}
+
+const PIXI_BLEND = { alpha: 'normal', add: 'add', multiply: 'multiply' };
+
+function plainSprites(scene, sources) {
+  const c = new PIXI.Container();
+  for (const e of scene.elements) {
+    const source = sources.get(e.image);
+    const [x, y, w, h] = e.rect ?? [0, 0, source.width, source.height];
+    const s = new PIXI.Sprite(new PIXI.Texture({ source, frame: new PIXI.Rectangle(x, y, w, h) }));
+    const [a, b, cc, d, tx, ty] = e.transform ?? [1, 0, 0, 1, 0, 0];
+    s.setFromMatrix(new PIXI.Matrix(a, b, cc, d, tx, ty));
+    if (e.color) {
+      s.tint = e.color.slice(0, 3);
+      s.alpha = e.color[3];
+    }
+    s.blendMode = PIXI_BLEND[e.blend ?? 'alpha'];
+    c.addChild(s);
+  }
+  return c;
+}
+
+// Counts the draw calls and triangles made on `gl` while `fn` runs.
+function counted(gl, fn) {
+  const saved = { drawElements: gl.drawElements, drawArrays: gl.drawArrays, drawElementsInstanced: gl.drawElementsInstanced, drawArraysInstanced: gl.drawArraysInstanced };
+  const c = { draws: 0, triangles: 0 };
+  const tri = (mode, count, instances = 1) => (mode === gl.TRIANGLES ? count / 3 : mode === gl.TRIANGLE_STRIP || mode === gl.TRIANGLE_FAN ? Math.max(0, count - 2) : 0) * instances;
+  gl.drawElements = (mode, count, ...rest) => (++c.draws, (c.triangles += tri(mode, count)), saved.drawElements.call(gl, mode, count, ...rest));
+  gl.drawArrays = (mode, first, count) => (++c.draws, (c.triangles += tri(mode, count)), saved.drawArrays.call(gl, mode, first, count));
+  gl.drawElementsInstanced = (mode, count, type, offset, n) => (++c.draws, (c.triangles += tri(mode, count, n)), saved.drawElementsInstanced.call(gl, mode, count, type, offset, n));
+  gl.drawArraysInstanced = (mode, first, count, n) => (++c.draws, (c.triangles += tri(mode, count, n)), saved.drawArraysInstanced.call(gl, mode, first, count, n));
+  try {
+    fn();
+  } finally {
+    Object.assign(gl, saved);
+  }
+  return c;
+}
+
+function median(xs) {
+  const s = [...xs].sort((a, b) => a - b);
+  return s.length ? (s[(s.length - 1) >> 1] + s[s.length >> 1]) / 2 : NaN;
+}
+
+window.bench = {
+  async run({ sceneUrl, meshesUrl, noOpaqueUrl, frames = 60, warmup = 5 }) {
+    const scene = await (await fetch(sceneUrl)).json();
+    const meshes = await loadMeshes(meshesUrl);
+    const noOpaque = await loadMeshes(noOpaqueUrl);
+    const { width, height } = meshes.viewport;
+    const app = new PIXI.Application();
+    await app.init({ width, height, preference: 'webgl', antialias: false, resolution: 1, background: 0x000000, autoStart: false });
+    document.body.appendChild(app.canvas);
+    const gl = app.renderer.gl;
+    const sources = await sceneSources(scene, sceneUrl);
+    const world = new PIXI.Container();
+    world.position.set(-meshes.viewport.x, -meshes.viewport.y);
+    app.stage.addChild(world);
+    const modes = {
+      plain: plainSprites(scene, sources),
+      // Same layer and shader, meshes without the opaque pass (boundary
+      // polygons back to front): what the shader alone changes.
+      noOpaque: new DepthCulledLayer(noOpaque, noOpaque.images.map((img) => sources.get(img.id))),
+      layer: new DepthCulledLayer(meshes, meshes.images.map((img) => sources.get(img.id))),
+    };
+    // GPU time where the browser exposes it (EXT_disjoint_timer_query_webgl2).
+    const timer = gl.getExtension('EXT_disjoint_timer_query_webgl2');
+    const pixel = new Uint8Array(4);
+    const results = {};
+    for (const [name, object] of Object.entries(modes)) {
+      world.removeChildren();
+      world.addChild(object);
+      const count = counted(gl, () => app.renderer.render(app.stage));
+      const ms = [], queries = [];
+      for (let f = 0; f < warmup + frames; ++f) {
+        const q = timer && f >= warmup ? gl.createQuery() : null;
+        if (q) gl.beginQuery(timer.TIME_ELAPSED_EXT, q);
+        const t0 = performance.now();
+        app.renderer.render(app.stage);
+        if (q) gl.endQuery(timer.TIME_ELAPSED_EXT);
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel); // waits for the frame
+        const t1 = performance.now();
+        if (f >= warmup) ms.push(t1 - t0);
+        if (q) queries.push(q);
+      }
+      // Query results become available only after control returns to the
+      // browser's event loop (WebGL 2 spec, 5.35).
+      const gpu = [];
+      for (let tries = 0; queries.length && tries < 100 && !gl.getQueryParameter(queries[queries.length - 1], gl.QUERY_RESULT_AVAILABLE); ++tries)
+        await new Promise((r) => setTimeout(r, 10));
+      const disjoint = timer && gl.getParameter(timer.GPU_DISJOINT_EXT);
+      for (const q of queries) {
+        if (!disjoint && gl.getQueryParameter(q, gl.QUERY_RESULT_AVAILABLE)) gpu.push(gl.getQueryParameter(q, gl.QUERY_RESULT) / 1e6);
+        gl.deleteQuery(q);
+      }
+      results[name] = { ...count, ms: median(ms), gpuMs: gpu.length ? median(gpu) : null };
+    }
+    const ext = gl.getExtension('WEBGL_debug_renderer_info');
+    const renderer = gl.getParameter(ext ? ext.UNMASKED_RENDERER_WEBGL : gl.RENDERER);
+    app.destroy(true, { children: true });
+    return { width, height, elements: scene.elements.length, results, renderer, timerQuery: !!timer, userAgent: navigator.userAgent };
+  },
+};
+window.depthcullReady = true;
