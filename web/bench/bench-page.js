@@ -5,59 +5,7 @@
 import * as PIXI from 'pixi.js';
 import { DepthCulledLayer } from '../src/pixi.js';
 import { loadMeshes } from '../src/meshes.js';
-
-async function keyedSource(url, trans) {
-  const bitmap = await createImageBitmap(await (await fetch(url)).blob(), { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
-  const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
-  const ctx = canvas.getContext('2d');
-  ctx.drawImage(bitmap, 0, 0);
-  const data = ctx.getImageData(0, 0, bitmap.width, bitmap.height);
-  const [r, g, b] = [0, 2, 4].map((k) => parseInt(trans.slice(k, k + 2), 16));
-  const px = data.data;
-  for (let i = 0; i < px.length; i += 4) if (px[i] === r && px[i + 1] === g && px[i + 2] === b) px[i] = px[i + 1] = px[i + 2] = px[i + 3] = 0;
-  ctx.putImageData(data, 0, 0);
-  return new PIXI.ImageSource({ resource: canvas, scaleMode: 'nearest', alphaMode: 'premultiply-alpha-on-upload' });
-}
-
-async function sceneSources(scene, sceneUrl) {
-  const out = new Map();
-  for (const img of scene.images) {
-    let source;
-    if (img.fill) {
-      const canvas = new OffscreenCanvas(16, 16);
-      const ctx = canvas.getContext('2d');
-      ctx.fillStyle = `#${img.fill.replace('#', '')}`;
-      ctx.fillRect(0, 0, 16, 16);
-      source = new PIXI.ImageSource({ resource: canvas, scaleMode: 'nearest' });
-    } else if (img.trans) source = await keyedSource(new URL(img.path, sceneUrl).href, img.trans.replace('#', ''));
-    else {
-      source = (await PIXI.Assets.load({ src: new URL(img.path, sceneUrl).href, loadParser: 'loadTextures' })).source;
-      source.scaleMode = 'nearest';
-    }
-    out.set(img.id, source);
-  }
-  return out;
-}
-
-const PIXI_BLEND = { alpha: 'normal', add: 'add', multiply: 'multiply' };
-
-function plainSprites(scene, sources) {
-  const c = new PIXI.Container();
-  for (const e of scene.elements) {
-    const source = sources.get(e.image);
-    const [x, y, w, h] = e.rect ?? [0, 0, source.width, source.height];
-    const s = new PIXI.Sprite(new PIXI.Texture({ source, frame: new PIXI.Rectangle(x, y, w, h) }));
-    const [a, b, cc, d, tx, ty] = e.transform ?? [1, 0, 0, 1, 0, 0];
-    s.setFromMatrix(new PIXI.Matrix(a, b, cc, d, tx, ty));
-    if (e.color) {
-      s.tint = e.color.slice(0, 3);
-      s.alpha = e.color[3];
-    }
-    s.blendMode = PIXI_BLEND[e.blend ?? 'alpha'];
-    c.addChild(s);
-  }
-  return c;
-}
+import { loadSceneSources, sceneSprites } from '../src/pixi-scene.js';
 
 // Counts the draw calls and triangles made on `gl` while `fn` runs.
 function counted(gl, fn) {
@@ -91,12 +39,12 @@ window.bench = {
     await app.init({ width, height, preference: 'webgl', antialias: false, resolution: 1, background: 0x000000, autoStart: false });
     document.body.appendChild(app.canvas);
     const gl = app.renderer.gl;
-    const sources = await sceneSources(scene, sceneUrl);
+    const sources = await loadSceneSources(scene, sceneUrl);
     const world = new PIXI.Container();
     world.position.set(-meshes.viewport.x, -meshes.viewport.y);
     app.stage.addChild(world);
     const modes = {
-      plain: plainSprites(scene, sources),
+      plain: sceneSprites(scene, sources),
       // Same layer and shader, meshes without the opaque pass (boundary
       // polygons back to front): what the shader alone changes.
       noOpaque: new DepthCulledLayer(noOpaque, noOpaque.images.map((img) => sources.get(img.id))),

@@ -126,7 +126,7 @@ const text = [
   'polygons back to front, no depth culling): it separates what the shader changes from what culling changes.',
   'Pixi\'s batch shader picks its texture with an if-chain over up to 16 samplers (generateTextureBatchBitGl),',
   'which a software renderer such as llvmpipe runs masked for every fragment; we take that to be why plain',
-  'Pixi costs several times the layer here even with one draw (not measured apart). On a GPU it does not.',
+  'Pixi costs several times the layer here even with one draw (not measured apart).',
   `ms / frame: wall time of app.renderer.render plus a 1-pixel readPixels that waits for the frame. GPU ms: ${timerQuery ? 'EXT_disjoint_timer_query_webgl2 (on a software renderer not a GPU time: read ms / frame)' : 'n/a, this browser has no EXT_disjoint_timer_query_webgl2'}.`,
   `Machine: ${cpus().length} cores, ${cpus()[0]?.model ?? 'unknown CPU'}; timings on a shared machine vary by tens of percent from run to run.`,
   '',

@@ -20,8 +20,8 @@ export async function browserMissing(webDir) {
 }
 
 // Serves `root` at / and `gen` at /gen/ (and `corpus` at /corpus/);
-// paths outside them are 404.
-export function serve(root, gen, corpus) {
+// paths outside them are 404. `port`: 0 for any free one.
+export function serve(root, gen, corpus, port = 0) {
   const server = createServer((req, res) => {
     const url = new URL(req.url, 'http://127.0.0.1');
     let path = decodeURIComponent(url.pathname);
@@ -41,7 +41,7 @@ export function serve(root, gen, corpus) {
     res.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream', 'cache-control': 'no-store' });
     res.end(readFileSync(file));
   });
-  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve({ server, origin: `http://127.0.0.1:${server.address().port}` })));
+  return new Promise((resolve) => server.listen(port, '127.0.0.1', () => resolve({ server, origin: `http://127.0.0.1:${server.address().port}` })));
 }
 
 export async function launch() {
