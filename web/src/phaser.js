@@ -27,6 +27,14 @@ import { DepthcullError } from './index.js';
 import { MeshRenderer } from './renderer.js';
 import { loadMeshes } from './meshes.js';
 
+// Phaser feeds a tint to its shader as bytes: rgb as the integer colour
+// given to setTint (a scene's 0..1 colour rounded), alpha truncated
+// (renderer/webgl/Utils.js getTintAppendFloatAlpha: (a * 255) | 0).
+function phaserColorByte(c, channel) {
+  const v = Math.min(1, Math.max(0, c)) * 255;
+  return channel === 3 ? v | 0 : Math.round(v);
+}
+
 /**
  * Makes a game config's WebGL 2 `context` (with depth) on `canvas`, for
  * DepthCulledExtern: `new Phaser.Game({ type: Phaser.WEBGL, canvas, context: webgl2Context(canvas), ... })`.
@@ -170,7 +178,7 @@ export class DepthCulledExtern extends Phaser.GameObjects.Extern {
     let r = this._renderer;
     if (!r || r.gl !== gl) {
       r = this._renderer = new MeshRenderer(gl, { premultipliedAlpha: true });
-      r.setMeshes(this.meshes, { colorByte: (c) => Math.round(Math.min(1, Math.max(0, c)) * 255) });
+      r.setMeshes(this.meshes, { colorByte: phaserColorByte });
       r.fillTextures = this.meshes.images.some((img) => img.fill) ? r.uploadImages([], { fillsOnly: true }) : [];
     }
     r.setTextures(this.textureRefs.map((t, i) => (t ? t.source[0].glTexture.webGLTexture : r.fillTextures[i])));

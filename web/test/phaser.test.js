@@ -88,6 +88,20 @@ for (const [name, file, viewport] of corpusMaps) {
   });
 }
 
+// todo: 1284 pixels of the additive tinted "glow"s (tint 1, 0.95, 0.7 at
+// alpha 0.8) differ by one or two levels: Phaser's shader unpremultiplies,
+// tints and premultiplies again (renderer/webgl/shaders/ApplyTint-glsl.js)
+// where MeshRenderer multiplies premultiplied texel and colour (doing it
+// Phaser's way in MeshRenderer's shader changed no pixel count); and the
+// one "moons" pixel (542, 69) the Pixi meadow test reports too.
+test('Phaser meadow (tints, add, multiply, rotations): Images and DepthCulledExtern', { skip: missing ?? false, todo: 'tinted additive glows differ by 1-2 levels; one moons pixel' }, async () => {
+  const meshes = join(gen, 'meadow.meshes.json');
+  cliRun('optimize', join(root, 'examples/meadow.json'), '-o', meshes, '--no-timing');
+  const r = await page.evaluate((a) => window.phaserTest.layer(a), { sceneUrl: `${origin}/examples/meadow.json`, meshesUrl: `${origin}/gen/meadow.meshes.json` });
+  console.log(`# Phaser meadow: ${r.differ} pixels differ (at most ${r.maxChannelDiff} levels), ${r.offEdges} off texel edges: ${r.examples.slice(0, 2).join('; ')}`);
+  assert.equal(r.offEdges, 0);
+});
+
 test('Phaser: DepthCulledExtern on Phaser\'s own WebGL 1 context says what it needs', { skip: missing ?? false }, async () => {
   const meshes = join(gen, 'meadow.meshes.json');
   cliRun('optimize', join(root, 'examples/meadow.json'), '-o', meshes, '--no-timing');

@@ -133,6 +133,10 @@ window.phaserTest = {
       const b = await nextFrame(game);
       const r = compareFrames(elements, meshes.viewport, a, b, width, height);
       result = { differ: Math.max(result.differ, r.differ), offEdges: result.offEdges + r.offEdges, examples: result.examples.concat(r.examples).slice(0, 5) };
+      let maxDiff = 0;
+      for (let i = 0; i < a.length; ++i) maxDiff = Math.max(maxDiff, Math.abs(a[i] - b[i]));
+      result.maxChannelDiff = Math.max(result.maxChannelDiff ?? 0, maxDiff);
+      if (window.keepFrames) window.keptFrames = { a: Array.from(a), b: Array.from(b), width, height };
     }
     const glRenderer = rendererString(game.renderer.gl);
     const stats = layer.stats;
