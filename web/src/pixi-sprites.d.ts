@@ -1,4 +1,4 @@
-import type { Container, RenderContainer, Sprite, Texture } from 'pixi.js';
+import type { Container, RenderContainer, Sprite, Spritesheet, Texture } from 'pixi.js';
 import type { AnalyzeOptions, Polygon } from './index.js';
 export declare class DepthCulledSpriteContainer extends RenderContainer {
   constructor(options?: { depthcull?: { analyzeImage: Function } | null; analyze?: AnalyzeOptions; label?: string });
@@ -6,5 +6,6 @@ export declare class DepthCulledSpriteContainer extends RenderContainer {
   sprites: Container<Sprite>;
   addSprite(...sprites: Sprite[]): Sprite;
   setPolygons(texture: Texture, polygons: { boundary: Polygon[]; opaque?: Polygon[] }): void;
+  setPolygonsFromSpritesheet(sheet: Spritesheet): number;
   stats: { draws: number; triangles: number; sprites: number; opaqueSprites: number };
 }

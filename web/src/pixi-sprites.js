@@ -70,6 +70,34 @@ export class DepthCulledSpriteContainer extends RenderContainer {
     this._polygons.set(texture, { blend: triangulate(boundary), opaque: triangulate(opaque) });
   }
 
+  /**
+   * The polygons `depthcull atlas` wrote into a TexturePacker atlas
+   * (`verticesUV`, page texels, and `triangles`), for every frame of a
+   * Pixi Spritesheet made from it: boundary only, so those sprites are
+   * drawn in the blend pass alone, with tight outlines (analyse the page
+   * instead for an opaque pass). Frames without the fields are left to
+   * analysis. Returns how many frames were set.
+   */
+  setPolygonsFromSpritesheet(sheet) {
+    let n = 0;
+    for (const [name, frame] of Object.entries(sheet.data?.frames ?? {})) {
+      const tex = sheet.textures[name];
+      const { verticesUV, triangles } = frame;
+      if (!tex || !Array.isArray(verticesUV) || !Array.isArray(triangles)) continue;
+      const k = verticesUV.length;
+      if (triangles.some((t) => !Array.isArray(t) || t.length !== 3 || t.some((i) => !Number.isInteger(i) || i < 0 || i >= k)))
+        throw new DepthcullError(`setPolygonsFromSpritesheet: frame "${name}": triangles: each must be three indices in 0..${k - 1}`);
+      // Pixi's frame of a page scaled by its resolution is in page pixels / resolution.
+      const r = tex.source.resolution || 1;
+      this._polygons.set(tex, {
+        blend: { coords: Float64Array.from(verticesUV.flat(), (v) => v / r), indices: Uint32Array.from(triangles.flat()) },
+        opaque: { coords: new Float64Array(0), indices: new Uint32Array(0) },
+      });
+      ++n;
+    }
+    return n;
+  }
+
   #pixelsOf(source) {
     let data = this._pixels.get(source);
     if (!data) {

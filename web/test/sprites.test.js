@@ -5,7 +5,8 @@
 // chromium, web/node_modules or web/dist/depthcull.wasm.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { existsSync, mkdtempSync, rmSync } from 'node:fs';
+import { copyFileSync, existsSync, mkdtempSync, rmSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
 import { tmpdir } from 'node:os';
 import { fileURLToPath } from 'node:url';
 import { dirname, join } from 'node:path';
@@ -44,5 +45,20 @@ test('moving sprites: a plain Pixi Container and DepthCulledSpriteContainer draw
     assert.equal(r.offEdges, 0, r.examples.join('; '));
     assert.ok(s.opaqueSprites > 0 && s.draws > 0);
   }
+  assert.deepEqual(pageErrors, []);
+});
+
+test('atlas sprites: a plain Container and the layer with the polygons `depthcull atlas` wrote draw the same pixels', { skip: missing ?? false }, async (t) => {
+  const cli = process.env.DEPTHCULL_CLI ?? join(root, 'build', 'depthcull');
+  if (!existsSync(cli)) return t.skip(`no CLI at ${cli}`);
+  // Next to the page image (the atlas names it relatively): written in gen/ with a copy of the page.
+  execFileSync(cli, ['atlas', join(root, 'examples/atlas/sheet.json'), '-o', join(gen, 'sheet-polygons.json'), '--no-cache'], { stdio: 'pipe' });
+  copyFileSync(join(root, 'examples/atlas/sheet.png'), join(gen, 'sheet.png'));
+  const r = await page.evaluate((a) => window.spritesTest.atlas(a), { atlasUrl: `${origin}/gen/sheet-polygons.json` });
+  console.log(`# atlas sprites: ${r.frames} frames x 4, polygons of ${r.set} frames, ${r.stats.draws} draws ${r.stats.triangles} triangles (rectangles: ${r.frames * 8}); ${r.differ} bytes differ`);
+  assert.ok(r.stats.triangles > r.frames * 8, 'the atlas polygons were not used');
+  assert.ok(r.set >= r.frames && r.frames >= 3);
+  assert.equal(r.stats.opaqueSprites, 0);
+  assert.equal(r.differ, 0);
   assert.deepEqual(pageErrors, []);
 });

@@ -96,4 +96,42 @@ window.spritesTest = {
     return result;
   },
 };
+// Frames of an atlas `depthcull atlas` wrote, as sprites in a plain
+// Container and in the layer with the atlas's polygons (no analysis): the
+// same pixels. Rotated frames are left out (the layer refuses them).
+window.spritesTest.atlas = async ({ atlasUrl }) => {
+  const width = 256, height = 128;
+  const app = new PIXI.Application();
+  await app.init({ width, height, preference: 'webgl', antialias: false, resolution: 1, background: 0x000000, preserveDrawingBuffer: true, autoStart: false });
+  document.body.appendChild(app.canvas);
+  const sheet = await PIXI.Assets.load(atlasUrl);
+  sheet.textureSource.scaleMode = 'nearest';
+  const names = Object.keys(sheet.textures).filter((n) => !sheet.textures[n].rotate).sort();
+  const plain = new PIXI.Container();
+  const layer = new DepthCulledSpriteContainer();
+  const set = layer.setPolygonsFromSpritesheet(sheet);
+  const place = (s, i, k) => {
+    s.anchor.set(0.5);
+    s.scale.set(...[[1, 1], [2, 2], [-1, 1], [1, -2]][k]);
+    s.position.set(24 + k * 56, 16 + i * 28 + (k % 2) * 3);
+    return s;
+  };
+  names.forEach((n, i) => [0, 1, 2, 3].forEach((k) => {
+    plain.addChild(place(new PIXI.Sprite(sheet.textures[n]), i, k));
+    layer.addSprite(place(new PIXI.Sprite(sheet.textures[n]), i, k));
+  }));
+  app.stage.addChild(new PIXI.Graphics().rect(0, 0, width, height).fill(0x336699), plain, layer);
+  layer.visible = false;
+  app.renderer.render(app.stage);
+  const a = readPixels(app.renderer.gl);
+  plain.visible = false;
+  layer.visible = true;
+  app.renderer.render(app.stage);
+  const b = readPixels(app.renderer.gl);
+  let differ = 0;
+  for (let i = 0; i < a.length; ++i) if (a[i] !== b[i]) ++differ;
+  const stats = layer.stats;
+  app.destroy(true, { children: true });
+  return { differ, frames: names.length, set, stats };
+};
 window.depthcullReady = true;
