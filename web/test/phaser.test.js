@@ -102,6 +102,19 @@ test('Phaser meadow (tints, add, multiply, rotations): Images and DepthCulledExt
   assert.equal(r.offEdges, 0);
 });
 
+test('Phaser: DepthCulledExtern.from loads a meshes file and its images and draws', { skip: missing ?? false }, async () => {
+  const meshes = join(gen, 'meadow.meshes.json');
+  cliRun('optimize', join(root, 'examples/meadow.json'), '-o', meshes, '--no-timing');
+  // The images by URL from the served checkout.
+  const doc = JSON.parse(readFileSync(meshes, 'utf8'));
+  for (const img of doc.images) if (img.path) img.path = `/${relative(root, img.path)}`;
+  writeFileSync(join(gen, 'meadow-urls.meshes.json'), JSON.stringify(doc));
+  const r = await page.evaluate((a) => window.phaserTest.from(a), { meshesUrl: `${origin}/gen/meadow-urls.meshes.json` });
+  assert.ok(r.inList);
+  assert.ok(r.stats.draws > 0 && r.stats.triangles > 0, JSON.stringify(r.stats));
+  assert.deepEqual(pageErrors, []);
+});
+
 test('Phaser: DepthCulledExtern on Phaser\'s own WebGL 1 context says what it needs', { skip: missing ?? false }, async () => {
   const meshes = join(gen, 'meadow.meshes.json');
   cliRun('optimize', join(root, 'examples/meadow.json'), '-o', meshes, '--no-timing');

@@ -144,6 +144,17 @@ window.phaserTest = {
     return { ...result, width, height, elements: doc.elements.length, stats, glRenderer };
   },
 
+  // DepthCulledExtern.from: loads the meshes and their images, adds the layer.
+  async from({ meshesUrl }) {
+    const { game, scene } = await makeGame(320, 240, () => {});
+    const layer = await DepthCulledExtern.from(scene, meshesUrl);
+    await nextFrame(game);
+    const inList = scene.children.list.includes(layer);
+    const stats = layer.stats;
+    destroy(game, game.canvas);
+    return { inList, stats };
+  },
+
   // What DepthCulledExtern says in a game on Phaser's own WebGL 1 context.
   async webgl1Error({ meshesUrl }) {
     const meshes = await loadMeshes(meshesUrl);
