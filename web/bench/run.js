@@ -67,10 +67,10 @@ try {
     // A Tiled map is imported (cut to its viewport); a scene is used as is.
     let scene = s.file;
     if (!s.file.endsWith('.json')) {
-      scene = join(dirname(s.file), `.dc-bench-${process.pid}-${k}.scene.json`); // next to the map: its image paths are relative
+      scene = join(gen, `${k}.imported.scene.json`); // import writes the images' absolute paths
       run('import', s.file, '-o', scene, ...(s.viewport ? ['--viewport', s.viewport] : []));
     }
-    try {
+    {
       const meshes = join(gen, `${k}.meshes.json`);
       run('optimize', scene, '-o', meshes, '--no-timing');
       const noOpaque = join(gen, `${k}.no-opaque.meshes.json`);
@@ -91,8 +91,6 @@ try {
       ({ renderer, timerQuery, userAgent } = r);
       rows.push({ name: s.name, size: `${r.width}x${r.height}`, elements: r.elements, plain: { ...r.results.plain, od: od.overpaint }, noOpaque: { ...r.results.noOpaque, od: null }, layer: { ...r.results.layer, od: od.optimized } });
       console.error(`bench: ${s.name} done`);
-    } finally {
-      if (scene !== s.file) rmSync(scene, { force: true });
     }
   }
 } finally {

@@ -30,6 +30,7 @@ if (!relative(root, map) || relative(root, map).startsWith('..')) die(`${map}: t
 const gen = mkdtempSync(join(tmpdir(), 'dc-examples-'));
 process.on('exit', () => rmSync(gen, { recursive: true, force: true }));
 process.on('SIGINT', () => process.exit(0));
+process.on('SIGTERM', () => process.exit(0));
 const run = (...a) => {
   try {
     execFileSync(cli, a, { stdio: ['ignore', 'pipe', 'pipe'] });
