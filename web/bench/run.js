@@ -10,7 +10,7 @@
 // that column is the native CLI's (`depthcull bench`: GL_SAMPLES_PASSED on
 // the same scene and meshes, overpaint vs optimized) and says so.
 // Prints the table and writes it to ../bench/results/browser-pixi.md.
-//   node bench/run.js [--frames N] [--out FILE] [--no-write] [SCENE.json|MAP.tmx[@X,Y,W,H] ...]
+//   node bench/run.js [--frames N] [--sprites N (500; 0: none)] [--out FILE] [--no-write] [SCENE.json|MAP.tmx[@X,Y,W,H] ...]
 import { execFileSync } from 'node:child_process';
 import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { cpus, homedir, tmpdir } from 'node:os';
@@ -30,13 +30,16 @@ function die(message) {
 }
 
 const args = process.argv.slice(2);
-let frames = 60, out = join(root, 'bench/results/browser-pixi.md'), write = true;
+let frames = 60, sprites = 500, out = join(root, 'bench/results/browser-pixi.md'), write = true;
 const scenes = [];
 for (let i = 0; i < args.length; ++i) {
   const a = args[i];
   if (a === '--frames') {
     frames = Number(args[++i]);
     if (!Number.isInteger(frames) || frames < 1 || frames > 100000) die(`--frames: Value ${args[i]} not in range 1 to 100000`);
+  } else if (a === '--sprites') {
+    sprites = Number(args[++i]);
+    if (!Number.isInteger(sprites) || sprites < 0 || sprites > 100000) die(`--sprites: Value ${args[i]} not in range 0 to 100000`);
   } else if (a === '--out') out = resolve(args[++i] ?? die('--out needs a file'));
   else if (a === '--no-write') write = false;
   else if (a.startsWith('-')) die(`unknown option ${a}`);
@@ -60,9 +63,9 @@ const corpusBase = join(homedir(), '.cache/depthcull/corpus');
 const { server, origin } = await serve(root, gen, corpusBase);
 const browser = await launch();
 const rows = [];
-let renderer = '', timerQuery = false, userAgent = '';
+let renderer = '', timerQuery = false, userAgent = '', page;
 try {
-  const { page } = await openPage(browser, `${origin}/web/bench/bench.html`);
+  page = (await openPage(browser, `${origin}/web/bench/bench.html`)).page;
   for (const [k, s] of scenes.entries()) {
     // A Tiled map is imported (cut to its viewport); a scene is used as is.
     let scene = s.file;
@@ -93,6 +96,13 @@ try {
       console.error(`bench: ${s.name} done`);
     }
   }
+  // Moving sprites (not a scene file): plain Pixi against DepthCulledSpriteContainer.
+  const art = ['tree', 'rock', 'bush', 'flower', 'ring', 'moons', 'glow', 'shadow'].map((n) => `${origin}/examples/art/${n}.png`);
+  if (sprites > 0) {
+    const r = await page.evaluate((a) => window.bench.sprites(a), { images: art, count: sprites, frames });
+    rows.push({ name: `${sprites} moving sprites (examples/art)`, size: `${r.width}x${r.height}`, elements: r.elements, plain: { ...r.results.plain, od: null }, layer: { ...r.results.layer, od: null }, layerName: 'DepthCulledSpriteContainer' });
+    console.error('bench: moving sprites done');
+  }
 } finally {
   await browser.close();
   server.close();
@@ -105,7 +115,8 @@ const lines = [
   '|---|---|---:|---|---:|---:|---:|---:|---:|',
 ];
 for (const r of rows)
-  for (const [mode, m] of [['plain Pixi sprites', r.plain], ['layer, no opaque pass', r.noOpaque], ['DepthCulledLayer', r.layer]])
+  for (const [mode, m] of [['plain Pixi sprites', r.plain], ['layer, no opaque pass', r.noOpaque], [r.layerName ?? 'DepthCulledLayer', r.layer]])
+    if (m)
     lines.push(`| ${r.name} | ${r.size} | ${r.elements} | ${mode} | ${m.draws} | ${m.triangles} | ${f2(m.od)} | ${f2(m.ms)} | ${f2(m.gpuMs)} |`);
 const text = [
   '# Table 2 in the browser: plain PixiJS sprites against depthcull\'s DepthCulledLayer',
@@ -117,6 +128,7 @@ const text = [
   ...lines,
   '',
   'Draws and triangles: every draw call made on the GL context in one frame (Pixi\'s batches, or the layer\'s).',
+  'The moving sprites row: sprites of examples/art wandering, moved every frame; the container re-assembles its meshes each frame.',
   'Fragments shaded / px: not countable in WebGL 2 (occlusion queries only say whether any sample passed);',
   'this column is the native CLI\'s `depthcull bench` (GL_SAMPLES_PASSED over viewport pixels) on the same',
   'scene, overpaint for plain sprites and optimized for the layer (n/a: not measured natively).',
