@@ -9,9 +9,9 @@
 // shader, so what it shows is what the Sprite shows, minus nothing: the
 // texels it leaves out are transparent.
 //
-// The layer: Phaser's WebGL renderer is WebGL 1 (getContext('webgl'),
-// src/renderer/webgl/WebGLRenderer.js setupContext) but takes a context of
-// the game config's `context`, and its setExtensions says a WebGL 2 context
+// The layer (line numbers of Phaser 4.2.1): Phaser's WebGL renderer is WebGL 1 (getContext('webgl'),
+// src/renderer/webgl/WebGLRenderer.js init, line 709) but takes a context of
+// the game config's `context` (line 703), and its setExtensions says a WebGL 2 context
 // is supported; MeshRenderer needs WebGL 2 (uint32 indices, samplers, VAOs
 // without extensions). The main framebuffer has a depth buffer (the context
 // is made with `depth: true`, WebGLRenderer.js contextCreationConfig; ours

@@ -121,3 +121,10 @@ test('Phaser: DepthCulledExtern on Phaser\'s own WebGL 1 context says what it ne
   const m = await page.evaluate((a) => window.phaserTest.webgl1Error(a), { meshesUrl: `${origin}/gen/meadow.meshes.json` });
   assert.equal(m, 'DepthcullError: DepthCulledExtern: the game needs a WebGL 2 context (config.context: webgl2Context(canvas))');
 });
+
+test('Phaser: DepthCulledExtern into a DynamicTexture (no depth buffer) says why not', { skip: missing ?? false }, async () => {
+  const meshes = join(gen, 'meadow.meshes.json');
+  if (!existsSync(meshes)) cliRun('optimize', join(root, 'examples/meadow.json'), '-o', meshes, '--no-timing');
+  const m = await page.evaluate((a) => window.phaserTest.dynamicTextureError(a), { meshesUrl: `${origin}/gen/meadow.meshes.json` });
+  assert.equal(m, 'DepthcullError: DepthCulledExtern: the framebuffer has no depth buffer (a camera with filters or a DynamicTexture: Phaser makes those without depth)');
+});

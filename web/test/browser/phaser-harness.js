@@ -155,6 +155,23 @@ window.phaserTest = {
     return { inList, stats };
   },
 
+  // What DepthCulledExtern says drawn into a DynamicTexture (no depth buffer).
+  async dynamicTextureError({ meshesUrl }) {
+    const meshes = await loadMeshes(meshesUrl);
+    const { game, scene } = await makeGame(64, 64, () => {});
+    const layer = new DepthCulledExtern(scene, meshes, meshes.images.map(() => '__WHITE'));
+    const dt = scene.textures.addDynamicTexture('dt', 64, 64);
+    let message = null;
+    try {
+      dt.draw(layer);
+      dt.render();
+    } catch (e) {
+      message = `${e.name}: ${e.message}`;
+    }
+    destroy(game, game.canvas);
+    return message;
+  },
+
   // What DepthCulledExtern says in a game on Phaser's own WebGL 1 context.
   async webgl1Error({ meshesUrl }) {
     const meshes = await loadMeshes(meshesUrl);
