@@ -183,12 +183,17 @@ private:
         std::vector<double> xy;   // texel positions relative to the rect's top-left
         std::vector<float> uv;    // texture coordinates 0..1
         std::vector<std::uint32_t> indices;
-        std::uint32_t skirt_start = 0; // indices from here on: the texel skirt
+        std::uint32_t skirt_start = 0;    // indices from here on: the texel skirt
+        std::uint32_t plain_vertices = 0; // vertices the indices before skirt_start use (the first ones)
     };
+    // Templates per texel margin: kTexelMargin * 2^b for bucket b. A sprite
+    // scaled below 1/8 needs a wider margin (texel_margin.cpp) and takes the
+    // bucket of the next power of two up to half a texel.
+    static constexpr int kMarginBuckets = 5;
     struct Picture {
         int texture = 0;
         Rect rect;
-        Template boundary, opaque, quad;
+        Template boundary[kMarginBuckets], opaque[kMarginBuckets], quad;
         bool boundary_inside = false; // analysis boundary within the rect
         bool has_boundary = false, has_opaque = false;
         bool opaque_covers_all = false;
@@ -200,6 +205,7 @@ private:
         std::int32_t key;
         std::int8_t boundary; // 0 none, 1 analysis, 2 rect
         std::int8_t opaque;   // 0 none, 1 analysis, 2 rect
+        std::int8_t margin;   // the templates' bucket
         bool blended;
         std::int32_t batch;
     };

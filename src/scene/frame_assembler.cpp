@@ -16,6 +16,7 @@
 // sprite is bounded (batching degrades, correctness never does).
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "depthcull/frame.h"
 #include "scene/internal.h"
@@ -52,31 +53,62 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
     p.texture = image.texture;
     p.rect = image.rect;
     const double iw = 1.0 / image.texture_width, ih = 1.0 / image.texture_height;
-    auto to_template = [&](const TexelMesh& m, Template& t) {
-        for (const Vec2& v : m.points) {
-            t.xy.push_back(v.x - image.rect.x);
-            t.xy.push_back(v.y - image.rect.y);
-            t.uv.push_back(float(v.x * iw));
-            t.uv.push_back(float(v.y * ih));
+    // Vertices at the same texel position are one vertex (the same
+    // position and texture coordinate, so drawn alike): the polygons'
+    // vertices first, so a sprite drawn without its skirt transforms only
+    // those (plain_vertices).
+    auto to_template = [&](const TexelMesh& m, std::size_t plain_indices, Template& t) {
+        std::map<std::pair<double, double>, std::uint32_t> index_of;
+        std::vector<std::uint32_t> remap(m.points.size());
+        auto weld = [&](std::uint32_t k) {
+            const Vec2 v = m.points[k];
+            auto [it, fresh] = index_of.emplace(std::pair{v.x, v.y}, std::uint32_t(t.xy.size() / 2));
+            if (fresh) {
+                t.xy.push_back(v.x - image.rect.x);
+                t.xy.push_back(v.y - image.rect.y);
+                t.uv.push_back(float(v.x * iw));
+                t.uv.push_back(float(v.y * ih));
+            }
+            return it->second;
+        };
+        for (std::size_t k = 0; k < m.indices.size(); ++k) {
+            if (k == plain_indices) t.plain_vertices = std::uint32_t(t.xy.size() / 2);
+            t.indices.push_back(weld(m.indices[k]));
         }
-        t.indices = m.indices;
-        t.skirt_start = std::uint32_t(t.indices.size());
+        if (plain_indices >= m.indices.size()) t.plain_vertices = std::uint32_t(t.xy.size() / 2);
+        t.skirt_start = std::uint32_t(plain_indices);
     };
     Draw unused;
-    // Boundary polygons, then their texel skirt (left out for transforms
-    // that snap exactly, as MeshBuilder does).
     p.has_boundary = !a->boundary.empty();
+    p.has_opaque = !a->opaque.empty();
+    std::size_t most_vertices = 8, most_indices = 12;
+    for (int b = 0; b < kMarginBuckets; ++b) {
+        const double margin = kTexelMargin * double(1 << b);
+        // Boundary polygons, then their texel skirt in the joined form
+        // (left out for transforms that snap exactly, as MeshBuilder does).
+        if (p.has_boundary) {
+            TexelMesh m;
+            MeshBuilder plain(scene, 0, 0, 0);
+            plain.capture(&m, true);
+            plain.add_boundary(unused, 0, Shape::analysis, a, 0);
+            const std::size_t skirt_start = m.indices.size();
+            MeshBuilder skirted(scene, 0, 0, margin);
+            skirted.capture(&m, true, true);
+            skirted.add_texel_skirts(unused, 0, a->boundary, 0);
+            to_template(m, skirt_start, p.boundary[b]);
+        }
+        if (p.has_opaque) {
+            TexelMesh opaque;
+            MeshBuilder builder(scene, 0, 0, margin);
+            builder.capture(&opaque, true);
+            builder.add_opaque(unused, 0, Shape::analysis, a, 0);
+            to_template(opaque, opaque.indices.size(), p.opaque[b]);
+        }
+        most_vertices = std::max(most_vertices, p.boundary[b].xy.size() / 2 + p.opaque[b].xy.size() / 2);
+        most_indices = std::max(most_indices, p.boundary[b].indices.size() + p.opaque[b].indices.size());
+    }
+    p.has_opaque = !p.opaque[0].indices.empty();
     if (p.has_boundary) {
-        TexelMesh m;
-        MeshBuilder plain(scene, 0, 0, 0);
-        plain.capture(&m, true);
-        plain.add_boundary(unused, 0, Shape::analysis, a, 0);
-        const auto skirt_start = std::uint32_t(m.indices.size());
-        MeshBuilder skirted(scene, 0, 0, kTexelMargin);
-        skirted.capture(&m, true);
-        skirted.add_texel_skirts(unused, 0, a->boundary, 0);
-        to_template(m, p.boundary);
-        p.boundary.skirt_start = skirt_start;
         p.boundary_inside = true;
         for (const Polygon& poly : a->boundary)
             for (const Vec2& v : poly)
@@ -84,19 +116,10 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
                     v.y > double(image.rect.y) + image.rect.h)
                     p.boundary_inside = false;
     }
-    p.has_opaque = !a->opaque.empty();
-    if (p.has_opaque) {
-        TexelMesh opaque;
-        MeshBuilder builder(scene, 0, 0, kTexelMargin);
-        builder.capture(&opaque, true);
-        builder.add_opaque(unused, 0, Shape::analysis, a, 0);
-        to_template(opaque, p.opaque);
-        p.has_opaque = !opaque.indices.empty();
-    }
     {
         const Polygon r = rect_polygon(image.rect);
         TexelMesh quad{{r.begin(), r.end()}, {0, 1, 2, 0, 2, 3}};
-        to_template(quad, p.quad);
+        to_template(quad, 6, p.quad);
     }
     p.bleeding_edges = a->bleeding_edges;
     p.opaque_covers_all = a->stats.nontransparent_texels > 0 && a->stats.opaque_covered_texels == a->stats.nontransparent_texels;
@@ -105,13 +128,14 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
     p.bx0 = 0, p.by0 = 0, p.bx1 = image.rect.w, p.by1 = image.rect.h;
     if (p.has_boundary && p.boundary_inside) {
         p.bx0 = p.by0 = INFINITY, p.bx1 = p.by1 = -INFINITY;
-        for (std::size_t k = 0; k + 1 < p.boundary.xy.size(); k += 2) {
-            p.bx0 = std::min(p.bx0, p.boundary.xy[k]), p.bx1 = std::max(p.bx1, p.boundary.xy[k]);
-            p.by0 = std::min(p.by0, p.boundary.xy[k + 1]), p.by1 = std::max(p.by1, p.boundary.xy[k + 1]);
-        }
+        for (const Template& t : p.boundary)
+            for (std::size_t k = 0; k + 1 < t.xy.size(); k += 2) {
+                p.bx0 = std::min(p.bx0, t.xy[k]), p.bx1 = std::max(p.bx1, t.xy[k]);
+                p.by0 = std::min(p.by0, t.xy[k + 1]), p.by1 = std::max(p.by1, t.xy[k + 1]);
+            }
     }
-    max_vertices_ = std::max({max_vertices_, p.boundary.xy.size() / 2 + p.opaque.xy.size() / 2, std::size_t(8)});
-    max_indices_ = std::max({max_indices_, p.boundary.indices.size() + p.opaque.indices.size(), std::size_t(12)});
+    max_vertices_ = std::max(max_vertices_, most_vertices);
+    max_indices_ = std::max(max_indices_, most_indices);
     max_texture_ = std::max(max_texture_, image.texture);
     *id = int(images_.size());
     images_.push_back(std::move(p));
@@ -167,6 +191,7 @@ FrameStatus FrameAssembler::plan_sprite(std::size_t i) {
     p.key = pic.texture * 4 + int(s.blend);
     p.batch = -1;
     p.opaque = 0;
+    p.margin = 0;
     p.blended = false;
     // shapes.cpp's rules, per sprite.
     if (s.blend == Blend::opaque || s.blend == Blend::multiply) p.boundary = 2;
@@ -182,13 +207,30 @@ FrameStatus FrameAssembler::plan_sprite(std::size_t i) {
         else if (s.blend == Blend::alpha && s.color[3] == 1.0f && pic.has_opaque) p.opaque = 1;
     }
     p.blended = !(options_.opaque_pass && s.blend == Blend::opaque);
-    if (p.opaque == 1 && options_.filter == Filter::nearest && pic.opaque_covers_all && p.boundary == 1) p.blended = false;
+    // MeshBuilder::element_texel_margin: below a scale of 1/8 the margin
+    // grows to 1/256 pixel along the most shrunk direction, at most half a
+    // texel. The templates' margin is the next power of two up: a wider
+    // skirt still lies outside every polygon (its templates keep 3 margins
+    // clear as MeshBuilder does), and the opaque polygons, pulled in
+    // further, leave a strip the blend draw then covers, so the sprite
+    // blends even where its opaque polygons cover all it shows.
+    const auto& t = s.transform;
+    const double sum = t[0] * t[0] + t[1] * t[1] + t[2] * t[2] + t[3] * t[3], det = t[0] * t[3] - t[1] * t[2];
+    if (64 * det * det < sum) { // else the smallest singular value, >= |det| / sqrt(sum), is >= 1/8
+        const double smallest = std::sqrt(std::max(0.0, (sum - std::sqrt(std::max(0.0, sum * sum - 4 * det * det))) / 2));
+        if (smallest > 0) {
+            const double margin = std::min(0.5, (1.0 / 256) / smallest);
+            while (p.margin + 1 < kMarginBuckets && kTexelMargin * double(1 << p.margin) < margin) ++p.margin;
+        }
+    }
+    if (p.opaque == 1 && options_.filter == Filter::nearest && pic.opaque_covers_all && p.boundary == 1 && p.margin == 0)
+        p.blended = false;
     return FrameStatus::ok;
 }
 
 void FrameAssembler::emit(const Template& t, const Sprite& s, bool skirt, float z, AssembledFrame* out) {
     const auto base = std::uint32_t(out->vertices.size() / kVertexFloats);
-    const std::size_t n = t.xy.size() / 2;
+    const std::size_t n = skirt ? t.xy.size() / 2 : t.plain_vertices;
     const std::size_t first = out->vertices.size();
     out->vertices.resize(first + n * kVertexFloats);
     float* v = out->vertices.data() + first;
@@ -239,7 +281,7 @@ void FrameAssembler::emit_opaque(AssembledFrame* out) {
             out->draws.push_back({pic.texture, Pass::opaque, s.blend, std::uint32_t(out->indices.size()), 0});
             last = p.key;
         }
-        emit(p.opaque == 2 ? pic.quad : pic.opaque, s, false, depth_z(level_[i], true, denominator_), out);
+        emit(p.opaque == 2 ? pic.quad : pic.opaque[p.margin], s, false, depth_z(level_[i], true, denominator_), out);
         out->draws.back().index_count = std::uint32_t(out->indices.size()) - out->draws.back().first_index;
     }
 }
@@ -324,7 +366,7 @@ void FrameAssembler::emit_blend(std::size_t begin, std::size_t end, const Viewpo
         }
         const float z = depth_z(level_[i], false, denominator_);
         if (p.boundary == 2) emit(pic.quad, s, false, z, out);
-        else emit(pic.boundary, s, s.blend != Blend::opaque && !snaps_exactly(s.transform), z, out);
+        else emit(pic.boundary[p.margin], s, s.blend != Blend::opaque && !snaps_exactly(s.transform), z, out);
         out->draws.back().index_count = std::uint32_t(out->indices.size()) - out->draws.back().first_index;
     }
 }
