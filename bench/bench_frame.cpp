@@ -69,8 +69,9 @@ void BM_AssembleFrame(benchmark::State& state) {
         // Move every sprite (part of a game's frame, and cheap beside assembly).
         for (std::size_t i = 0; i < s->sprites.size(); ++i) {
             auto& m = s->sprites[i].transform;
-            m[4] = std::fmod(m[4] + s->speed[i] + 1920, 1920);
-            m[5] = std::fmod(m[5] + 0.5 * s->speed[i] + 1080, 1080);
+            m[4] += s->speed[i], m[5] += 0.5 * s->speed[i];
+            m[4] += m[4] < 0 ? 1920 : m[4] >= 1920 ? -1920 : 0;
+            m[5] += m[5] < 0 ? 1080 : m[5] >= 1080 ? -1080 : 0;
         }
         benchmark::DoNotOptimize(s->assembler.assemble(s->sprites, view, &frame));
         ++tick;

@@ -183,8 +183,6 @@ private:
         std::vector<double> xy;   // texel positions relative to the rect's top-left
         std::vector<float> uv;    // texture coordinates 0..1
         std::vector<std::uint32_t> indices;
-        std::uint32_t skirt_start = 0;    // indices from here on: the texel skirt
-        std::uint32_t plain_vertices = 0; // vertices the indices before skirt_start use (the first ones)
     };
     // Templates per texel margin: kTexelMargin * 2^b for bucket b. A sprite
     // scaled below 1/8 needs a wider margin (texel_margin.cpp) and takes the
@@ -193,7 +191,9 @@ private:
     struct Picture {
         int texture = 0;
         Rect rect;
-        Template boundary[kMarginBuckets], opaque[kMarginBuckets], quad;
+        Template plain;                    // boundary polygons, for transforms that snap exactly
+        Template boundary[kMarginBuckets]; // boundary polygons with their texel skirt
+        Template opaque[kMarginBuckets], quad;
         bool boundary_inside = false; // analysis boundary within the rect
         bool has_boundary = false, has_opaque = false;
         bool opaque_covers_all = false;
@@ -208,12 +208,13 @@ private:
         std::int8_t margin;   // the templates' bucket
         bool blended;
         std::int32_t batch;
+        std::uint32_t opaque_base, blend_base; // the sprite's first vertex in the frame, per pass
+        const Template* opaque_template;
+        const Template* blend_template;
     };
 
     FrameStatus plan_sprite(std::size_t i);
-    void emit_opaque(AssembledFrame* out);
-    void emit_blend(std::size_t begin, std::size_t end, const Viewport& bounds, AssembledFrame* out);
-    void emit(const Template& t, const Sprite& s, bool skirt, float z, AssembledFrame* out);
+    static std::uint32_t emit(const Template& t, const Sprite& s, float z, AssembledFrame* out);
     FrameStatus run(const Viewport& bounds, AssembledFrame* out);
 
     AssemblerOptions options_;
@@ -228,9 +229,9 @@ private:
     std::vector<const Sprite*> flat_;
     std::vector<FramePoint> ranges_; // per point: static_draw, and its sprites [first_draw, end_draw) of flat_
     std::vector<std::int32_t> cell_top_;
-    std::vector<std::int32_t> batch_key_, last_batch_of_key_, batch_count_, batch_start_;
-    std::vector<std::uint32_t> order_;
-    std::vector<std::int32_t> key_rank_, key_count_, key_start_;
+    std::vector<std::int32_t> batch_key_, last_batch_of_key_, batch_count_;
+    std::vector<std::uint32_t> point_batch_; // per point: its first batch; then the batch count
+    std::vector<std::int32_t> key_count_;
     std::vector<std::int32_t> key_order_;
     std::int64_t denominator_ = 0;
 };

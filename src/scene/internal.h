@@ -105,6 +105,9 @@ public:
         always_skirt_ = always_skirt;
         joined_ = joined;
     }
+    // Per polygon of the last add_texel_skirts in the joined form: 1 where
+    // the skirt is the polygon dilated (it holds the polygon itself).
+    const std::vector<std::uint8_t>& dilated() const { return dilated_; }
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
 
     // ReconstructOptions::coverage_margin: a skirt around `polygons` (of
@@ -124,7 +127,7 @@ public:
 
 private:
     void add_convex_piece(Draw& d, std::uint32_t element, const Polygon& piece, float z);
-    bool add_joined_skirt(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<Vec2>& normal,
+    int add_joined_skirt(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<Vec2>& normal,
                           const std::vector<Vec2>& offset, const std::vector<std::uint8_t>& reflex, double m, float z);
     void add_polygon(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z);
     const Scene& scene_;
@@ -135,6 +138,7 @@ private:
     TexelMesh* capture_ = nullptr;
     bool always_skirt_ = false;
     bool joined_ = false;
+    std::vector<std::uint8_t> dilated_;
     std::vector<std::uint32_t> fan_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };
