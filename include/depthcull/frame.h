@@ -232,6 +232,7 @@ private:
     std::vector<std::int32_t> batch_key_, last_batch_of_key_, batch_count_;
     std::vector<std::uint32_t> point_batch_; // per point: its first batch; then the batch count
     std::vector<std::int32_t> key_count_;
+    std::vector<std::int64_t> key_nearest_;
     std::vector<std::int32_t> key_order_;
     std::int64_t denominator_ = 0;
 };
