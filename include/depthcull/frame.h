@@ -213,8 +213,8 @@ private:
         const Template* blend_template;
     };
 
-    FrameStatus plan_sprite(std::size_t i);
-    static std::uint32_t emit(const Template& t, const Sprite& s, float z, AssembledFrame* out);
+    FrameStatus plan_sprite(const Sprite& s, Plan& p);
+    static std::uint32_t emit(const Template& t, const Sprite& s, float z, bool stream, AssembledFrame* out);
     FrameStatus run(const Viewport& bounds, AssembledFrame* out);
 
     AssemblerOptions options_;
@@ -225,9 +225,12 @@ private:
 
     // Per-frame scratch, kept at capacity.
     std::vector<Plan> plan_;
-    std::vector<std::int64_t> level_;
-    std::vector<const Sprite*> flat_;
-    std::vector<FramePoint> ranges_; // per point: static_draw, and its sprites [first_draw, end_draw) of flat_
+    struct Range { // a point's sprites this frame: plan_[first, end), levels from first_level
+        std::uint32_t static_draw = 0, first = 0, end = 0;
+        const Sprite* sprites = nullptr;
+        std::int64_t first_level = 0;
+    };
+    std::vector<Range> ranges_;
     std::vector<std::int32_t> cell_top_;
     std::vector<std::int32_t> batch_key_, last_batch_of_key_, batch_count_;
     std::vector<std::uint32_t> point_batch_; // per point: its first batch; then the batch count

@@ -36,6 +36,12 @@
 #define DEPTHCULL_STREAM_VERTICES 0
 #endif
 
+namespace {
+// Frames whose vertices take more than this stream them past the caches
+// (FrameAssembler::emit); smaller ones stay cached for the upload.
+constexpr std::size_t kStreamBytes = std::size_t(8) << 20;
+} // namespace
+
 namespace depthcull {
 
 using namespace detail;
@@ -178,8 +184,6 @@ FrameStatus FrameAssembler::add_animation(std::span<const int> images, int* id) 
 
 void FrameAssembler::reserve(std::size_t sprites, AssembledFrame* out) {
     plan_.reserve(sprites);
-    flat_.reserve(sprites);
-    level_.reserve(sprites);
     batch_key_.reserve(sprites);
     batch_count_.reserve(sprites);
     const std::size_t keys = std::size_t(max_texture_ + 1) * 4;
@@ -198,9 +202,7 @@ void FrameAssembler::reserve(std::size_t sprites, AssembledFrame* out) {
     }
 }
 
-inline FrameStatus FrameAssembler::plan_sprite(std::size_t i) {
-    const Sprite& s = *flat_[i];
-    Plan& p = plan_[i];
+inline FrameStatus FrameAssembler::plan_sprite(const Sprite& s, Plan& p) {
     int picture = s.image;
     if (s.animation >= 0) {
         if (std::size_t(s.animation) >= animations_.size()) return FrameStatus::bad_sprite;
@@ -252,7 +254,7 @@ inline FrameStatus FrameAssembler::plan_sprite(std::size_t i) {
     return FrameStatus::ok;
 }
 
-std::uint32_t FrameAssembler::emit(const Template& t, const Sprite& s, float z, AssembledFrame* out) {
+std::uint32_t FrameAssembler::emit(const Template& t, const Sprite& s, float z, bool stream, AssembledFrame* out) {
     const auto base = std::uint32_t(out->vertices.size() / kVertexFloats);
     const std::size_t n = t.xy.size() / 2;
     const std::size_t first = out->vertices.size();
@@ -267,12 +269,13 @@ std::uint32_t FrameAssembler::emit(const Template& t, const Sprite& s, float z, 
     float* v = out->vertices.data() + first;
     std::size_t k = 0;
 #if DEPTHCULL_STREAM_VERTICES
-    // Streaming stores: a frame's vertices are written once and read by the
-    // upload, so they bypass the cache rather than read each line in first
-    // (half the memory traffic; a frame of 100,000 sprites writes 40 MB).
-    // Templates hold whole groups of 4 vertices (to_template pads them),
-    // so every group starts 16-byte aligned and fills whole lines in order.
-    if (n % 4 == 0 && reinterpret_cast<std::uintptr_t>(v) % 16 == 0)
+    // Streaming stores for frames too big for the caches: their vertices
+    // are written once and read by the upload, so they bypass the cache
+    // rather than read each line in first (half the memory traffic; a frame
+    // of 100,000 sprites writes 40 MB). Templates hold whole groups of 4
+    // vertices (to_template pads them), so every group starts 16-byte
+    // aligned and fills whole lines in order.
+    if (stream && n % 4 == 0 && reinterpret_cast<std::uintptr_t>(v) % 16 == 0)
         for (; k < n; k += 4, v += 4 * kVertexFloats) {
             float px[4], py[4];
             for (std::size_t j = 0; j < 4; ++j) {
@@ -305,8 +308,11 @@ std::uint32_t FrameAssembler::emit(const Template& t, const Sprite& s, float z, 
 // its blend batch; the draws then only place indices, each sprite's at its
 // draw's cursor (a counting sort by draw), in two more passes.
 FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
-    const std::size_t n = flat_.size();
+    const std::size_t n = ranges_.empty() ? 0 : ranges_.back().end;
     plan_.resize(n);
+    // The last frame's size tells whether this one outgrows the caches
+    // (the stores differ, the vertices written do not).
+    const bool stream = out->vertices.size() * sizeof(float) > kStreamBytes;
     out->vertices.clear();
     out->indices.clear();
     out->draws.clear();
@@ -337,15 +343,18 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     // quotient, so at most a float ulp (2^-24 below 1) off, while levels lie
     // 1/D >= 2^-23 apart: the order of every z, static ones included, holds.
     const double inverse = 1 / double(denominator_);
-    auto z_of = [&](std::size_t i, bool opaque) { return float(double(2 * level_[i] + (opaque ? 2 : 1)) * inverse); };
-    for (const FramePoint& range : ranges_) {
+    auto z_of = [&](std::int64_t level, bool opaque) { return float(double(2 * level + (opaque ? 2 : 1)) * inverse); };
+    for (const Range& range : ranges_) {
         // Each point batches on its own (its draws go between other static draws).
         point_batch_.push_back(std::uint32_t(batch_key_.size()));
         cell_top_.assign(std::size_t(cols) * std::size_t(rows), -1);
         last_batch_of_key_.assign(keys, -1);
         std::int32_t all_top = -1, wide_top = -1;
-        for (std::size_t i = range.first_draw; i < range.end_draw; ++i) {
-            if (FrameStatus st = plan_sprite(i); st != FrameStatus::ok) {
+        for (std::size_t i = range.first; i < range.end; ++i) {
+            const Sprite& s = range.sprites[i - range.first];
+            const std::int64_t level = range.first_level + std::int64_t(i - range.first);
+            Plan& p = plan_[i];
+            if (FrameStatus st = plan_sprite(s, p); st != FrameStatus::ok) {
 #if DEPTHCULL_STREAM_VERTICES
                 _mm_sfence();
 #endif
@@ -353,12 +362,10 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
                 out->stats = {};
                 return st;
             }
-            Plan& p = plan_[i];
-            const Sprite& s = *flat_[i];
             const Picture& pic = images_[std::size_t(p.picture)];
             if (p.opaque) {
                 p.opaque_template = p.opaque == 2 ? &pic.quad : &pic.opaque[p.margin];
-                p.opaque_base = emit(*p.opaque_template, s, z_of(i, true), out);
+                p.opaque_base = emit(*p.opaque_template, s, z_of(level, true), stream, out);
                 key_count_[std::size_t(p.key)] += std::int32_t(p.opaque_template->indices.size());
                 key_nearest_[std::size_t(p.key)] = std::int64_t(i); // levels grow with i
                 opaque_indices += p.opaque_template->indices.size();
@@ -367,7 +374,7 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
             p.blend_template = p.boundary == 2                                                   ? &pic.quad
                                : s.blend != Blend::opaque && !snaps_exactly(s.transform) ? &pic.boundary[p.margin]
                                                                                              : &pic.plain;
-            p.blend_base = emit(*p.blend_template, s, z_of(i, false), out);
+            p.blend_base = emit(*p.blend_template, s, z_of(level, false), stream, out);
             // The screen box of what it draws: its centre's image plus the
             // half extents' absolute images, and a pixel for GL's snapping
             // (and rounding): cells are conservative.
@@ -435,7 +442,8 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
 
     // The opaque pass, front to back: keys by their nearest sprite,
     // sprites nearest first (append_opaque_draws' order). Levels grow with
-    // the flat index. key_count_ becomes each key's cursor.
+    // the flat index. key_count_ becomes the end of each key's indices,
+    // filled backwards as the sprites go forwards.
     if (opaque_indices) {
         key_order_.clear();
         for (std::size_t k = 0; k < keys; ++k)
@@ -446,12 +454,8 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
         for (std::int32_t k : key_order_) {
             const std::int32_t count = key_count_[std::size_t(k)];
             out->draws.push_back({k / 4, Pass::opaque, Blend(k % 4), std::uint32_t(at), std::uint32_t(count)});
-            key_count_[std::size_t(k)] = at;
             at += count;
-        }
-        for (std::size_t i = n; i-- > 0;) {
-            const Plan& p = plan_[i];
-            if (p.opaque) place(*p.opaque_template, p.opaque_base, key_count_[std::size_t(p.key)]);
+            key_count_[std::size_t(k)] = at;
         }
     }
     out->opaque_draws = out->draws.size();
@@ -472,8 +476,16 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
         point.end_draw = std::uint32_t(out->draws.size());
         out->points.push_back(point);
     }
+    // One pass places both: blend indices forwards from each batch's
+    // cursor, opaque ones backwards from each key's end.
     for (std::size_t i = 0; i < n; ++i) {
         const Plan& p = plan_[i];
+        if (p.opaque) {
+            std::int32_t& end = key_count_[std::size_t(p.key)];
+            end -= std::int32_t(p.opaque_template->indices.size());
+            std::int32_t cursor = end;
+            place(*p.opaque_template, p.opaque_base, cursor);
+        }
         if (p.blended) place(*p.blend_template, p.blend_base, batch_count_[std::size_t(p.batch)]);
     }
     out->stats.draw_calls = std::int64_t(out->draws.size());
@@ -486,12 +498,9 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
 FrameStatus FrameAssembler::assemble(std::span<const Sprite> sprites, const Viewport& bounds, AssembledFrame* out) {
     if (!out) return FrameStatus::bad_sprite;
     if (std::int64_t(sprites.size()) > kMaxDepthLevels) return FrameStatus::too_many_sprites;
-    flat_.clear();
-    level_.resize(sprites.size());
-    for (std::size_t i = 0; i < sprites.size(); ++i) flat_.push_back(&sprites[i]), level_[i] = std::int64_t(i);
     denominator_ = depth_denominator(std::int64_t(sprites.size()));
     ranges_.clear();
-    ranges_.push_back({0, 0, std::uint32_t(sprites.size())});
+    ranges_.push_back({0, 0, std::uint32_t(sprites.size()), sprites.data(), 0});
     return run(bounds, out);
 }
 
@@ -499,18 +508,13 @@ FrameStatus FrameAssembler::assemble_at(const SceneMeshes& static_meshes, std::s
                                         const Viewport& bounds, AssembledFrame* out) {
     if (!out || sprites.size() > static_meshes.insertion_points.size() || static_meshes.depth_denominator < 2)
         return FrameStatus::bad_meshes;
-    flat_.clear();
-    level_.clear();
     ranges_.clear();
+    std::uint32_t at = 0;
     for (std::size_t k = 0; k < sprites.size(); ++k) {
         const InsertionPoint& point = static_meshes.insertion_points[k];
         if (std::int64_t(sprites[k].size()) > point.levels) return FrameStatus::too_many_sprites;
-        const auto first = std::uint32_t(flat_.size());
-        for (std::size_t i = 0; i < sprites[k].size(); ++i) {
-            flat_.push_back(&sprites[k][i]);
-            level_.push_back(point.first_level + std::int64_t(i));
-        }
-        ranges_.push_back({point.blend_draw, first, std::uint32_t(flat_.size())});
+        ranges_.push_back({point.blend_draw, at, at + std::uint32_t(sprites[k].size()), sprites[k].data(), point.first_level});
+        at += std::uint32_t(sprites[k].size());
     }
     denominator_ = static_meshes.depth_denominator;
     const FrameStatus st = run(bounds, out);

@@ -3,6 +3,7 @@
 // proven in the runtime (tests/runtime/test_frames.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -213,6 +214,33 @@ TEST(FrameAssembler, FramesAllocateNothingAfterWarmUp) {
     EXPECT_EQ(g_allocations.load() - before, 0);
     EXPECT_EQ(frame.points.size(), 2u);
     EXPECT_GT(frame.stats.opaque_draws, 0);
+}
+
+// A frame whose vertices outgrow the caches streams them (frame_assembler.cpp,
+// kStreamBytes: decided from the frame before): the same vertices, indices
+// and draws as a frame written through the cache.
+TEST(FrameAssembler, BigFramesStreamTheSameFrame) {
+    Pictures p;
+    std::vector<Sprite> sprites;
+    for (int i = 0; i < 60000; ++i) {
+        Sprite s = at(i % 2 ? p.block_id : p.ball_id, double((i * 37) % 1900) + 0.3, double((i * 53) % 1000) + 0.7);
+        const double a = 0.001 * i, scale = 0.5 + (i % 7) * 0.25;
+        s.transform = {scale * std::cos(a), scale * std::sin(a), -scale * std::sin(a), scale * std::cos(a), s.transform[4], s.transform[5]};
+        if (i % 5 == 0) s.color[3] = 0.5f;
+        sprites.push_back(s);
+    }
+    AssembledFrame cached, streamed;
+    ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 1920, 1080}, &cached), FrameStatus::ok);
+    ASSERT_GT(cached.vertices.size() * sizeof(float), std::size_t(8) << 20); // big enough to stream next time
+    ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 1920, 1080}, &streamed), FrameStatus::ok); // first: cached
+    ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 1920, 1080}, &streamed), FrameStatus::ok); // streamed
+    EXPECT_TRUE(std::equal(cached.vertices.begin(), cached.vertices.end(), streamed.vertices.begin(), streamed.vertices.end()));
+    EXPECT_TRUE(std::equal(cached.indices.begin(), cached.indices.end(), streamed.indices.begin(), streamed.indices.end()));
+    ASSERT_EQ(cached.draws.size(), streamed.draws.size());
+    for (std::size_t i = 0; i < cached.draws.size(); ++i) {
+        EXPECT_EQ(cached.draws[i].first_index, streamed.draws[i].first_index);
+        EXPECT_EQ(cached.draws[i].index_count, streamed.draws[i].index_count);
+    }
 }
 
 TEST(FrameAssembler, BadInputGetsAStatus) {
