@@ -115,7 +115,9 @@ struct UninitializedAllocator : std::allocator<T> {
 
 // One frame's draws: draws[0, opaque_draws) are the opaque pass (front to
 // back), the rest blend draws grouped by insertion point (points). Buffers
-// keep their capacity between frames: reuse one AssembledFrame.
+// keep their capacity between frames: reuse one AssembledFrame. Vertices
+// lie in painter's order, sprite by sprite, in groups of 4 per template
+// (a few padding copies that no index names): draws index them anywhere.
 struct AssembledFrame {
     std::vector<float, UninitializedAllocator<float>> vertices;          // kVertexFloats per vertex
     std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>> indices;
