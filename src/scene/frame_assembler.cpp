@@ -268,7 +268,9 @@ std::uint32_t FrameAssembler::emit(const Template& t, const Sprite& s, float z, 
     const float* uv = t.uv.data();
     float* v = out->vertices.data() + first;
     std::size_t k = 0;
-#if DEPTHCULL_STREAM_VERTICES
+#if !DEPTHCULL_STREAM_VERTICES
+    (void)stream;
+#else
     // Streaming stores for frames too big for the caches: their vertices
     // are written once and read by the upload, so they bypass the cache
     // rather than read each line in first (half the memory traffic; a frame
