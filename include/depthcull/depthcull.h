@@ -340,6 +340,65 @@ DC_API dc_status dc_frame_stats_get(const dc_frame* frame, dc_frame_stats* out);
 DC_API const float* dc_frame_vertices(const dc_frame* frame, size_t* vertex_count);
 DC_API const uint32_t* dc_frame_indices(const dc_frame* frame, size_t* index_count);
 
+/* ---- Sprites between the layers of a static scene: insertion points
+ *
+ * The frame loop (docs/engine-integration.md):
+ *   once:  dc_scene_add_insertion_point between the dc_scene_add_element
+ *          calls where moving sprites go (a game layer), dc_reconstruct,
+ *          dc_renderer_set_meshes; an assembler with the sprites' pictures;
+ *   each frame: dc_assemble_at with each point's sprites, then
+ *          dc_renderer_draw_frame (or draw dc_frame_draw_get/dc_frame_point_get
+ *          yourself). Static elements before a point stay behind its
+ *          sprites, those after it in front, pixel for pixel as overpaint
+ *          of all of them in layer order. */
+
+typedef struct dc_insertion_point {
+    size_t element;      /* sprites go before this element (the element count: on top of all) */
+    int64_t levels;      /* depth levels reserved: at most this many sprites a frame */
+    int64_t first_level; /* the first reserved level (reconstructed meshes) */
+    uint32_t blend_draw; /* static draws from this one on are drawn after the point's sprites */
+} dc_insertion_point;
+
+/* Marks an insertion point before the next element added (after every
+ * element added so far) with `levels` (0 .. 2^21 - 1, the most depth
+ * levels) depth levels reserved for its sprites; points keep the order they are added in. dc_reconstruct
+ * reserves them. */
+DC_API dc_status dc_scene_add_insertion_point(dc_scene* scene, int64_t levels);
+/* The insertion points of reconstructed meshes, in order. */
+DC_API size_t dc_meshes_insertion_point_count(const dc_meshes* meshes);
+DC_API dc_status dc_meshes_insertion_point(const dc_meshes* meshes, size_t i, dc_insertion_point* out);
+/* Sprites at the insertion points of `static_meshes`: `sprites[k]` holds
+ * `counts[k]` sprites (painter's order; NULL when 0) drawn at point k, for
+ * k < `points` (at most the meshes' points; later points get none), each
+ * list at most its point's levels. The frame's opaque draws go before the
+ * static ones (the depth test orders them), point k's blend draws between
+ * the static blend draws (dc_frame_point_get). Allocates nothing after the
+ * first frames, as dc_assemble. */
+DC_API dc_status dc_assemble_at(dc_assembler* assembler, const dc_meshes* static_meshes, const dc_sprite* const* sprites,
+                                const size_t* counts, size_t points, dc_viewport bounds, dc_frame* frame);
+
+/* An assembled frame's draws, for engines that draw it themselves: indices
+ * [first_index, first_index + index_count) of dc_frame_indices, which index
+ * dc_frame_vertices. Draws [0, opaque_draws of dc_frame_stats) are the
+ * opaque pass, the rest blend draws grouped by point. */
+typedef struct dc_frame_draw {
+    uint32_t image; /* the texture (dc_assembler_add_image's `texture`) */
+    int pass;       /* dc_pass */
+    int blend;      /* dc_blend */
+    uint32_t first_index, index_count;
+} dc_frame_draw;
+/* Where a point's blend draws go: the frame's draws [first_draw, end_draw)
+ * after the static blend draws before static draw `static_draw` (static
+ * draws from there on come after them). A fully dynamic frame has one
+ * point, static_draw 0. */
+typedef struct dc_frame_point {
+    uint32_t static_draw, first_draw, end_draw;
+} dc_frame_point;
+DC_API size_t dc_frame_draw_count(const dc_frame* frame);
+DC_API dc_status dc_frame_draw_get(const dc_frame* frame, size_t i, dc_frame_draw* out);
+DC_API size_t dc_frame_point_count(const dc_frame* frame);
+DC_API dc_status dc_frame_point_get(const dc_frame* frame, size_t i, dc_frame_point* out);
+
 /* ---- The runtime renderer (depthcull::runtime) in the host's GL context
  *
  * Draws meshes the way an engine would: a plain sprite shader (texture x

@@ -115,7 +115,9 @@ struct UninitializedAllocator : std::allocator<T> {
 
 // One frame's draws: draws[0, opaque_draws) are the opaque pass (front to
 // back), the rest blend draws grouped by insertion point (points). Buffers
-// keep their capacity between frames: reuse one AssembledFrame.
+// keep their capacity between frames: reuse one AssembledFrame. Vertices
+// lie in painter's order, sprite by sprite, in groups of 4 per template
+// (a few padding copies that no index names): draws index them anywhere.
 struct AssembledFrame {
     std::vector<float, UninitializedAllocator<float>> vertices;          // kVertexFloats per vertex
     std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>> indices;
@@ -183,12 +185,17 @@ private:
         std::vector<double> xy;   // texel positions relative to the rect's top-left
         std::vector<float> uv;    // texture coordinates 0..1
         std::vector<std::uint32_t> indices;
-        std::uint32_t skirt_start = 0; // indices from here on: the texel skirt
     };
+    // Templates per texel margin: kTexelMargin * 2^b for bucket b. A sprite
+    // scaled below 1/8 needs a wider margin (texel_margin.cpp) and takes the
+    // bucket of the next power of two up to half a texel.
+    static constexpr int kMarginBuckets = 5;
     struct Picture {
         int texture = 0;
         Rect rect;
-        Template boundary, opaque, quad;
+        Template plain;                    // boundary polygons, for transforms that snap exactly
+        Template boundary[kMarginBuckets]; // boundary polygons with their texel skirt
+        Template opaque[kMarginBuckets], quad;
         bool boundary_inside = false; // analysis boundary within the rect
         bool has_boundary = false, has_opaque = false;
         bool opaque_covers_all = false;
@@ -200,14 +207,16 @@ private:
         std::int32_t key;
         std::int8_t boundary; // 0 none, 1 analysis, 2 rect
         std::int8_t opaque;   // 0 none, 1 analysis, 2 rect
+        std::int8_t margin;   // the templates' bucket
         bool blended;
         std::int32_t batch;
+        std::uint32_t opaque_base, blend_base; // the sprite's first vertex in the frame, per pass
+        const Template* opaque_template;
+        const Template* blend_template;
     };
 
-    FrameStatus plan_sprite(std::size_t i);
-    void emit_opaque(AssembledFrame* out);
-    void emit_blend(std::size_t begin, std::size_t end, const Viewport& bounds, AssembledFrame* out);
-    void emit(const Template& t, const Sprite& s, bool skirt, float z, AssembledFrame* out);
+    FrameStatus plan_sprite(const Sprite& s, Plan& p);
+    static std::uint32_t emit(const Template& t, const Sprite& s, float z, bool stream, AssembledFrame* out);
     FrameStatus run(const Viewport& bounds, AssembledFrame* out);
 
     AssemblerOptions options_;
@@ -218,13 +227,17 @@ private:
 
     // Per-frame scratch, kept at capacity.
     std::vector<Plan> plan_;
-    std::vector<std::int64_t> level_;
-    std::vector<const Sprite*> flat_;
-    std::vector<FramePoint> ranges_; // per point: static_draw, and its sprites [first_draw, end_draw) of flat_
+    struct Range { // a point's sprites this frame: plan_[first, end), levels from first_level
+        std::uint32_t static_draw = 0, first = 0, end = 0;
+        const Sprite* sprites = nullptr;
+        std::int64_t first_level = 0;
+    };
+    std::vector<Range> ranges_;
     std::vector<std::int32_t> cell_top_;
-    std::vector<std::int32_t> batch_key_, last_batch_of_key_, batch_count_, batch_start_;
-    std::vector<std::uint32_t> order_;
-    std::vector<std::int32_t> key_rank_, key_count_, key_start_;
+    std::vector<std::int32_t> batch_key_, last_batch_of_key_, batch_count_;
+    std::vector<std::uint32_t> point_batch_; // per point: its first batch; then the batch count
+    std::vector<std::int32_t> key_count_;
+    std::vector<std::int64_t> key_nearest_;
     std::vector<std::int32_t> key_order_;
     std::int64_t denominator_ = 0;
 };

@@ -1,6 +1,7 @@
 // depthcull.h: moving sprites (depthcull/frame.h) through the C API. Pure:
 // no GL; dc_renderer_draw_frame (capi_runtime.cpp) draws the frames.
 #include <algorithm>
+#include <string>
 
 #include "capi/capi_internal.h"
 
@@ -19,6 +20,18 @@ dc_status frame_status(const char* function, FrameStatus status) {
     case FrameStatus::bad_meshes: return fail(DC_ERROR_INVALID_ARGUMENT, function, "static meshes without the insertion points asked for");
     }
     return fail(DC_ERROR_INTERNAL, function, "unknown frame status");
+}
+
+// A C sprite as the assembler's; false for a blend that is no dc_blend.
+bool convert(const dc_sprite& c, Sprite& s) {
+    s.image = c.image > uint32_t(INT32_MAX) ? -1 : int(c.image);
+    s.animation = c.animation;
+    s.frame = c.frame;
+    std::copy(c.transform, c.transform + 6, s.transform.begin());
+    std::copy(c.color, c.color + 4, s.color.begin());
+    if (c.blend < 0 || c.blend > 3) return false;
+    s.blend = Blend(c.blend);
+    return true;
 }
 
 } // namespace
@@ -93,17 +106,9 @@ dc_status dc_assemble(dc_assembler* assembler, const dc_sprite* sprites, size_t 
     return guard("dc_assemble", [&] {
         if (!assembler || !frame || (count && !sprites)) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble: arguments must not be NULL");
         frame->sprites.resize(count);
-        for (size_t i = 0; i < count; ++i) {
-            const dc_sprite& c = sprites[i];
-            Sprite& s = frame->sprites[i];
-            s.image = c.image > uint32_t(INT32_MAX) ? -1 : int(c.image);
-            s.animation = c.animation;
-            s.frame = c.frame;
-            std::copy(c.transform, c.transform + 6, s.transform.begin());
-            std::copy(c.color, c.color + 4, s.color.begin());
-            if (c.blend < 0 || c.blend > 3) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble: a sprite's blend is not a dc_blend");
-            s.blend = Blend(c.blend);
-        }
+        for (size_t i = 0; i < count; ++i)
+            if (!convert(sprites[i], frame->sprites[i]))
+                return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble: a sprite's blend is not a dc_blend");
         return frame_status("dc_assemble", assembler->assembler.assemble(frame->sprites, Viewport{bounds.x, bounds.y, bounds.width, bounds.height},
                                                                          &frame->frame));
     });
@@ -126,6 +131,82 @@ const uint32_t* dc_frame_indices(const dc_frame* frame, size_t* index_count) {
     if (!frame) return nullptr;
     if (index_count) *index_count = frame->frame.indices.size();
     return frame->frame.indices.data();
+}
+
+dc_status dc_scene_add_insertion_point(dc_scene* scene, int64_t levels) {
+    return guard("dc_scene_add_insertion_point", [&] {
+        if (!scene) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_scene_add_insertion_point: scene must not be NULL");
+        if (levels < 0 || levels > kMaxDepthLevels)
+            return fail(DC_ERROR_INVALID_ARGUMENT, "dc_scene_add_insertion_point: levels must be 0.." + std::to_string(kMaxDepthLevels));
+        InsertionPoint point;
+        point.element = scene->scene.elements.size();
+        point.levels = levels;
+        scene->points.push_back(point);
+        scene->scene.insertion_points.push_back(point.element);
+        return DC_OK;
+    });
+}
+
+size_t dc_meshes_insertion_point_count(const dc_meshes* meshes) { return meshes ? meshes->loaded.meshes.insertion_points.size() : 0; }
+
+dc_status dc_meshes_insertion_point(const dc_meshes* meshes, size_t i, dc_insertion_point* out) {
+    if (!meshes || !out) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_insertion_point: meshes and out must not be NULL");
+    const auto& points = meshes->loaded.meshes.insertion_points;
+    if (i >= points.size()) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_insertion_point: index out of range");
+    const InsertionPoint& p = points[i];
+    *out = dc_insertion_point{p.element, p.levels, p.first_level, p.blend_draw};
+    return DC_OK;
+}
+
+dc_status dc_assemble_at(dc_assembler* assembler, const dc_meshes* static_meshes, const dc_sprite* const* sprites, const size_t* counts,
+                         size_t points, dc_viewport bounds, dc_frame* frame) {
+    return guard("dc_assemble_at", [&] {
+        if (!assembler || !static_meshes || !frame || (points && (!sprites || !counts)))
+            return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble_at: arguments must not be NULL");
+        if (points > static_meshes->loaded.meshes.insertion_points.size())
+            return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble_at: more sprite lists than the meshes' insertion points");
+        std::size_t total = 0;
+        for (size_t k = 0; k < points; ++k) {
+            if (counts[k] && !sprites[k]) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble_at: a sprite list must not be NULL");
+            if (std::int64_t(counts[k]) > static_meshes->loaded.meshes.insertion_points[k].levels || counts[k] > std::size_t(kMaxDepthLevels))
+                return frame_status("dc_assemble_at", FrameStatus::too_many_sprites);
+            total += counts[k];
+        }
+        // One array for all points (kept at capacity), then the spans.
+        frame->sprites.resize(total);
+        frame->lists.clear();
+        std::size_t at = 0;
+        for (size_t k = 0; k < points; ++k) {
+            for (size_t i = 0; i < counts[k]; ++i)
+                if (!convert(sprites[k][i], frame->sprites[at + i]))
+                    return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble_at: a sprite's blend is not a dc_blend");
+            frame->lists.emplace_back(frame->sprites.data() + at, counts[k]);
+            at += counts[k];
+        }
+        return frame_status("dc_assemble_at", assembler->assembler.assemble_at(static_meshes->loaded.meshes, frame->lists,
+                                                                               Viewport{bounds.x, bounds.y, bounds.width, bounds.height},
+                                                                               &frame->frame));
+    });
+}
+
+size_t dc_frame_draw_count(const dc_frame* frame) { return frame ? frame->frame.draws.size() : 0; }
+
+dc_status dc_frame_draw_get(const dc_frame* frame, size_t i, dc_frame_draw* out) {
+    if (!frame || !out) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_frame_draw_get: frame and out must not be NULL");
+    if (i >= frame->frame.draws.size()) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_frame_draw_get: index out of range");
+    const FrameDraw& d = frame->frame.draws[i];
+    *out = dc_frame_draw{uint32_t(d.image), d.pass == Pass::opaque ? DC_PASS_OPAQUE : DC_PASS_BLEND, int(d.blend), d.first_index, d.index_count};
+    return DC_OK;
+}
+
+size_t dc_frame_point_count(const dc_frame* frame) { return frame ? frame->frame.points.size() : 0; }
+
+dc_status dc_frame_point_get(const dc_frame* frame, size_t i, dc_frame_point* out) {
+    if (!frame || !out) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_frame_point_get: frame and out must not be NULL");
+    if (i >= frame->frame.points.size()) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_frame_point_get: index out of range");
+    const FramePoint& p = frame->frame.points[i];
+    *out = dc_frame_point{p.static_draw, p.first_draw, p.end_draw};
+    return DC_OK;
 }
 
 } // extern "C"

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <new>
+#include <span>
 #include <string>
 
 #include "depthcull/depthcull.h"
@@ -23,6 +24,7 @@ struct dc_analysis {
 struct dc_scene {
     depthcull::Scene scene;
     std::vector<std::shared_ptr<const depthcull::ImageAnalysis>> analyses; // per element; null for rect-only blends
+    std::vector<depthcull::InsertionPoint> points; // dc_scene_add_insertion_point, for dc_reconstruct
 };
 
 struct dc_assembler {
@@ -32,6 +34,7 @@ struct dc_assembler {
 struct dc_frame {
     depthcull::AssembledFrame frame;
     std::vector<depthcull::Sprite> sprites; // the C sprites converted, kept at capacity
+    std::vector<std::span<const depthcull::Sprite>> lists; // dc_assemble_at: per point, a part of `sprites`
 };
 
 struct dc_meshes {

@@ -124,6 +124,7 @@ dc_status dc_reconstruct(const dc_scene* scene, const dc_reconstruct_options* op
         r.reserved_dynamic_levels = o.reserved_dynamic_levels;
         r.cull_to_viewport = o.cull_to_viewport != 0;
         r.texel_margin = o.texel_margin;
+        r.insertion_points = scene->points;
         auto meshes = std::make_unique<dc_meshes>();
         // Timed here, at the edge: the core's values hold no clock readings.
         const auto start = std::chrono::steady_clock::now();

@@ -98,10 +98,16 @@ public:
     // From now on polygons go to `mesh` (texel space) instead of a Draw;
     // always_skirt: texel skirts even where the element's transform snaps
     // exactly (a template serves every transform).
-    void capture(TexelMesh* mesh, bool always_skirt) {
+    // joined: texel skirts in the joined form (texel_margin.cpp), whose
+    // pieces share vertices once welded.
+    void capture(TexelMesh* mesh, bool always_skirt, bool joined = false) {
         capture_ = mesh;
         always_skirt_ = always_skirt;
+        joined_ = joined;
     }
+    // Per polygon of the last add_texel_skirts in the joined form: 1 where
+    // the skirt is the polygon dilated (it holds the polygon itself).
+    const std::vector<std::uint8_t>& dilated() const { return dilated_; }
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
 
     // ReconstructOptions::coverage_margin: a skirt around `polygons` (of
@@ -121,6 +127,8 @@ public:
 
 private:
     void add_convex_piece(Draw& d, std::uint32_t element, const Polygon& piece, float z);
+    int add_joined_skirt(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<Vec2>& normal,
+                          const std::vector<Vec2>& offset, const std::vector<std::uint8_t>& reflex, double m, float z);
     void add_polygon(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<std::uint32_t>& triangles, float z);
     const Scene& scene_;
     std::uint32_t first_map_;
@@ -129,6 +137,8 @@ private:
     bool spans_;
     TexelMesh* capture_ = nullptr;
     bool always_skirt_ = false;
+    bool joined_ = false;
+    std::vector<std::uint8_t> dilated_;
     std::vector<std::uint32_t> fan_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };

@@ -146,6 +146,7 @@ void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::ve
     // Polygons (or parts of one) closer than the skirt reaches would get
     // each other's skirt over their inside texels, blending those twice:
     // no skirt for them.
+    dilated_.assign(polygons.size(), 0);
     std::vector<std::uint8_t> grow(polygons.size(), 1);
     for (std::size_t a = 0; a < polygons.size(); ++a) {
         if (polygons[a].size() < 3 || !(signed_area(polygons[a]) > 0)) grow[a] = 0;
@@ -208,6 +209,11 @@ void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::ve
             if (narrow[i] && !outside(p[j] + db, before)) sharp = true;
         }
         if (sharp) continue;
+        if (joined_) {
+            const int joined = add_joined_skirt(d, element, p, normal, offset, reflex, m, z);
+            if (joined == 2) dilated_[k] = 1;
+            if (joined) continue;
+        }
         for (std::size_t i = 0; i < n; ++i) {
             const std::size_t j = (i + 1) % n;
             const Vec2 nm = normal[i];
@@ -231,6 +237,65 @@ void MeshBuilder::add_texel_skirts(Draw& d, std::uint32_t element, const std::ve
             add_convex_piece(d, element, fan, z);
         }
     }
+}
+
+// The joined form of one polygon's skirt (MeshBuilder::capture's
+// `joined`, for the templates a FrameAssembler transforms per sprite): the
+// strips end where their offset lines meet, also at convex corners, so
+// neighbouring pieces share their outer vertices and a template welds them
+// (a skirt vertex per corner instead of four per edge and a fan per
+// corner). A convex corner turning by t gets k = ceil(t / 90 degrees)
+// outer vertices on the polygon circumscribing the margin's arc there
+// (radius m / cos(t / 2k) <= m * sqrt(2), within the 3 * m kept clear of
+// other edges): the strips reach its first and last vertex along their
+// offset lines, so the pieces still cover every point within m of the
+// polygon outside it, as the fans do. Reflex corners are as above.
+// A convex polygon (no reflex corner) and its skirt together are its
+// outer vertices' polygon clipped to the rect, convex too: that one piece
+// is added instead (returns 2; the caller leaves the polygon itself out).
+// Its fan covers each point inside the polygon once, as the polygon's own
+// triangles do, and the rest of it is the skirt, over transparent texels.
+// Returns 0 (nothing added) for a polygon with a zero-length edge, which
+// the plain form handles, else 1.
+int MeshBuilder::add_joined_skirt(Draw& d, std::uint32_t element, const Polygon& p, const std::vector<Vec2>& normal,
+                                   const std::vector<Vec2>& offset, const std::vector<std::uint8_t>& reflex, double m, float z) {
+    const std::size_t n = p.size();
+    for (const Vec2& nm : normal)
+        if (nm.x == 0 && nm.y == 0) return 0;
+    // Corner i's outer vertices: outer[first[i] .. first[i + 1]).
+    std::vector<Vec2> outer;
+    std::vector<std::size_t> first(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        first[i] = outer.size();
+        const Vec2 n1 = normal[(i + n - 1) % n], n2 = normal[i];
+        const double turn = std::atan2(cross(n1, n2), n1.x * n2.x + n1.y * n2.y);
+        if (reflex[i]) {
+            outer.push_back(p[i] + offset[i]);
+        } else if (turn > 0) {
+            const int steps = std::max(1, int(std::ceil(turn / (3.14159265358979323846 / 2))));
+            const double step = turn / steps, radius = m / std::cos(step / 2), base = std::atan2(n1.y, n1.x);
+            for (int s = 0; s < steps; ++s)
+                outer.push_back(p[i] + radius * Vec2{std::cos(base + step * (s + 0.5)), std::sin(base + step * (s + 0.5))});
+        } else {
+            outer.push_back(p[i] + m * n2); // straight on: both strips end on the shared normal
+        }
+    }
+    first[n] = outer.size();
+    if (std::find(reflex.begin(), reflex.end(), std::uint8_t(1)) == reflex.end() && is_convex(p)) {
+        add_convex_piece(d, element, outer, z);
+        return 2;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = (i + 1) % n;
+        add_convex_piece(d, element, {p[i], p[j], outer[first[j]], outer[first[i + 1] - 1]}, z);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        if (first[i + 1] - first[i] < 2) continue;
+        Polygon fan{p[i]};
+        fan.insert(fan.end(), outer.begin() + std::ptrdiff_t(first[i]), outer.begin() + std::ptrdiff_t(first[i + 1]));
+        add_convex_piece(d, element, fan, z);
+    }
+    return 1;
 }
 
 Polygon MeshBuilder::pull_inward(std::uint32_t element, const Polygon& p) const {

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "depthcull/depthcull.h"
+#include "depthcull/frame.h"
 #include "depthcull/io.h"
 #include "depthcull/scene.h"
 #include "testing/ascii_image.h"
@@ -212,6 +213,134 @@ TEST(CApi, ReconstructionAndDynamicElementsAreTheCppOnes) {
     dc_meshes_destroy(meshes);
     dc_analysis_destroy(s.blob);
     dc_scene_destroy(s.c);
+}
+
+// Insertion points through C: a scene with a point between its layers,
+// reconstructed, and sprites assembled at the point give the C++ meshes,
+// points and frame; misuse is a status.
+TEST(CApi, InsertionPointFramesAreTheCppOnes) {
+    const Image image = blob();
+    dc_scene* scene = nullptr;
+    ASSERT_EQ(dc_scene_create({0, 0, 64, 48}, &scene), DC_OK);
+    ASSERT_EQ(dc_scene_add_image(scene, "blob", "art/blob.png", 10, 10, nullptr), DC_OK);
+    dc_analysis* a = analyze(image, {0, 0, 10, 10});
+    Scene cpp;
+    cpp.viewport = {0, 0, 64, 48};
+    cpp.images = {SceneImage{"blob", "art/blob.png", 10, 10}};
+    const ImageAnalysis analysis = analyze_image(image.view(), {0, 0, 10, 10}, {});
+    std::vector<const ImageAnalysis*> analyses;
+    ReconstructOptions cpp_options;
+    EXPECT_EQ(dc_scene_add_insertion_point(scene, -1), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(dc_scene_add_insertion_point(nullptr, 4), DC_ERROR_INVALID_ARGUMENT);
+    for (int i = 0; i < 12; ++i) {
+        if (i == 5) { // the game layer: sprites go between elements 4 and 5
+            ASSERT_EQ(dc_scene_add_insertion_point(scene, 8), DC_OK);
+            cpp_options.insertion_points.push_back({5, 8});
+        }
+        dc_element e;
+        dc_element_default(&e);
+        e.rect = {0, 0, 10, 10};
+        e.transform[4] = (i * 7) % 50;
+        e.transform[5] = (i * 5) % 36;
+        ASSERT_EQ(dc_scene_add_element(scene, &e, a), DC_OK);
+        Element x;
+        x.rect = {0, 0, 10, 10};
+        x.transform = {1, 0, 0, 1, e.transform[4], e.transform[5]};
+        cpp.elements.push_back(x);
+        analyses.push_back(&analysis);
+    }
+    dc_meshes* meshes = nullptr;
+    ASSERT_EQ(dc_reconstruct(scene, nullptr, &meshes), DC_OK) << dc_last_error();
+    SceneMeshes expected;
+    ASSERT_EQ(reconstruct_scene(cpp, analyses, cpp_options, &expected), ReconstructStatus::ok);
+    expect_draws_equal(meshes, expected.draws);
+    ASSERT_EQ(dc_meshes_insertion_point_count(meshes), 1u);
+    dc_insertion_point point;
+    ASSERT_EQ(dc_meshes_insertion_point(meshes, 0, &point), DC_OK);
+    EXPECT_EQ(point.element, 5u);
+    EXPECT_EQ(point.levels, 8);
+    EXPECT_EQ(point.first_level, expected.insertion_points[0].first_level);
+    EXPECT_EQ(point.blend_draw, expected.insertion_points[0].blend_draw);
+    EXPECT_EQ(dc_meshes_insertion_point(meshes, 1, &point), DC_ERROR_INVALID_ARGUMENT);
+
+    // Sprites at the point, turned and scaled: the C++ assembler's frame.
+    dc_assembler* assembler = nullptr;
+    dc_frame* frame = nullptr;
+    ASSERT_EQ(dc_assembler_create(&assembler), DC_OK);
+    ASSERT_EQ(dc_frame_create(&frame), DC_OK);
+    uint32_t id = 0;
+    ASSERT_EQ(dc_assembler_add_image(assembler, 0, 10, 10, {0, 0, 10, 10}, a, &id), DC_OK);
+    FrameAssembler cpp_assembler;
+    int cpp_id = -1;
+    ASSERT_EQ(cpp_assembler.add_image({0, 10, 10, {0, 0, 10, 10}, &analysis}, &cpp_id), FrameStatus::ok);
+    std::vector<dc_sprite> sprites(8);
+    std::vector<Sprite> cpp_sprites(8);
+    for (std::size_t i = 0; i < sprites.size(); ++i) {
+        dc_sprite_default(&sprites[i]);
+        const double angle = 0.4 * double(i), scale = 0.5 + 0.25 * double(i % 5);
+        const double m[6] = {scale * std::cos(angle), scale * std::sin(angle), -scale * std::sin(angle), scale * std::cos(angle),
+                             3.3 + 6.1 * double(i), 20.6 - double(i)};
+        std::copy(m, m + 6, sprites[i].transform);
+        std::copy(m, m + 6, cpp_sprites[i].transform.begin());
+        if (i % 3 == 1) sprites[i].color[3] = cpp_sprites[i].color[3] = 0.5f;
+    }
+    const dc_sprite* lists[1] = {sprites.data()};
+    size_t counts[1] = {sprites.size()};
+    for (int f = 0; f < 2; ++f) ASSERT_EQ(dc_assemble_at(assembler, meshes, lists, counts, 1, {0, 0, 64, 48}, frame), DC_OK) << dc_last_error();
+    const std::span<const Sprite> cpp_lists[1] = {cpp_sprites};
+    AssembledFrame cpp_frame;
+    ASSERT_EQ(cpp_assembler.assemble_at(expected, cpp_lists, {0, 0, 64, 48}, &cpp_frame), FrameStatus::ok);
+    size_t vertex_count = 0, index_count = 0;
+    const float* vertices = dc_frame_vertices(frame, &vertex_count);
+    const uint32_t* indices = dc_frame_indices(frame, &index_count);
+    EXPECT_EQ(std::vector<float>(vertices, vertices + vertex_count * DC_VERTEX_FLOATS), std::vector<float>(cpp_frame.vertices.begin(), cpp_frame.vertices.end()));
+    EXPECT_EQ(std::vector<uint32_t>(indices, indices + index_count), std::vector<uint32_t>(cpp_frame.indices.begin(), cpp_frame.indices.end()));
+    ASSERT_EQ(dc_frame_draw_count(frame), cpp_frame.draws.size());
+    for (std::size_t i = 0; i < cpp_frame.draws.size(); ++i) {
+        dc_frame_draw d;
+        ASSERT_EQ(dc_frame_draw_get(frame, i, &d), DC_OK);
+        EXPECT_EQ(d.image, uint32_t(cpp_frame.draws[i].image));
+        EXPECT_EQ(d.pass, cpp_frame.draws[i].pass == Pass::opaque ? DC_PASS_OPAQUE : DC_PASS_BLEND);
+        EXPECT_EQ(d.blend, int(cpp_frame.draws[i].blend));
+        EXPECT_EQ(d.first_index, cpp_frame.draws[i].first_index);
+        EXPECT_EQ(d.index_count, cpp_frame.draws[i].index_count);
+    }
+    ASSERT_EQ(dc_frame_point_count(frame), 1u);
+    dc_frame_point fp;
+    ASSERT_EQ(dc_frame_point_get(frame, 0, &fp), DC_OK);
+    EXPECT_EQ(fp.static_draw, point.blend_draw);
+    EXPECT_EQ(fp.first_draw, cpp_frame.points[0].first_draw);
+    EXPECT_EQ(fp.end_draw, cpp_frame.points[0].end_draw);
+    EXPECT_GT(fp.end_draw, fp.first_draw);
+    EXPECT_EQ(dc_frame_draw_get(frame, 999, nullptr), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(dc_frame_point_get(frame, 1, &fp), DC_ERROR_INVALID_ARGUMENT);
+
+    // Misuse: more sprites than the point's levels, more lists than points,
+    // a missing list, meshes without points.
+    std::vector<dc_sprite> many(9, sprites[0]);
+    const dc_sprite* many_lists[1] = {many.data()};
+    size_t many_counts[1] = {many.size()};
+    EXPECT_EQ(dc_assemble_at(assembler, meshes, many_lists, many_counts, 1, {0, 0, 64, 48}, frame), DC_ERROR_TOO_MANY_DEPTH_LEVELS);
+    const dc_sprite* two_lists[2] = {sprites.data(), sprites.data()};
+    size_t two_counts[2] = {1, 1};
+    EXPECT_EQ(dc_assemble_at(assembler, meshes, two_lists, two_counts, 2, {0, 0, 64, 48}, frame), DC_ERROR_INVALID_ARGUMENT);
+    const dc_sprite* null_list[1] = {nullptr};
+    EXPECT_EQ(dc_assemble_at(assembler, meshes, null_list, counts, 1, {0, 0, 64, 48}, frame), DC_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(dc_last_error()).find("dc_assemble_at"), std::string::npos);
+    dc_meshes* plain = nullptr;
+    ASSERT_EQ(dc_meshes_create(&plain), DC_OK);
+    EXPECT_EQ(dc_meshes_insertion_point_count(plain), 0u);
+    EXPECT_EQ(dc_assemble_at(assembler, plain, lists, counts, 1, {0, 0, 64, 48}, frame), DC_ERROR_INVALID_ARGUMENT);
+    // No lists: a frame of no sprites, the static meshes alone.
+    ASSERT_EQ(dc_assemble_at(assembler, meshes, nullptr, nullptr, 0, {0, 0, 64, 48}, frame), DC_OK) << dc_last_error();
+    EXPECT_EQ(dc_frame_draw_count(frame), 0u);
+
+    dc_meshes_destroy(plain);
+    dc_frame_destroy(frame);
+    dc_assembler_destroy(assembler);
+    dc_meshes_destroy(meshes);
+    dc_analysis_destroy(a);
+    dc_scene_destroy(scene);
 }
 
 TEST(CApi, MeshFilesAreTheIoOnes) {

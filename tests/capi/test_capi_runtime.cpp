@@ -141,6 +141,114 @@ TEST(CApiRuntime, DrawsWhatTheCppRuntimeDraws) {
     dc_analysis_destroy(a);
 }
 
+// Sprites between a static scene's layers through C: dc_scene_add_insertion_point,
+// dc_reconstruct, dc_assemble_at and dc_renderer_draw_frame draw, frame
+// after frame, what overpaint of the static and moving elements in layer
+// order draws (pixel centres exactly on texel edges aside).
+TEST(CApiRuntime, InsertionPointFramesEqualOverpaint) {
+    NEED_HOST(h);
+    const Image image = sprite();
+    const dc_rect whole{0, 0, 10, 10};
+    dc_analysis* a = nullptr;
+    ASSERT_EQ(dc_analyze_image(image.rgba.data(), 10, 10, 40, whole, nullptr, &a), DC_OK);
+    const Viewport view{0, 0, 48, 40};
+    dc_scene* scene = nullptr;
+    ASSERT_EQ(dc_scene_create({view.x, view.y, view.width, view.height}, &scene), DC_OK);
+    ASSERT_EQ(dc_scene_add_image(scene, "s", "s.png", 10, 10, nullptr), DC_OK);
+    // Static layers: a background of big blobs, the game layer (12 levels),
+    // then a foreground row half covering it.
+    std::vector<Element> background, foreground;
+    for (int i = 0; i < 6; ++i) {
+        Element e;
+        e.rect = {0, 0, 10, 10};
+        e.transform = {2.5, 0, 0, 2.5, double(i % 3) * 16 - 6, double(i / 3) * 20 - 4};
+        background.push_back(e);
+    }
+    for (int i = 0; i < 5; ++i) {
+        Element e;
+        e.rect = {0, 0, 10, 10};
+        e.transform = {1, 0, 0, 1, double(i) * 10, 16};
+        e.color = {0.4f, 0.8f, 1, i % 2 ? 1.0f : 0.6f};
+        foreground.push_back(e);
+    }
+    auto add = [&](const Element& e) {
+        dc_element c;
+        dc_element_default(&c);
+        c.rect = whole;
+        std::copy(e.transform.begin(), e.transform.end(), c.transform);
+        std::copy(e.color.begin(), e.color.end(), c.color);
+        ASSERT_EQ(dc_scene_add_element(scene, &c, a), DC_OK);
+    };
+    for (const Element& e : background) add(e);
+    ASSERT_EQ(dc_scene_add_insertion_point(scene, 12), DC_OK);
+    for (const Element& e : foreground) add(e);
+    dc_meshes* meshes = nullptr;
+    ASSERT_EQ(dc_reconstruct(scene, nullptr, &meshes), DC_OK) << dc_last_error();
+
+    dc_assembler* assembler = nullptr;
+    dc_frame* frame = nullptr;
+    ASSERT_EQ(dc_assembler_create(&assembler), DC_OK);
+    ASSERT_EQ(dc_frame_create(&frame), DC_OK);
+    uint32_t id = 0;
+    ASSERT_EQ(dc_assembler_add_image(assembler, 0, 10, 10, whole, a, &id), DC_OK);
+    ASSERT_EQ(dc_assembler_reserve(assembler, 12, frame), DC_OK);
+    dc_renderer* r = nullptr;
+    ASSERT_EQ(dc_renderer_create(&gl_function, &r), DC_OK) << dc_last_error();
+    const dc_image_pixels pixels{image.rgba.data(), 10, 10, 40};
+    ASSERT_EQ(dc_renderer_upload_images(r, &pixels, 1, DC_FILTER_NEAREST), DC_OK);
+    ASSERT_EQ(dc_renderer_set_meshes(r, meshes), DC_OK) << dc_last_error();
+    std::string error;
+    auto cpp = runtime::Renderer::create(&render::GlHost::get_proc_address, &error);
+    ASSERT_TRUE(cpp) << error;
+    const ImageView image_view = image.view();
+    ASSERT_EQ(cpp->upload_images({&image_view, 1}, Filter::nearest), runtime::Status::ok);
+    std::vector<dc_sprite> sprites(12);
+    for (int f = 0; f < 6; ++f) {
+        Scene whole_scene;
+        whole_scene.viewport = view;
+        whole_scene.images = {SceneImage{"s", "s.png", 10, 10}};
+        whole_scene.elements = background;
+        for (std::size_t i = 0; i < sprites.size(); ++i) {
+            dc_sprite_default(&sprites[i]);
+            const double angle = 0.35 * double(i) + 0.2 * f, scale = 0.4 + 0.2 * double((i + f) % 6);
+            const double m[6] = {scale * std::cos(angle), scale * std::sin(angle), -scale * std::sin(angle), scale * std::cos(angle),
+                                 1.3 + double((i * 7 + 3 * f) % 40), 0.7 + double((i * 5 + 2 * f) % 30)};
+            std::copy(m, m + 6, sprites[i].transform);
+            if (i % 4 == 3) sprites[i].color[0] = 0.5f, sprites[i].color[3] = 0.7f;
+            Element e;
+            e.rect = {0, 0, 10, 10};
+            std::copy(m, m + 6, e.transform.begin());
+            std::copy(sprites[i].color, sprites[i].color + 4, e.color.begin());
+            whole_scene.elements.push_back(e);
+        }
+        whole_scene.elements.insert(whole_scene.elements.end(), foreground.begin(), foreground.end());
+        const dc_sprite* lists[1] = {sprites.data()};
+        const size_t counts[1] = {sprites.size()};
+        ASSERT_EQ(dc_assemble_at(assembler, meshes, lists, counts, 1, {view.x, view.y, view.width, view.height}, frame), DC_OK)
+            << dc_last_error();
+        h.host->bind_framebuffer(view.width, view.height);
+        const dc_camera camera{view.x, view.y, view.width, view.height, 0};
+        const dc_frame_options frame_options{1, 0};
+        ASSERT_EQ(dc_renderer_draw_frame(r, &camera, frame, &frame_options, nullptr), DC_OK) << dc_last_error();
+        const Image drawn = h.host->read_pixels();
+        runtime::FrameOptions o;
+        o.clear_color = true;
+        ASSERT_EQ(cpp->set_meshes(overpaint_meshes(whole_scene)), runtime::Status::ok) << cpp->error();
+        ASSERT_EQ(cpp->draw({view.x, view.y, view.width, view.height, false}, {}, o), runtime::Status::ok) << cpp->error();
+        const Image reference = h.host->read_pixels();
+        const render::ImageDiff diff = render::compare_images(reference.view(), drawn.view());
+        EXPECT_EQ(diff.pixels_differ ? render::count_off_texel_edges(reference.view(), drawn.view(), whole_scene) : 0, 0)
+            << "frame " << f << ": " << diff.pixels_differ << " pixels differ";
+    }
+    cpp.reset();
+    dc_renderer_destroy(r);
+    dc_frame_destroy(frame);
+    dc_assembler_destroy(assembler);
+    dc_meshes_destroy(meshes);
+    dc_scene_destroy(scene);
+    dc_analysis_destroy(a);
+}
+
 // Moving sprites through C (since 0.2): dc_assemble + dc_renderer_draw_frame
 // draw what the C++ assembler and runtime draw, which equal overpaint
 // (tests/runtime/test_frames.cpp).

@@ -176,6 +176,42 @@ TEST_P(Frames, FullyDynamicFramesEqualOverpaint) {
     EXPECT_TRUE(ok);
 }
 
+// Property, the templates' fast paths (issue 23): convex polygons drawn
+// dilated with their skirt, joined skirts, and the wider texel-margin
+// templates of sprites scaled below 1/8 (down to 1/64, stretched along one
+// axis, flipped, turned, snapped to whole pixels or not) draw exactly like
+// their overpaint wherever the static reconstruction of the same elements
+// (exact per-element margin) does.
+TEST_P(Frames, TinyStretchedAndFlippedSpritesEqualOverpaint) {
+    DEPTHCULL_RUNTIME_HOST(h, GetParam());
+    SpriteSet set;
+    const auto views = set.rs.views();
+    AssembledFrame frame;
+    const bool ok = rc::check("tiny, stretched, flipped sprites == overpaint", [&] {
+        std::mt19937 rng(*rc::gen::arbitrary<unsigned>());
+        auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+        const int count = *rc::gen::inRange(1, 150);
+        Scene scene = set.rs.scene;
+        scene.viewport = {-2.5, 1, 64, 48};
+        std::vector<Sprite> sprites;
+        for (int i = 0; i < count; ++i) {
+            Sprite s = random_sprite(rng, scene.viewport, set.animation);
+            const double sx = std::exp2(uniform(-6, 1)), sy = rng() % 3 == 0 ? std::exp2(uniform(-6, 1)) : sx;
+            const double a = rng() % 4 == 0 ? 0.0 : uniform(0, 6.2832);
+            const double x = rng() % 4 == 0 ? std::floor(s.transform[4]) : s.transform[4];
+            s.transform = {sx * std::cos(a), sx * std::sin(a), -sy * std::sin(a), sy * std::cos(a), x, s.transform[5]};
+            if (rng() % 3 == 0) s.transform[0] = -s.transform[0], s.transform[1] = -s.transform[1];
+            sprites.push_back(s);
+            scene.elements.push_back(set.element(s));
+        }
+        RC_ASSERT(set.assembler.assemble(sprites, scene.viewport, &frame) == FrameStatus::ok);
+        SceneMeshes none;
+        none.viewport = scene.viewport;
+        check_frame_like_static(*h, scene, views, none, frame, set);
+    });
+    EXPECT_TRUE(ok);
+}
+
 // Many overlapping sprites of two textures: the blend pass batches them
 // (fewer draws than sprites) and the frame still equals overpaint.
 TEST_P(Frames, OverlappingSpritesBatchAndStayIdentical) {

@@ -3,10 +3,33 @@
 // proven in the runtime (tests/runtime/test_frames.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 
 #include "depthcull/frame.h"
 #include "scene_fixtures.h"
+
+// GCC sees our malloc-backed operator new and free-backed delete inline and
+// warns about a mismatch that is not one.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+// Counts every allocation of this test program, so a test can assert that
+// a stretch of code made none (FrameAssembler.FramesAllocateNothingAfterWarmUp).
+static std::atomic<std::int64_t> g_allocations{0};
+void* operator new(std::size_t size) {
+    ++g_allocations;
+    if (void* p = std::malloc(size ? size : 1)) return p;
+    throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace depthcull {
 namespace {
@@ -128,6 +151,96 @@ TEST(FrameAssembler, TurnedOrScaledSpritesOfBleedingPicturesDrawTheirRect) {
     }
     EXPECT_GT(blend_vertices(plain_id, scaled, frame).size(), 6u);   // polygons and their texel skirt
     EXPECT_GT(blend_vertices(bleeding_id, tile, frame).size(), 6u);  // snaps exactly: polygons
+}
+
+// Issue 23: once warmed up (here by reserve()), frames allocate nothing,
+// fully dynamic or at insertion points, whatever the sprites do: turn,
+// scale from 1/64 (the wider texel-margin templates) to 2, flip, animate,
+// change blend and alpha, move off screen, or pile up past the cell budget.
+TEST(FrameAssembler, FramesAllocateNothingAfterWarmUp) {
+    ImageAnalysis octagon, notched;
+    octagon.rect = {0, 0, 16, 16};
+    octagon.boundary = {{{4, 0}, {12, 0}, {16, 4}, {16, 12}, {12, 16}, {4, 16}, {0, 12}, {0, 4}}};
+    octagon.opaque = {{{4, 4}, {12, 4}, {12, 12}, {4, 12}}};
+    octagon.stats.nontransparent_texels = 224;
+    octagon.stats.opaque_covered_texels = 64;
+    notched = octagon; // a reflex corner: polygon and joined skirt
+    notched.rect = {16, 0, 16, 16};
+    notched.boundary = {{{17, 1}, {31, 1}, {31, 15}, {24, 8}, {17, 15}}};
+    notched.opaque = {};
+    FrameAssembler assembler;
+    int ids[3] = {-1, -1, -1}, animation = -1;
+    ASSERT_EQ(assembler.add_image({0, 32, 16, octagon.rect, &octagon}, &ids[0]), FrameStatus::ok);
+    ASSERT_EQ(assembler.add_image({0, 32, 16, notched.rect, &notched}, &ids[1]), FrameStatus::ok);
+    ASSERT_EQ(assembler.add_image({1, 16, 16, octagon.rect, &octagon}, &ids[2]), FrameStatus::ok);
+    ASSERT_EQ(assembler.add_animation(ids, &animation), FrameStatus::ok);
+    SceneBuilder b;
+    const int img = b.image("a", 16, 16);
+    const ImageAnalysis* full = b.full(img);
+    for (int i = 0; i < 6; ++i) b.add(img, full, 10 + 40 * i, 10);
+    ReconstructOptions options;
+    options.insertion_points = {{2, 1000}, {4, 1000}};
+    SceneMeshes meshes;
+    ASSERT_EQ(reconstruct_scene(b.scene, b.analyses, options, &meshes), ReconstructStatus::ok);
+
+    std::vector<Sprite> sprites(1500);
+    auto move = [&](int frame) {
+        for (std::size_t i = 0; i < sprites.size(); ++i) {
+            Sprite& s = sprites[i];
+            const std::size_t k = i * 7 + std::size_t(frame) * 3;
+            s.image = ids[k % 3];
+            s.animation = k % 5 == 0 ? animation : -1;
+            s.frame = int(k % 4);
+            const double a = 0.01 * double(i) + 0.3 * frame, scale = std::ldexp(1.0, -int(k % 8)) * 2; // 2 .. 1/64
+            const double flip = k % 3 == 0 ? -1 : 1, stretch = k % 4 == 0 ? 0.3 : 1;
+            s.transform = {flip * scale * std::cos(a), flip * scale * std::sin(a), -stretch * scale * std::sin(a),
+                           stretch * scale * std::cos(a), double(k % 700) - 30, double((i * 53) % 520) - 20};
+            if (k % 9 == 0) s.transform = {1, 0, 0, 1, double(k % 640), 8}; // snaps exactly
+            s.blend = std::array<Blend, 4>{Blend::alpha, Blend::add, Blend::multiply, Blend::opaque}[k % 4];
+            s.color = {1, 1, 1, k % 6 == 0 ? 0.5f : 1.0f};
+        }
+    };
+    const Viewport view{0, 0, 640, 480};
+    AssembledFrame frame;
+    assembler.reserve(sprites.size(), &frame);
+    const std::span<const Sprite> all(sprites);
+    const std::vector<std::span<const Sprite>> lists{all.subspan(0, 700), all.subspan(700)};
+    const std::int64_t before = g_allocations.load();
+    for (int f = 0; f < 6; ++f) {
+        move(f);
+        ASSERT_EQ(assembler.assemble(sprites, view, &frame), FrameStatus::ok);
+        ASSERT_EQ(assembler.assemble_at(meshes, lists, view, &frame), FrameStatus::ok);
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0);
+    EXPECT_EQ(frame.points.size(), 2u);
+    EXPECT_GT(frame.stats.opaque_draws, 0);
+}
+
+// A frame whose vertices outgrow the caches streams them (frame_assembler.cpp,
+// kStreamBytes: decided from the frame before): the same vertices, indices
+// and draws as a frame written through the cache.
+TEST(FrameAssembler, BigFramesStreamTheSameFrame) {
+    Pictures p;
+    std::vector<Sprite> sprites;
+    for (int i = 0; i < 60000; ++i) {
+        Sprite s = at(i % 2 ? p.block_id : p.ball_id, double((i * 37) % 1900) + 0.3, double((i * 53) % 1000) + 0.7);
+        const double a = 0.001 * i, scale = 0.5 + (i % 7) * 0.25;
+        s.transform = {scale * std::cos(a), scale * std::sin(a), -scale * std::sin(a), scale * std::cos(a), s.transform[4], s.transform[5]};
+        if (i % 5 == 0) s.color[3] = 0.5f;
+        sprites.push_back(s);
+    }
+    AssembledFrame cached, streamed;
+    ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 1920, 1080}, &cached), FrameStatus::ok);
+    ASSERT_GT(cached.vertices.size() * sizeof(float), std::size_t(8) << 20); // big enough to stream next time
+    ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 1920, 1080}, &streamed), FrameStatus::ok); // first: cached
+    ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 1920, 1080}, &streamed), FrameStatus::ok); // streamed
+    EXPECT_TRUE(std::equal(cached.vertices.begin(), cached.vertices.end(), streamed.vertices.begin(), streamed.vertices.end()));
+    EXPECT_TRUE(std::equal(cached.indices.begin(), cached.indices.end(), streamed.indices.begin(), streamed.indices.end()));
+    ASSERT_EQ(cached.draws.size(), streamed.draws.size());
+    for (std::size_t i = 0; i < cached.draws.size(); ++i) {
+        EXPECT_EQ(cached.draws[i].first_index, streamed.draws[i].first_index);
+        EXPECT_EQ(cached.draws[i].index_count, streamed.draws[i].index_count);
+    }
 }
 
 TEST(FrameAssembler, BadInputGetsAStatus) {
