@@ -30,6 +30,7 @@ struct OptimizeArgs {
     bool quiet = false;
     CLI::Option* filter_option = nullptr;
     std::string target;
+    std::int64_t insertion_levels = -1; // --insertion-levels; -1: not given
 };
 
 // The overdraw rows of --stats (depthcull/overdraw.h, no GL): fragments over
@@ -116,6 +117,11 @@ void run_optimize(OptimizeArgs& args) {
     const Stopwatch planning; // --target analyzes more budgets: analysis time too
     const auto plan = apply_target(args.target, args.scene, prepared, prepare, &options, args.quiet);
     seconds.analysis += planning.seconds();
+    // Depth ranges for moving sprites at the scene's insertion points
+    // (object layers, the scene JSON's, --insert-at), written into the files.
+    const std::int64_t levels = args.insertion_levels >= 0 ? args.insertion_levels : args.prepare.load.insert_at.empty() ? 0 : 1024;
+    if (levels > 0)
+        for (std::size_t at : prepared.scene.insertion_points) options.insertion_points.push_back({at, levels});
     // The JSON meshes' "animated" vertex runs come from the element spans.
     options.element_spans = !prepared.scene.animations.empty();
     SceneMeshes meshes;
@@ -192,6 +198,14 @@ void add_optimize_command(CLI::App& app) {
                   "Drop elements entirely outside the viewport (meshes for that one camera position)");
     cmd->add_option("--reserve-dynamic", args->reconstruct.reserved_dynamic_levels,
                     "Depth levels to keep free in front of the scene for dynamic elements")
+        ->check(CLI::Range(std::int64_t(0), kMaxDepthLevels));
+    cmd->add_option("--insert-at", args->prepare.load.insert_at,
+                    "An insertion point for moving sprites (repeatable): a Tiled map's layer name (after its elements), a scene's "
+                    "element index (before it); with every object layer and the scene JSON's insertion_points")
+        ->type_name("LAYER|INDEX");
+    cmd->add_option("--insertion-levels", args->insertion_levels,
+                    "Depth levels (sprites per frame) reserved at each insertion point and written into the meshes; default "
+                    "1024 with --insert-at, else 0 (no insertion points)")
         ->check(CLI::Range(std::int64_t(0), kMaxDepthLevels));
     add_viewport_option(*cmd, args->prepare.load);
     add_analysis_options(*cmd, args->prepare.analyze);
