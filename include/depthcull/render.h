@@ -320,6 +320,10 @@ struct SpriteBenchOptions {
     // where each pays on the profile (min_opaque_area(profile) texels at
     // scale 1); 0 keeps them all.
     int min_opaque_area = 0;
+    // Checks only (tests): the modes drawn (the others' rows stay 0) and
+    // whether fragments are counted (a second draw of each frame).
+    std::array<bool, 3> modes{true, true, true};
+    bool count_fragments = true;
 };
 
 struct SpriteFrameMeasurement {

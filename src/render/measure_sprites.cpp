@@ -318,6 +318,7 @@ SpriteMeasurement measure_sprites(GlHost& host, const Scene& scene, const std::v
         for (int k = 0; k < 3; ++k) {
             const auto mode = SpriteMode((f + k) % 3);
             const int m = int(mode);
+            if (!options.modes[std::size_t(m)]) continue;
             runtime::Renderer& r = *mode_renderer[m];
             AssembledFrame& frame = frames[m];
             runtime::FrameCounts counts;
@@ -347,8 +348,10 @@ SpriteMeasurement measure_sprites(GlHost& host, const Scene& scene, const std::v
             row.draw_calls = counts.draw_calls;
             row.triangles = counts.triangles;
             // Fragments: counted in a second, untimed draw of the same frame.
-            check(r.draw_frame(cam, frame, counting, &counts), r, "counted frame");
-            row.fragments_shaded = counts.samples_passed;
+            if (options.count_fragments) {
+                check(r.draw_frame(cam, frame, counting, &counts), r, "counted frame");
+                row.fragments_shaded = counts.samples_passed;
+            }
             const Image drawn = host.read_pixels();
             row.pixels_differ = compare_images(reference.view(), drawn.view()).pixels_differ;
             if (row.pixels_differ) row.off_texel_edges = count_off_texel_edges(reference.view(), drawn.view(), both);
