@@ -122,6 +122,9 @@ void run_optimize(OptimizeArgs& args) {
     const std::int64_t levels = args.insertion_levels >= 0 ? args.insertion_levels : args.prepare.load.insert_at.empty() ? 0 : 1024;
     if (levels > 0)
         for (std::size_t at : prepared.scene.insertion_points) options.insertion_points.push_back({at, levels});
+    if (!options.insertion_points.empty() && std::int64_t(options.insertion_points.size()) > kMaxDepthLevels / levels)
+        throw CliError(args.scene + ": " + std::to_string(options.insertion_points.size()) + " insertion points x " + std::to_string(levels) +
+                       " levels (--insertion-levels) are more than the " + std::to_string(kMaxDepthLevels) + " depth levels of a 24-bit depth buffer");
     // The JSON meshes' "animated" vertex runs come from the element spans.
     options.element_spans = !prepared.scene.animations.empty();
     SceneMeshes meshes;
@@ -132,8 +135,8 @@ void run_optimize(OptimizeArgs& args) {
     case ReconstructStatus::ok: break;
     case ReconstructStatus::invalid_scene: throw CliError(args.scene + ": invalid scene for reconstruction");
     case ReconstructStatus::too_many_depth_levels:
-        throw CliError(args.scene + ": more than " + std::to_string(kMaxDepthLevels) +
-                       " depth levels (overlap chains too long for a 24-bit depth buffer)");
+        throw CliError(args.scene + ": more than " + std::to_string(kMaxDepthLevels) + " depth levels (overlap chains" +
+                       (options.insertion_points.empty() ? "" : " and the insertion points' levels") + " too long for a 24-bit depth buffer)");
     }
     if (meshes.stats.depth_bits > 16)
         std::fprintf(stderr, "depthcull: warning: %s: %" PRId64 " depth levels need a 24-bit depth buffer (16-bit holds %" PRId64 ")\n",

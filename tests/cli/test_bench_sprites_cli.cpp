@@ -74,6 +74,20 @@ TEST(BenchSpritesCli, SpritesMoveInTheTiledGameLayer) {
     EXPECT_NE(r.out.find("before static element 2 (the scene's first insertion point)"), std::string::npos) << r.out;
 }
 
+// --target: the moving sprites keep only opaque polygons that pay on the
+// profile (fewer pictures with any), and the frames stay identical.
+TEST(BenchSpritesCli, TargetKeepsOnlyOpaquePolygonsThatPay) {
+    auto all = run_cli("bench " + shell_quote(example("meadow.json")) + " --bunnymark 100 --frames 2 --json --no-cache");
+    auto paid = run_cli("bench " + shell_quote(example("meadow.json")) + " --bunnymark 100 --frames 2 --json --no-cache --target ipad1");
+    ASSERT_EQ(all.status, 0) << all.err;
+    ASSERT_EQ(paid.status, 0) << paid.err;
+    const json a = json::parse(all.out), p = json::parse(paid.out);
+    EXPECT_EQ(p["target"], "ipad1");
+    EXPECT_LE(p["scenes"][0]["pictures_with_opaque"].get<int>(), a["scenes"][0]["pictures_with_opaque"].get<int>());
+    EXPECT_EQ(p["scenes"][0]["pictures"], a["scenes"][0]["pictures"]);
+    expect_frames(p["scenes"][0], 2);
+}
+
 TEST(BenchSpritesCli, SpritesAndBunnymarkTogetherIsAUsageError) {
     auto r = run_cli("bench " + shell_quote(example("meadow.json")) + " --sprites 5 --bunnymark 5");
     EXPECT_EQ(r.status, 2) << r.err;

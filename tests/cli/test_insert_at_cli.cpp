@@ -80,4 +80,13 @@ TEST(InsertAtCli, PointsNamingNothingAreOneLineErrorsAndWriteNothing) {
     }
     auto r = run_cli("optimize " + shell_quote(example("meadow.json")) + " --insertion-levels -1 -o " + shell_quote(dir / "m.json"));
     EXPECT_EQ(r.status, 2) << r.err;
+    // More reserved levels than a 24-bit depth buffer resolves.
+    r = run_cli("optimize " + shell_quote(example("meadow.json")) + " --no-cache --insert-at 1 --insert-at 2 --insertion-levels 2000000 -o " +
+                shell_quote(dir / "m.json"));
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("2 insertion points x 2000000 levels (--insertion-levels) are more than the 2097151 depth levels"), std::string::npos) << r.err;
+    r = run_cli("optimize " + shell_quote(example("meadow.json")) + " --no-cache --insert-at 1 --insertion-levels 2097151 -o " + shell_quote(dir / "m.json"));
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("insertion points' levels too long for a 24-bit depth buffer"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "m.json"));
 }
