@@ -122,6 +122,9 @@ void run_optimize(OptimizeArgs& args) {
     const std::int64_t levels = args.insertion_levels >= 0 ? args.insertion_levels : args.prepare.load.insert_at.empty() ? 0 : 1024;
     if (levels > 0)
         for (std::size_t at : prepared.scene.insertion_points) options.insertion_points.push_back({at, levels});
+    if (levels > 0 && options.insertion_points.empty())
+        std::fprintf(stderr, "depthcull: warning: %s: --insertion-levels: the scene has no insertion point (no object layer, no "
+                             "\"insertion_points\", no --insert-at); the meshes reserve none\n", args.scene.c_str());
     if (!options.insertion_points.empty() && std::int64_t(options.insertion_points.size()) > kMaxDepthLevels / levels)
         throw CliError(args.scene + ": " + std::to_string(options.insertion_points.size()) + " insertion points x " + std::to_string(levels) +
                        " levels (--insertion-levels) are more than the " + std::to_string(kMaxDepthLevels) + " depth levels of a 24-bit depth buffer");

@@ -45,6 +45,11 @@ TEST(InsertAtCli, SceneElementIndicesBecomeInsertionPointsInBothFiles) {
     r = run_cli("optimize " + shell_quote(example("meadow.json")) + " --no-cache -o " + shell_quote(dir / "none.json"));
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_FALSE(json::parse(std::ifstream(dir / "none.json")).contains("insertion_points"));
+    // Levels but no point anywhere: said, not silently dropped.
+    r = run_cli("optimize " + shell_quote(example("meadow.json")) + " --no-cache --insertion-levels 10 -o " + shell_quote(dir / "none.json"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("--insertion-levels: the scene has no insertion point"), std::string::npos) << r.err;
+    EXPECT_FALSE(json::parse(std::ifstream(dir / "none.json")).contains("insertion_points"));
 }
 
 TEST(InsertAtCli, TiledObjectLayersAndNamedLayers) {

@@ -117,7 +117,7 @@ namespace {
 // layer, 1,000 of its own pictures (animated tiles playing their frames)
 // moving in the first object layer for 60 frames,
 // each frame equal to the overpaint of the same layers off texel edges,
-// depth-culled as `bench --sprites` draws it. A 320x240 camera keeps it to
+// depth-culled as `bench --sprites` draws it. A 256x192 camera keeps it to
 // a few seconds a map.
 TEST(MovingSpritesCorpus, EveryMapWithAnObjectLayer1000Sprites60Frames) {
     std::string why;
@@ -142,7 +142,7 @@ TEST(MovingSpritesCorpus, EveryMapWithAnObjectLayer1000Sprites60Frames) {
         render::SpriteBenchOptions options;
         options.sprites = 1000;
         options.frames = 60;
-        options.max_width = 320, options.max_height = 240;
+        options.max_width = 256, options.max_height = 192;
         // The depth-culled frames (bench --sprites checks all three);
         // sticker-knight's big sprites overdraw the camera about 95 times.
         options.modes = {false, false, true};
