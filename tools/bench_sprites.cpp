@@ -40,7 +40,14 @@ nlohmann::json to_json(const std::string& path, const render::SpriteBenchOptions
             {"scene_insertion_point", m.scene_point},
             {"pictures", m.pictures},
             {"pictures_with_opaque", m.pictures_with_opaque},
+            {"layers_behind", m.layers_behind},
             {"frames", std::move(frames)}};
+}
+
+std::string layers_text(double layers) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f", layers);
+    return text;
 }
 
 } // namespace
@@ -57,9 +64,10 @@ void run_sprite_bench(const SpriteBenchArgs& args) {
     options.frames = args.frames;
     options.seed = args.seed;
     std::string target;
+    CostProfile profile;
     if (!input.target.empty()) {
-        const CostProfile profile = io::resolve_target(input.target);
-        options.min_opaque_area = min_opaque_area(profile);
+        profile = io::resolve_target(input.target);
+        options.target = &profile;
         target = profile.name;
     }
     RunOutputs outputs(args.scenes);
@@ -92,7 +100,7 @@ void run_sprite_bench(const SpriteBenchArgs& args) {
                           "# %s: %d moving sprites of %zu pictures (%zu with opaque polygons%s), %s; camera %g,%g %dx%d, %zu static elements on it;\n"
                           "# %s, LP_NUM_THREADS=%s, %d frames, modes in turns frame by frame, seed %u\n",
                           path.c_str(), options.sprites, m.pictures, m.pictures_with_opaque,
-                          target.empty() ? "" : (", --target " + target + ": polygons of at least " + std::to_string(options.min_opaque_area) + " texels").c_str(),
+                          target.empty() ? "" : (", --target " + target + ": those that pay over " + layers_text(m.layers_behind) + " layers behind").c_str(),
                           where.c_str(), m.camera.x, m.camera.y, m.camera.width, m.camera.height, m.static_elements, host->description().c_str(),
                           lp_threads ? lp_threads : "", options.frames, options.seed);
             text += header + render::sprite_table(m);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "depthcull/cost.h"
 #include "depthcull/image.h"
 #include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
@@ -316,10 +317,11 @@ struct SpriteBenchOptions {
     std::uint32_t seed = 23;
     // The camera: the scene's viewport, cut to at most this size around its centre.
     int max_width = 1024, max_height = 768;
-    // --target: the moving sprites draw a picture's opaque polygons only
-    // where each pays on the profile (min_opaque_area(profile) texels at
-    // scale 1); 0 keeps them all.
-    int min_opaque_area = 0;
+    // --target: the moving sprites draw a picture's opaque polygon only
+    // where it pays on this profile in these frames (measure_sprites.cpp:
+    // its fragments over the layers expected behind a sprite against its
+    // triangles and edges); null keeps them all.
+    const CostProfile* target = nullptr;
     // Checks only (tests): the modes drawn (the others' rows stay 0) and
     // whether fragments are counted (a second draw of each frame).
     std::array<bool, 3> modes{true, true, true};
@@ -341,6 +343,7 @@ struct SpriteMeasurement {
     std::size_t insertion_element = 0; // the sprites go before this static element
     bool scene_point = false;          // it is the scene's first insertion point (else: on top)
     std::size_t pictures = 0, pictures_with_opaque = 0; // distinct pictures the sprites show; those drawing opaque polygons
+    double layers_behind = 0;          // --target: layers expected behind a sprite
     std::int64_t static_draws[3] = {0, 0, 0}; // per mode, the static meshes' draws (batching: 0, built per frame)
     // frames[f][mode]: every frame, every mode (SpriteMode order).
     std::vector<std::array<SpriteFrameMeasurement, 3>> frames;

@@ -97,6 +97,25 @@ struct Motion {
     int phase = 0;
 };
 
+// --target for moving sprites: whether an opaque polygon of A texels
+// (n vertices, perimeter P texels) pays in these frames on the profile.
+// The cost model's terms (docs/cost-model.md): where it covers, the
+// sprite's own blend fragments and those of the `layers` drawn behind it
+// are rejected instead of shaded, and it writes A opaque fragments; it
+// costs n - 2 triangles and their edges. Sprites are drawn at scales whose
+// mean is `scale` and mean square `scale2`. min_opaque_area's rule for one
+// layer behind, with the layers a crowd of sprites puts there.
+bool opaque_polygon_pays(const CostProfile& p, const Polygon& polygon, double layers, double scale, double scale2) {
+    double perimeter = 0;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+        const Vec2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+        perimeter += std::hypot(b.x - a.x, b.y - a.y);
+    }
+    const double gain_ns = area(polygon) * scale2 * ((layers + 1) * (p.fragment_blend_ns - p.fragment_rejected_ns) - p.fragment_opaque_ns);
+    const double cost_ns = double(polygon.size() - 2) * p.triangle_us * 1e3 + 2 * perimeter * scale * p.triangle_perimeter_ns_per_pixel;
+    return gain_ns > cost_ns;
+}
+
 } // namespace
 
 const char* sprite_mode_name(SpriteMode mode) {
@@ -124,6 +143,29 @@ SpriteMeasurement measure_sprites(GlHost& host, const Scene& scene, const std::v
     out.insertion_element = at;
     out.scene_point = !options.bunnymark && !scene.insertion_points.empty();
 
+    // --target: the layers expected behind a sprite: the static elements
+    // before the point over the camera, and half the sprites' own overdraw
+    // (each over a random point of the pile; sprites show each distinct
+    // picture alike).
+    const double scale = options.bunnymark ? 1 : 1.125, scale2 = options.bunnymark ? 1 : (8 - 1 / 64.0) / (3 * 1.75); // uniform 0.25..2
+    double layers = 0;
+    if (options.target) {
+        const double pixels = double(camera.width) * double(camera.height);
+        double statics = 0, picture_area = 0, distinct = 0;
+        std::vector<std::uint8_t> counted(analysis.images.size(), 0);
+        for (std::size_t e = 0; e < n; ++e) {
+            const Element& el = scene.elements[e];
+            const double drawn = std::abs(el.transform[0] * el.transform[3] - el.transform[1] * el.transform[2]) * el.rect.w * el.rect.h;
+            if (!options.bunnymark && e < at && in_camera(el, camera)) statics += std::min(drawn, pixels);
+            if (analysis.of(e) && !counted[analysis.of_element[e]]) {
+                counted[analysis.of_element[e]] = 1;
+                picture_area += double(el.rect.w) * el.rect.h * scale2, distinct += 1;
+            }
+        }
+        layers = statics / pixels + (distinct > 0 ? picture_area / distinct * options.sprites / pixels / 2 : 0);
+    }
+    out.layers_behind = layers;
+
     // ---- The pictures (load time): one per distinct analysis, animated
     // elements with every frame (their analysis covers all of them).
     AssemblerOptions culling, no_opaque;
@@ -139,8 +181,8 @@ SpriteMeasurement measure_sprites(GlHost& host, const Scene& scene, const std::v
         const Element& el = scene.elements[e];
         // --target: opaque polygons that do not pay on the profile are left out.
         ImageAnalysis kept = *a;
-        if (options.min_opaque_area > 0)
-            std::erase_if(kept.opaque, [&](const Polygon& p) { return area(p) < double(options.min_opaque_area); });
+        if (options.target)
+            std::erase_if(kept.opaque, [&](const Polygon& p) { return !opaque_polygon_pays(*options.target, p, layers, scale, scale2); });
         Picture picture;
         picture.frames.push_back(el);
         if (el.animation >= 0 && std::size_t(el.animation) < scene.animations.size()) {
