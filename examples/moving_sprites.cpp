@@ -1,9 +1,10 @@
 // Moving characters between a map's layers, headless (issue 23; read
 // docs/engine-integration.md, "Moving sprites between layers"). The
 // static scene is reconstructed once with an insertion point (its first
-// object layer, or the middle of its elements); each frame the camera
-// scrolls, the characters walk, FrameAssembler gives them depths in the
-// point's reserved range and depthcull::runtime draws static + moving.
+// object layer, or the middle of its elements) and goes through the
+// binary meshes file a game loads; each frame the camera scrolls, the
+// characters walk, FrameAssembler gives them depths in the point's
+// reserved range and depthcull::runtime draws static + moving.
 //
 //   moving_sprites SCENE [FRAMES] [SPRITES] [--compare]
 //
@@ -60,11 +61,20 @@ int main(int argc, char** argv) {
         const std::size_t at = p.scene.insertion_points.empty() ? p.scene.elements.size() / 2 : p.scene.insertion_points[0];
         ReconstructOptions options;
         options.insertion_points = {{at, count}};
-        SceneMeshes static_meshes;
-        if (reconstruct_scene(p.scene, p.analysis, options, &static_meshes) != ReconstructStatus::ok)
+        SceneMeshes built;
+        if (reconstruct_scene(p.scene, p.analysis, options, &built) != ReconstructStatus::ok)
             throw io::Error(std::string(argv[1]) + ": reconstruction failed");
-        std::printf("%zu static elements, %" PRId64 " static draws; %d sprites at element %zu\n", p.scene.elements.size(),
-                    static_meshes.stats.draw_calls, count, at);
+        // What the asset build writes (`depthcull optimize --insert-at ...
+        // --binary level.bin`) and the game loads (io::read_meshes): the
+        // reserved range travels in the file's insertion points.
+        const std::string file = io::meshes_to_binary(p.scene, built, "");
+        const io::LoadedMeshes loaded = io::meshes_from_binary(file, "level.bin");
+        const SceneMeshes& static_meshes = loaded.meshes;
+        const InsertionPoint& point = static_meshes.insertion_points.at(0);
+        std::printf("%zu static elements, %" PRId64 " static draws (%zu KB of binary meshes); %d sprites at element %zu: depth levels %" PRId64
+                    "..%" PRId64 ", blend draws from %u on in front of them\n",
+                    p.scene.elements.size(), static_meshes.stats.draw_calls, file.size() / 1024, count, point.element, point.first_level,
+                    point.first_level + point.levels - 1, point.blend_draw);
 
         // ---- Load time: one picture per distinct analysis (the characters'
         // images), analysed once.

@@ -21,6 +21,7 @@
 #include "progress.h"
 
 #ifdef DEPTHCULL_HAVE_RENDER
+#include "bench_sprites.h"
 #include "outputs.h"
 #include "render_common.h"
 #include "target_common.h"
@@ -48,6 +49,9 @@ struct BenchArgs {
     bool report_only = false;  // `depthcull report`: no table
     bool quiet = false;
     bool opaque_given = true;  // --no-opaque as given (a --target choice changes input.opaque per scene)
+    int sprites = 0, bunnymark = 0; // --sprites N, --bunnymark N: bench_sprites.h
+    std::uint32_t seed = 23;
+    CLI::Option* frames_option = nullptr;
 };
 
 // The modes in the order measure_runtime reports them: as asked, once each.
@@ -259,6 +263,9 @@ json to_json(const std::vector<SceneResult>& results, const std::string& rendere
 }
 
 void run_bench(BenchArgs& args) {
+    if (args.sprites > 0 || args.bunnymark > 0)
+        return run_sprite_bench({args.scenes, args.sprites, args.bunnymark, args.frames_option->count() ? args.frames : 60, args.seed,
+                                 args.json_output, args.output, args.quiet, args.lp_threads, &args.input});
     const std::vector<render::Mode> modes = parse_modes(args.modes);
     args.instrumented = args.shader == BenchArgs::Shader::instrumented;
     // llvmpipe reads LP_NUM_THREADS when the context is made; pin it so
@@ -407,9 +414,17 @@ void add_bench_command(CLI::App& app) {
     auto args = std::make_shared<BenchArgs>();
     auto* cmd = app.add_subcommand("bench", "Table 2: draw calls, triangles, overdraw and ms per frame, measured by drawing");
     cmd->add_option("scenes", args->scenes, "Scenes: .json (our format) or .tmx / .tmx.gz (Tiled)")->required();
-    cmd->add_option("--frames", args->frames, "Timed frames per scene and mode (median reported; 0: no timing)")
-        ->check(CLI::Range(0, 100000))
-        ->capture_default_str();
+    args->frames_option = cmd->add_option("--frames", args->frames, "Timed frames per scene and mode (median reported; 0: no timing; "
+                                                                    "--sprites / --bunnymark: frames drawn, default 60)")
+                              ->check(CLI::Range(0, 100000))
+                              ->capture_default_str();
+    cmd->add_option("--sprites", args->sprites,
+                    "N moving sprites of the scene's own pictures in its game layer (first insertion point: a Tiled map's first object "
+                    "layer), every frame: plain batching, meshes only, depth-culled")
+        ->check(CLI::Range(1, 1000000));
+    cmd->add_option("--bunnymark", args->bunnymark, "N sprites of the scene's pictures bouncing alone (no static scene), every frame as --sprites")
+        ->check(CLI::Range(1, 1000000));
+    cmd->add_option("--seed", args->seed, "--sprites / --bunnymark: the seed of positions, rotations, scales, animation frames")->capture_default_str();
     cmd->add_option("--warmup", args->warmup, "Untimed frames before timing")->check(CLI::Range(0, 10000))->capture_default_str();
     cmd->add_option("--modes", args->modes, "Comma-separated: overpaint, meshes, optimized")->capture_default_str();
     cmd->add_option("--lp-threads", args->lp_threads, "LP_NUM_THREADS for llvmpipe (default: the environment's, else 1)")

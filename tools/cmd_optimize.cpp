@@ -30,6 +30,7 @@ struct OptimizeArgs {
     bool quiet = false;
     CLI::Option* filter_option = nullptr;
     std::string target;
+    std::int64_t insertion_levels = -1; // --insertion-levels; -1: not given
 };
 
 // The overdraw rows of --stats (depthcull/overdraw.h, no GL): fragments over
@@ -116,6 +117,17 @@ void run_optimize(OptimizeArgs& args) {
     const Stopwatch planning; // --target analyzes more budgets: analysis time too
     const auto plan = apply_target(args.target, args.scene, prepared, prepare, &options, args.quiet);
     seconds.analysis += planning.seconds();
+    // Depth ranges for moving sprites at the scene's insertion points
+    // (object layers, the scene JSON's, --insert-at), written into the files.
+    const std::int64_t levels = args.insertion_levels >= 0 ? args.insertion_levels : args.prepare.load.insert_at.empty() ? 0 : 1024;
+    if (levels > 0)
+        for (std::size_t at : prepared.scene.insertion_points) options.insertion_points.push_back({at, levels});
+    if (levels > 0 && options.insertion_points.empty())
+        std::fprintf(stderr, "depthcull: warning: %s: --insertion-levels: the scene has no insertion point (no object layer, no "
+                             "\"insertion_points\", no --insert-at); the meshes reserve none\n", args.scene.c_str());
+    if (!options.insertion_points.empty() && std::int64_t(options.insertion_points.size()) > kMaxDepthLevels / levels)
+        throw CliError(args.scene + ": " + std::to_string(options.insertion_points.size()) + " insertion points x " + std::to_string(levels) +
+                       " levels (--insertion-levels) are more than the " + std::to_string(kMaxDepthLevels) + " depth levels of a 24-bit depth buffer");
     // The JSON meshes' "animated" vertex runs come from the element spans.
     options.element_spans = !prepared.scene.animations.empty();
     SceneMeshes meshes;
@@ -126,8 +138,8 @@ void run_optimize(OptimizeArgs& args) {
     case ReconstructStatus::ok: break;
     case ReconstructStatus::invalid_scene: throw CliError(args.scene + ": invalid scene for reconstruction");
     case ReconstructStatus::too_many_depth_levels:
-        throw CliError(args.scene + ": more than " + std::to_string(kMaxDepthLevels) +
-                       " depth levels (overlap chains too long for a 24-bit depth buffer)");
+        throw CliError(args.scene + ": more than " + std::to_string(kMaxDepthLevels) + " depth levels (overlap chains" +
+                       (options.insertion_points.empty() ? "" : " and the insertion points' levels") + " too long for a 24-bit depth buffer)");
     }
     if (meshes.stats.depth_bits > 16)
         std::fprintf(stderr, "depthcull: warning: %s: %" PRId64 " depth levels need a 24-bit depth buffer (16-bit holds %" PRId64 ")\n",
@@ -192,6 +204,14 @@ void add_optimize_command(CLI::App& app) {
                   "Drop elements entirely outside the viewport (meshes for that one camera position)");
     cmd->add_option("--reserve-dynamic", args->reconstruct.reserved_dynamic_levels,
                     "Depth levels to keep free in front of the scene for dynamic elements")
+        ->check(CLI::Range(std::int64_t(0), kMaxDepthLevels));
+    cmd->add_option("--insert-at", args->prepare.load.insert_at,
+                    "An insertion point for moving sprites (repeatable): a Tiled map's layer name (after its elements), a scene's "
+                    "element index (before it); with every object layer and the scene JSON's insertion_points")
+        ->type_name("LAYER|INDEX");
+    cmd->add_option("--insertion-levels", args->insertion_levels,
+                    "Depth levels (sprites per frame) reserved at each insertion point and written into the meshes; default "
+                    "1024 with --insert-at, else 0 (no insertion points)")
         ->check(CLI::Range(std::int64_t(0), kMaxDepthLevels));
     add_viewport_option(*cmd, args->prepare.load);
     add_analysis_options(*cmd, args->prepare.analyze);

@@ -128,6 +128,11 @@ struct LoadOptions {
     // Where the loaders keep the image files they read (see ImageFiles);
     // null: they read only the headers.
     ImageFiles* image_files = nullptr;
+    // More insertion points for moving sprites (Scene::insertion_points;
+    // the CLI's --insert-at): in a Tiled map, layer names (the point goes
+    // after the layer's elements, as each object layer's does); in other
+    // scenes, element indices. One that names nothing is an io::Error.
+    std::vector<std::string> insert_at;
 };
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 // Warning lines (a reader's or decode_image's) as LoadOptions asks: each
@@ -303,6 +308,7 @@ inline constexpr std::size_t kMaxMeshIndices = std::size_t(3) << 25;      // all
 inline constexpr std::size_t kMaxMeshStringBytes = std::size_t(1) << 16;  // an image id or path
 inline constexpr std::size_t kMaxMeshAnimations = std::size_t(1) << 20;
 inline constexpr std::size_t kMaxMeshAnimationFrames = std::size_t(1) << 16; // per animation
+inline constexpr std::size_t kMaxMeshInsertionPoints = std::size_t(1) << 16;
 
 struct LoadedMeshes {
     // id, path (resolved against the meshes file's directory, as

@@ -7,12 +7,14 @@
 // and time per frame.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "depthcull/cost.h"
 #include "depthcull/image.h"
 #include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
@@ -295,5 +297,69 @@ struct RuntimeMeasurement {
 // reference; modes take turns frame by frame when timing. Throws Error.
 RuntimeMeasurement measure_runtime(GlHost& host, const Scene& scene, const std::vector<ImageView>& images,
                                    const SceneAnalysis& analysis, const MeasureOptions& options);
+
+// ---- Moving sprites (issue 23): what engines do today against depth
+// culling, frame by frame, drawn by depthcull::runtime
+
+enum class SpriteMode {
+    batching, // plain sprite batching as engines do it: every element's rect in painter's order, runs of one texture and blend merged, no depth
+    meshes,   // meshes only: static meshes and moving sprites as reordered, batched boundary polygons, no opaque pass, no depth
+    culled,   // depth-culled: static meshes with an insertion point + FrameAssembler (opaque pass front to back, then blend)
+};
+const char* sprite_mode_name(SpriteMode mode); // "plain batching", "meshes only", "depth-culled"
+
+struct SpriteBenchOptions {
+    int sprites = 1000;
+    // Fully dynamic: no static scene, only the sprites (a bunnymark: they
+    // fall, bounce and overlap). Otherwise they move in the game layer.
+    bool bunnymark = false;
+    int frames = 60;
+    std::uint32_t seed = 23;
+    // The camera: the scene's viewport, cut to at most this size around its centre.
+    int max_width = 1024, max_height = 768;
+    // --target: the moving sprites draw a picture's opaque polygon only
+    // where it pays on this profile in these frames (measure_sprites.cpp:
+    // its fragments over the layers expected behind a sprite against its
+    // triangles and edges); null keeps them all.
+    const CostProfile* target = nullptr;
+    // Checks only (tests): the modes drawn (the others' rows stay 0) and
+    // whether fragments are counted (a second draw of each frame).
+    std::array<bool, 3> modes{true, true, true};
+    bool count_fragments = true;
+};
+
+struct SpriteFrameMeasurement {
+    std::int64_t draw_calls = 0;
+    std::int64_t triangles = 0;
+    std::int64_t fragments_shaded = 0; // GL_SAMPLES_PASSED
+    double cpu_ms = 0;                 // process CPU time: building the frame's geometry, drawing it, glFinish
+    std::int64_t pixels_differ = 0;    // against the overpaint of the same layers
+    std::int64_t off_texel_edges = 0;  // of those, count_off_texel_edges
+};
+
+struct SpriteMeasurement {
+    Viewport camera;
+    std::size_t static_elements = 0;   // in the camera (0: bunnymark)
+    std::size_t insertion_element = 0; // the sprites go before this static element
+    bool scene_point = false;          // it is the scene's first insertion point (else: on top)
+    std::size_t pictures = 0, pictures_with_opaque = 0; // distinct pictures the sprites show; those drawing opaque polygons
+    double layers_behind = 0;          // --target: layers expected behind a sprite
+    std::int64_t static_draws[3] = {0, 0, 0}; // per mode, the static meshes' draws (batching: 0, built per frame)
+    // frames[f][mode]: every frame, every mode (SpriteMode order).
+    std::vector<std::array<SpriteFrameMeasurement, 3>> frames;
+};
+
+// N sprites taken from `scene`'s own pictures (each distinct analysed
+// rect; animated elements with their frames), deterministic from
+// options.seed: positions, rotations, scales 0.25-2, animation frames;
+// moving in the game layer (the scene's first insertion point: a Tiled
+// map's first object layer) or, with bunnymark, alone. Every frame draws
+// the three modes in turns (each frame starts with another) and the
+// overpaint of the same layers, untimed, as the reference. Throws Error.
+SpriteMeasurement measure_sprites(GlHost& host, const Scene& scene, const std::vector<ImageView>& images, const SceneAnalysis& analysis,
+                                  const SpriteBenchOptions& options);
+// The table `depthcull bench --sprites / --bunnymark` prints: a row per
+// frame, the three modes side by side, then their means.
+std::string sprite_table(const SpriteMeasurement& m);
 
 } // namespace depthcull::render

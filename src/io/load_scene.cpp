@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <set>
 
@@ -48,6 +50,22 @@ bool is_tiled(const std::string& path) {
     return false;
 }
 
+// LoadOptions::insert_at for a scene that is not a Tiled map: element
+// indices, 0..elements (on top), added to the scene's own points.
+Scene with_insertion_points(Scene scene, const std::string& path, const LoadOptions& options) {
+    for (const std::string& text : options.insert_at) {
+        std::size_t index = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), index);
+        if (text.empty() || ec != std::errc() || end != text.data() + text.size() || index > scene.elements.size())
+            throw Error(path + ": --insert-at '" + text + "': not an element index in 0.." + std::to_string(scene.elements.size()) +
+                        " (layer names are for Tiled maps)");
+        scene.insertion_points.push_back(index);
+    }
+    std::sort(scene.insertion_points.begin(), scene.insertion_points.end());
+    scene.insertion_points.erase(std::unique(scene.insertion_points.begin(), scene.insertion_points.end()), scene.insertion_points.end());
+    return scene;
+}
+
 // `bytes` reads the file: load_scene reads it only once the format is known.
 template <class Bytes>
 Scene load(const std::string& path, const LoadOptions& options, Bytes&& bytes) {
@@ -57,9 +75,10 @@ Scene load(const std::string& path, const LoadOptions& options, Bytes&& bytes) {
         if (ends_with(path, ".json")) {
             // A .json scene is ours or a Tiled map: its first telling key decides.
             const auto text = bytes();
-            return is_tiled_json(text) ? tiled_map_from_bytes(text, path, options) : scene_json_from_text(text, path, options);
+            return is_tiled_json(text) ? tiled_map_from_bytes(text, path, options)
+                                       : with_insertion_points(scene_json_from_text(text, path, options), path, options);
         }
-        if (is_sprite_source(path)) return load_sprite_folder(path, options);
+        if (is_sprite_source(path)) return with_insertion_points(load_sprite_folder(path, options), path, options);
         throw Error(path + ": unknown scene format (expected .json, .tmx, .tmj, either gzipped, a PNG or a directory of PNGs)");
     });
 }

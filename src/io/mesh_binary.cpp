@@ -39,6 +39,8 @@ void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes
     Out o{sink};
     o.raw("DCMESH\0\0", 8);
     o.put(std::uint32_t(1)); // format version
+    // Bit 4: an insertion point section follows (only when there are
+    // points, so other files are as before).
     // Bit 1: image entries carry a colour key (set only when one has one,
     // so files without keys stay as version 1 wrote them; a fill colour is
     // carried in the same word). Bit 2: made for linear filtering (clear:
@@ -47,7 +49,7 @@ void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes
     // as before).
     const bool keys = std::any_of(images.begin(), images.end(), [](const SceneImage& img) { return img.has_trans || img.has_fill; });
     o.put(std::uint32_t((meshes.depth_test ? 1 : 0) | (keys ? 2 : 0) | (meshes.filter == Filter::linear ? 4 : 0) |
-                         (animations.empty() ? 0 : kAnimationsFlag)));
+                         (animations.empty() ? 0 : kAnimationsFlag) | (meshes.insertion_points.empty() ? 0 : kInsertionPointsFlag)));
     o.put(meshes.viewport.x);
     o.put(meshes.viewport.y);
     o.put(std::int32_t(meshes.viewport.width));
@@ -93,6 +95,16 @@ void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes
             o.put(std::uint32_t(end - r));
             for (; r < end; ++r)
                 for (std::uint32_t v : {sorted[r].first_vertex, sorted[r].vertex_count, sorted[r].animation}) o.put(v);
+        }
+    }
+    if (!meshes.insertion_points.empty()) {
+        o.put(std::uint32_t(meshes.insertion_points.size()));
+        for (const InsertionPoint& p : meshes.insertion_points) {
+            o.put(std::uint64_t(p.element));
+            o.put(std::int64_t(p.levels));
+            o.put(std::int64_t(p.first_level));
+            o.put(std::uint32_t(p.blend_draw));
+            o.put(std::uint32_t(0)); // reserved
         }
     }
 }

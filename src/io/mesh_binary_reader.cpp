@@ -70,16 +70,18 @@ struct Reader {
     }
 };
 
-void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* colour_keys, bool* animations) {
+void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* colour_keys, bool* animations,
+                 bool* points) {
     if (in.bytes.size() < 8 || !is_binary_meshes(in.bytes)) in.fail(0, "not a depthcull binary meshes file (no \"DCMESH\" magic)");
     in.pos = 8;
     const auto version = in.get<std::uint32_t>("the header");
     if (version != 1) in.fail(8, "format version " + std::to_string(version) + " is not supported (expected 1)");
     const auto flags = in.get<std::uint32_t>("the header");
-    if (flags & ~15u)
+    if (flags & ~31u)
         in.fail(12, "unknown flags " + std::to_string(flags) +
-                        " (bit 0 depth_test, bit 1 colour keys, bit 2 linear filtering and bit 3 animations are defined)");
+                        " (bit 0 depth_test, bit 1 colour keys, bit 2 linear filtering, bit 3 animations and bit 4 insertion points are defined)");
     *animations = flags & kAnimationsFlag;
+    *points = flags & kInsertionPointsFlag;
     SceneMeshes& m = out.meshes;
     m.depth_test = flags & 1;
     m.filter = flags & 4 ? Filter::linear : Filter::nearest;
@@ -246,12 +248,45 @@ void read_animations(Reader& in, LoadedMeshes& out) {
     }
 }
 
+// The insertion point section (flags bit 4): a count, then per point u64
+// element, i64 levels, i64 first_level, u32 blend_draw, u32 reserved 0;
+// checked against the stats and draws read before.
+void read_insertion_points(Reader& in, SceneMeshes& m) {
+    const std::size_t at = in.pos;
+    const auto count = in.get<std::uint32_t>("the insertion point count");
+    if (count == 0) in.fail(at, "flags bit 4 (insertion points) is set but the insertion point count is 0");
+    if (count > kMaxMeshInsertionPoints) in.fail(at, "more than " + std::to_string(kMaxMeshInsertionPoints) + " insertion points");
+    constexpr std::size_t kPointBytes = 8 + 8 + 8 + 4 + 4;
+    if (in.left() / kPointBytes < count)
+        in.fail(at, std::to_string(count) + " insertion points do not fit in the " + std::to_string(in.left()) + " bytes left");
+    m.insertion_points.reserve(count);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        const std::size_t point_at = in.pos;
+        InsertionPoint p;
+        const auto element = in.get<std::uint64_t>("an insertion point");
+        p.levels = in.get<std::int64_t>("an insertion point");
+        p.first_level = in.get<std::int64_t>("an insertion point");
+        p.blend_draw = in.get<std::uint32_t>("an insertion point");
+        if (in.get<std::uint32_t>("an insertion point") != 0) in.fail(point_at + 28, "insertion point reserved field is not 0");
+        if (element > std::uint64_t(INT64_MAX)) in.fail(point_at, "insertion point element " + std::to_string(element) + " is past the scene's elements");
+        p.element = std::size_t(element);
+        m.insertion_points.push_back(p);
+        const char* field = "";
+        if (std::string problem = insertion_point_problem(m, k, &field); !problem.empty()) {
+            const std::size_t offset = std::string_view(field) == "element" ? 0 : std::string_view(field) == "levels" ? 8
+                                       : std::string_view(field) == "first_level"                      ? 16 : 24;
+            in.fail(point_at + offset, "insertion point " + std::to_string(k) + ": " + problem);
+        }
+    }
+    if (std::string problem = insertion_levels_problem(m); !problem.empty()) in.fail(at, problem);
+}
+
 LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
     Reader in{bytes, name};
     LoadedMeshes out;
     std::uint32_t image_count = 0, draw_count = 0;
-    bool colour_keys = false, animations = false;
-    read_header(in, out, &image_count, &draw_count, &colour_keys, &animations);
+    bool colour_keys = false, animations = false, points = false;
+    read_header(in, out, &image_count, &draw_count, &colour_keys, &animations, &points);
     out.images.reserve(image_count);
     for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image(in, base_dir, colour_keys));
     // Bit 1 is set exactly when some image has a key or a fill (the writer's rule).
@@ -261,8 +296,10 @@ LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const 
     std::size_t total_vertices = 0, total_indices = 0;
     for (std::uint32_t i = 0; i < draw_count; ++i) out.meshes.draws.push_back(read_draw(in, image_count, &total_vertices, &total_indices));
     if (animations) read_animations(in, out);
-    if (in.left()) in.fail(in.pos, std::to_string(in.left()) + " bytes after the " + (animations ? "animations" : "last draw"));
     check_depth_levels(out.meshes, name);
+    if (points) read_insertion_points(in, out.meshes);
+    if (in.left())
+        in.fail(in.pos, std::to_string(in.left()) + " bytes after the " + (points ? "insertion points" : animations ? "animations" : "last draw"));
     return out;
 }
 

@@ -18,6 +18,9 @@ inline constexpr std::uint32_t kColourKeyed = 1u << 24;
 inline constexpr std::uint32_t kSolidFill = 1u << 25;
 // Binary header flags bit 3: an animation section follows the draws.
 inline constexpr std::uint32_t kAnimationsFlag = 8;
+// Binary header flags bit 4: an insertion point section follows the
+// draws (and the animations).
+inline constexpr std::uint32_t kInsertionPointsFlag = 16;
 } // namespace depthcull::io
 
 namespace depthcull::io {
@@ -127,6 +130,64 @@ inline void check_depth_levels(const SceneMeshes& m, const std::string& name) {
     if (stated < used)
         throw Error(name + ": stats depth_levels " + std::to_string(stated) + " is lower than the " + std::to_string(used) +
                     " levels its draws' z values use");
+}
+
+// Why insertion point k of `m` (SceneMeshes::insertion_points, as a file
+// states them) cannot be drawn at, or "" when it can; *field names the
+// value at fault ("element", "levels", "first_level", "blend_draw").
+// Checked against what the reader has already checked (stats, draws), so
+// FrameAssembler::assemble_at and Renderer::draw_frame get points whose
+// reserved levels lie inside the depth mapping, overlap neither another
+// point's nor any static draw's depth, and whose blend draws go inside the
+// static blend pass.
+inline std::string insertion_point_problem(const SceneMeshes& m, std::size_t k, const char** field) {
+    const InsertionPoint& p = m.insertion_points[k];
+    const InsertionPoint* prev = k ? &m.insertion_points[k - 1] : nullptr;
+    auto text = [](std::int64_t v) { return std::to_string(v); };
+    *field = "element";
+    if (std::int64_t(p.element) > m.stats.elements || p.element > std::size_t(INT64_MAX))
+        return "element " + std::to_string(p.element) + " is past the scene's " + text(m.stats.elements) + " elements (stats elements)";
+    if (prev && p.element < prev->element) return "element " + std::to_string(p.element) + " is before the previous point's (points go in element order)";
+    *field = "levels";
+    if (p.levels < 0 || p.levels > kMaxDepthLevels) return "levels " + text(p.levels) + " is outside 0.." + text(kMaxDepthLevels);
+    *field = "first_level";
+    if (m.depth_denominator < 2) return "insertion points need depth values (stats depth_bits names no depth mapping)";
+    if (p.first_level < 0 || p.first_level > m.stats.depth_levels - p.levels)
+        return "levels " + text(p.first_level) + " + " + text(p.levels) + " are not inside the " + text(m.stats.depth_levels) +
+               " depth levels of stats depth_levels";
+    if (prev && p.first_level < prev->first_level + prev->levels) return "first_level " + text(p.first_level) + " overlaps the previous point's levels";
+    *field = "blend_draw";
+    if (p.blend_draw > m.draws.size()) return "blend_draw " + std::to_string(p.blend_draw) + " is past the " + std::to_string(m.draws.size()) + " draws";
+    if (prev && p.blend_draw < prev->blend_draw) return "blend_draw " + std::to_string(p.blend_draw) + " is before the previous point's";
+    for (std::size_t d = p.blend_draw; d < m.draws.size(); ++d)
+        if (m.draws[d].pass != Pass::blend)
+            return "blend_draw " + std::to_string(p.blend_draw) + " is not in the blend pass (draw " + std::to_string(d) + " is opaque)";
+    return {};
+}
+
+// Why the static draws' depths do not leave the points' reserved levels
+// free (a vertex whose level lies in one), or "": sprites there would
+// tie with static pixels in the depth test.
+inline std::string insertion_levels_problem(const SceneMeshes& m) {
+    if (m.insertion_points.empty() || m.depth_denominator < 2) return {};
+    const double half = double(m.depth_denominator) / 2;
+    for (std::size_t d = 0; d < m.draws.size(); ++d) {
+        const std::vector<float>& v = m.draws[d].vertices;
+        for (std::size_t k = 2; k < v.size(); k += kVertexFloats) {
+            // Level k draws at (2k+1)/D and (2k+2)/D: k = ceil(z * D / 2) - 1.
+            const std::int64_t level = std::int64_t(std::ceil(double(v[k]) * half)) - 1;
+            // The points' ranges ascend (insertion_point_problem checked it).
+            auto after = std::upper_bound(m.insertion_points.begin(), m.insertion_points.end(), level,
+                                          [](std::int64_t l, const InsertionPoint& p) { return l < p.first_level; });
+            if (after == m.insertion_points.begin()) continue;
+            const InsertionPoint& p = *(after - 1);
+            if (level < p.first_level + p.levels)
+                return "draw " + std::to_string(d) + " vertex " + std::to_string(k / kVertexFloats) + " has depth level " +
+                       std::to_string(level) + ", reserved by insertion point " +
+                       std::to_string(std::size_t(after - 1 - m.insertion_points.begin()));
+        }
+    }
+    return {};
 }
 
 } // namespace depthcull::io

@@ -155,6 +155,24 @@ void json_document(Sink& sink, const std::vector<SceneImage>& images, const Scen
     append_double(s, seconds);
     s += "}";
     if (!animations.empty()) append_animations(sink, animations, runs);
+    if (!meshes.insertion_points.empty()) {
+        // Where moving sprites go (FrameAssembler::assemble_at); only when
+        // there are some, so other files are as before.
+        s += ",\n \"insertion_points\": [";
+        for (std::size_t k = 0; k < meshes.insertion_points.size(); ++k) {
+            const InsertionPoint& p = meshes.insertion_points[k];
+            s += k ? ",\n  {\"element\": " : "\n  {\"element\": ";
+            append_int(s, std::int64_t(p.element));
+            s += ", \"levels\": ";
+            append_int(s, p.levels);
+            s += ", \"first_level\": ";
+            append_int(s, p.first_level);
+            s += ", \"blend_draw\": ";
+            append_int(s, p.blend_draw);
+            s += "}";
+        }
+        s += "]";
+    }
     s += "}\n";
 }
 

@@ -225,6 +225,27 @@ SceneStats read_stats(const Context& ctx, const json& v, double* seconds) {
     return st;
 }
 
+// "insertion_points" (docs/mesh-format.md): after the draws and stats,
+// which they are checked against.
+void read_insertion_points(const Context& ctx, const json& doc, SceneMeshes* m) {
+    if (!doc.contains("insertion_points")) return;
+    const json& points = array(ctx, doc["insertion_points"], "insertion_points", kMaxMeshInsertionPoints);
+    m->insertion_points.reserve(points.size());
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const std::string where = at("insertion_points", k);
+        object(ctx, points[k], where);
+        InsertionPoint p;
+        p.element = std::size_t(integer(ctx, field(ctx, points[k], where, "element"), at(where, "element"), INT64_MAX));
+        p.levels = integer(ctx, field(ctx, points[k], where, "levels"), at(where, "levels"), kMaxDepthLevels);
+        p.first_level = integer(ctx, field(ctx, points[k], where, "first_level"), at(where, "first_level"), kMaxDepthLevels);
+        p.blend_draw = std::uint32_t(integer(ctx, field(ctx, points[k], where, "blend_draw"), at(where, "blend_draw"), UINT32_MAX));
+        m->insertion_points.push_back(p);
+        const char* key = "";
+        if (std::string problem = insertion_point_problem(*m, k, &key); !problem.empty()) ctx.fail(at(where, key), problem);
+    }
+    if (std::string problem = insertion_levels_problem(*m); !problem.empty()) ctx.fail("insertion_points", problem);
+}
+
 LoadedMeshes read_json(std::string_view text, const std::string& name, const std::string& base_dir) {
     const Context ctx{name};
     json doc;
@@ -262,6 +283,7 @@ LoadedMeshes read_json(std::string_view text, const std::string& name, const std
     read_animations(ctx, doc, &out);
     out.meshes.depth_denominator = depth_denominator_from_bits(out.meshes.stats.depth_bits);
     check_depth_levels(out.meshes, name);
+    read_insertion_points(ctx, doc, &out.meshes);
     return out;
 }
 

@@ -2,9 +2,11 @@
 //   { "viewport": {"x", "y", "width", "height"},   // x, y optional
 //     "filter": "nearest" | "linear",              // optional
 //     "images": [ {"id", "path"} | {"id", "atlas"} ],   // paths relative to the scene file
-//     "elements": [ {"image", "rect"?, "frame"?, "transform"?, "color"?, "blend"?} ] }
+//     "elements": [ {"image", "rect"?, "frame"?, "transform"?, "color"?, "blend"?} ],
+//     "insertion_points": [element index, ...] }   // optional: where moving sprites go
 // Unknown fields are ignored. Every bad value is an io::Error naming the
 // file and the element (or image) index; nothing is half-loaded.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -304,6 +306,21 @@ Scene scene_json_from_text(std::string_view text, const std::string& path, const
         }
     }
 
+    // Where moving sprites go (Scene::insertion_points): element indices,
+    // each at most the element count (on top), kept in ascending order.
+    if (doc.contains("insertion_points")) {
+        const json& points = doc["insertion_points"];
+        if (!points.is_array() || points.size() > kMaxElements) ctx.fail("\"insertion_points\" must be an array of element indices");
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            const json& v = points[k];
+            if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::uint64_t>() > scene.elements.size())
+                ctx.fail("insertion point " + std::to_string(k) + ": must be an element index in 0.." + std::to_string(scene.elements.size()) +
+                         " (" + std::to_string(scene.elements.size()) + ": on top)");
+            scene.insertion_points.push_back(v.get<std::size_t>());
+        }
+        std::sort(scene.insertion_points.begin(), scene.insertion_points.end());
+        scene.insertion_points.erase(std::unique(scene.insertion_points.begin(), scene.insertion_points.end()), scene.insertion_points.end());
+    }
     if (options.has_viewport) scene.viewport = options.viewport;
     else if (doc.contains("viewport")) scene.viewport = parse_viewport(ctx, doc["viewport"]);
     else scene.viewport = bounding_viewport(scene);

@@ -91,6 +91,7 @@ std::string scene_to_json_text(const Scene& scene, const std::string& output_pat
         }
         doc["animations"] = std::move(animations);
     }
+    if (!scene.insertion_points.empty()) doc["insertion_points"] = scene.insertion_points;
     // One element per line: readable diffs, and far smaller than dump(2).
     std::string text = "{\n";
     bool first = true;

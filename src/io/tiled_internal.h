@@ -208,6 +208,8 @@ struct Emitter {
     // Estimated bytes of the parsed documents held (the map's, its
     // templates'): within limits::kMaxDocumentBytes together.
     std::uint64_t documents = 0;
+    // Layers LoadOptions::insert_at named that were met (each must be).
+    std::set<std::string> insert_at_found;
 };
 
 // The Scene::animations index of a tile's animation, or -1 when it has

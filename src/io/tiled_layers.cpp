@@ -493,38 +493,47 @@ void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out, i
         if (++count > kMaxLayers) throw Error(out.info.where + ": more than " + std::to_string(kMaxLayers) + " layers (kMaxLayers)");
         std::string where = out.info.where + ": " + (kind == "objectgroup" ? "object layer" : kind == "group" ? "group" : kind == "imagelayer" ? "image layer" : "layer") +
                             " '" + layer.attribute("name").as_string() + "'";
-        if (!visible(layer)) continue;
-        LayerState s = child_state(layer, state, where);
-        if (s.opacity == 0) continue; // draws nothing
-        // Tiled 1.11's layer blend modes: drawn as normal (alpha) blending.
-        if (std::string mode = layer.attribute("mode").as_string("normal"); mode != "normal")
-            warn(out, where + ": layer blend mode '" + mode + "' is drawn as normal");
-        if (kind == "group") {
-            emit_layers(layer, s, out, depth + 1);
-            continue;
-        }
-        if (s.parallax_x != 1 || s.parallax_y != 1) {
-            // Tiled's MapScene::parallaxOffset: a layer moves by (1 - factor)
-            // times the camera centre's distance from the parallax origin.
-            if (!out.cull) {
-                warn(out, where + ": parallax factor ignored (an infinite map needs --viewport to place it)");
-            } else {
-                double cx = out.cull->x + out.cull->width / 2.0, cy = out.cull->y + out.cull->height / 2.0;
-                s.offset_x += (1 - s.parallax_x) * (cx - out.info.parallax_origin_x);
-                s.offset_y += (1 - s.parallax_y) * (cy - out.info.parallax_origin_y);
-                char text[160];
-                std::snprintf(text, sizeof text, ": parallax layer placed for the camera centred at %g,%g: meshes are valid for this camera only",
-                              cx, cy);
-                note(out, where + text);
+        // A layer named by LoadOptions::insert_at: moving sprites go after
+        // its elements (also when it draws nothing: where it would be).
+        const std::string name = layer.attribute("name").as_string();
+        const bool named = out.options && std::find(out.options->insert_at.begin(), out.options->insert_at.end(), name) != out.options->insert_at.end();
+        if (named) out.insert_at_found.insert(name);
+        auto emit_layer = [&] {
+            if (!visible(layer)) return;
+            LayerState s = child_state(layer, state, where);
+            if (s.opacity == 0) return; // draws nothing
+            // Tiled 1.11's layer blend modes: drawn as normal (alpha) blending.
+            if (std::string mode = layer.attribute("mode").as_string("normal"); mode != "normal")
+                warn(out, where + ": layer blend mode '" + mode + "' is drawn as normal");
+            if (kind == "group") {
+                emit_layers(layer, s, out, depth + 1);
+                return;
             }
-        }
-        if (kind == "layer") emit_tile_layer(layer, s, out, where);
-        else if (kind == "objectgroup") {
-            emit_object_group(layer, s, out, where);
-            // The game layer: moving sprites are drawn over its objects (Scene::insertion_points).
-            out.scene.insertion_points.push_back(out.scene.elements.size());
-        }
-        else emit_image_layer(layer, s, out, where);
+            if (s.parallax_x != 1 || s.parallax_y != 1) {
+                // Tiled's MapScene::parallaxOffset: a layer moves by (1 - factor)
+                // times the camera centre's distance from the parallax origin.
+                if (!out.cull) {
+                    warn(out, where + ": parallax factor ignored (an infinite map needs --viewport to place it)");
+                } else {
+                    double cx = out.cull->x + out.cull->width / 2.0, cy = out.cull->y + out.cull->height / 2.0;
+                    s.offset_x += (1 - s.parallax_x) * (cx - out.info.parallax_origin_x);
+                    s.offset_y += (1 - s.parallax_y) * (cy - out.info.parallax_origin_y);
+                    char text[160];
+                    std::snprintf(text, sizeof text, ": parallax layer placed for the camera centred at %g,%g: meshes are valid for this camera only",
+                                  cx, cy);
+                    note(out, where + text);
+                }
+            }
+            if (kind == "layer") emit_tile_layer(layer, s, out, where);
+            else if (kind == "objectgroup") {
+                emit_object_group(layer, s, out, where);
+                // The game layer: moving sprites are drawn over its objects (Scene::insertion_points).
+                out.scene.insertion_points.push_back(out.scene.elements.size());
+            }
+            else emit_image_layer(layer, s, out, where);
+        };
+        emit_layer();
+        if (named) out.scene.insertion_points.push_back(out.scene.elements.size());
     }
 }
 

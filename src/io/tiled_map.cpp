@@ -158,9 +158,20 @@ Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, cons
     out.options = &options;
     out.documents = held;
     tiled::emit_layers(map, tiled::LayerState{}, out);
+    for (const std::string& name : options.insert_at)
+        if (!out.insert_at_found.count(name)) throw Error(path + ": --insert-at '" + name + "': the map has no layer of that name");
     scene.viewport = known ? viewport : drawn_extent(scene);
     if (!known) {
         const Viewport& v = scene.viewport;
+        // Insertion points follow their elements: each becomes the count
+        // of elements kept before it.
+        std::vector<std::size_t> kept_before(scene.elements.size() + 1, 0);
+        for (std::size_t i = 0; i < scene.elements.size(); ++i) {
+            const Box b = tiled::element_bounds(scene.elements[i]);
+            const bool outside = b.x1 <= v.x || b.y1 <= v.y || b.x0 >= v.x + v.width || b.y0 >= v.y + v.height;
+            kept_before[i + 1] = kept_before[i] + (outside ? 0 : 1);
+        }
+        for (std::size_t& p : scene.insertion_points) p = kept_before[p];
         std::erase_if(scene.elements, [&](const Element& e) {
             Box b = tiled::element_bounds(e);
             return b.x1 <= v.x || b.y1 <= v.y || b.x0 >= v.x + v.width || b.y0 >= v.y + v.height;
@@ -179,8 +190,13 @@ Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, cons
         const Viewport& v = scene.viewport;
         e.transform = {double(v.width) / kFillImageSide, 0, 0, double(v.height) / kFillImageSide, v.x, v.y};
         e.color = {1, 1, 1, float(c[3])};
-        if (c[3] > 0) scene.elements.insert(scene.elements.begin(), e);
+        if (c[3] > 0) {
+            scene.elements.insert(scene.elements.begin(), e);
+            for (std::size_t& p : scene.insertion_points) ++p; // the background is behind every layer
+        }
     }
+    std::sort(scene.insertion_points.begin(), scene.insertion_points.end());
+    scene.insertion_points.erase(std::unique(scene.insertion_points.begin(), scene.insertion_points.end()), scene.insertion_points.end());
     // Images no element uses stay listed: the scene names every tileset image
     // so that ids do not depend on the viewport.
     return scene;

@@ -349,7 +349,7 @@ TEST(MeshReaders, BinaryErrorsNameTheByte) {
     const std::pair<std::string, std::string> cases[] = {
         {"DCMESH", "m.bin: byte 0: not a depthcull binary meshes file"},
         {patched(b, 8, std::uint32_t(2)), "m.bin: byte 8: format version 2 is not supported"},
-        {patched(b, 12, std::uint32_t(17)), "m.bin: byte 12: unknown flags 17"},
+        {patched(b, 12, std::uint32_t(33)), "m.bin: byte 12: unknown flags 33"},
         {patched(b, 12, std::uint32_t(9)), "m.bin: byte 264: the file ends inside the animation count"},
         {patched(b, 16, std::numeric_limits<double>::quiet_NaN()), "m.bin: byte 16: viewport x is not a finite number"},
         {patched(b, counts, std::uint32_t(1 << 16)), "m.bin: byte 40: 65536 images and 1 draws do not fit in the"},
