@@ -14,14 +14,18 @@
 //     truncation to int, and the checks live in one place.
 // Running out of memory traps (operator new aborts without exceptions); the
 // JavaScript side turns the trap into an error and makes a fresh instance.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "depthcull/analyze.h"
+#include "depthcull/frame.h"
 #include "depthcull/image.h"
 
 #define DCW_EXPORT(name) __attribute__((export_name(#name)))
@@ -83,6 +87,107 @@ void append_polygons(const std::vector<Polygon>& polygons) {
     }
 }
 
+// dcw_analyze's arguments checked and the analysis run: false (and
+// g_error set) on bad arguments.
+bool analyze_args(const std::uint8_t* rgba, double width, double height, double rx, double ry, double rw, double rh,
+                  double max_vertices, double split, double filter, double opaque_method, double max_opaque, double min_coverage,
+                  double min_opaque_area, const char* name, ImageAnalysis* out, Rect* rect_out = nullptr) {
+    const std::string who = name && *name ? std::string(name) : std::string("image");
+    std::string error;
+    int w = 0, h = 0;
+    if (!int_option("width", width, 1, kMaxImageSide, &w, &error) || !int_option("height", height, 1, kMaxImageSide, &h, &error))
+        return fail(who + ": " + error), false;
+    if (std::int64_t(w) * h > kMaxImageTexels)
+        return fail(who + ": " + std::to_string(w) + "x" + std::to_string(h) + " image exceeds " +
+                    std::to_string(kMaxImageTexels) + " texels"), false;
+    if (!rgba) return fail(who + ": no pixels"), false;
+    Rect rect;
+    if (!int_option("rect.x", rx, -kMaxImageSide, kMaxImageSide, &rect.x, &error) ||
+        !int_option("rect.y", ry, -kMaxImageSide, kMaxImageSide, &rect.y, &error) ||
+        !int_option("rect.width", rw, 0, kMaxImageSide, &rect.w, &error) ||
+        !int_option("rect.height", rh, 0, kMaxImageSide, &rect.h, &error))
+        return fail(who + ": " + error), false;
+    const ImageView image{rgba, w, h, std::ptrdiff_t(w) * 4};
+    if (rect.empty() || !image.contains(rect))
+        return fail(who + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," + std::to_string(rect.w) +
+                    "," + std::to_string(rect.h) + " is outside the " + std::to_string(w) + "x" + std::to_string(h) + " image"), false;
+
+    AnalyzeOptions options;
+    int split_flag = 1, filter_value = 0, method = 1;
+    if (!int_option("maxVertices", max_vertices, 4, 1000, &options.boundary.max_vertices, &error) ||
+        !int_option("split", split, 0, 1, &split_flag, &error) || !int_option("filter", filter, 0, 1, &filter_value, &error) ||
+        !int_option("opaque", opaque_method, 0, 2, &method, &error) ||
+        !int_option("maxOpaque", max_opaque, 0, 64, &options.opaque.max_polygons, &error) ||
+        !int_option("minOpaqueArea", min_opaque_area, 1, 1 << 30, &options.opaque.min_area, &error))
+        return fail(error), false;
+    if (!std::isfinite(min_coverage) || min_coverage < 0 || min_coverage > 1)
+        return fail("minCoverage: Value " + number_text(min_coverage) + " not in range 0 to 1"), false;
+    options.opaque.min_coverage = min_coverage;
+    options.boundary.split_parts = split_flag != 0;
+    options.filter = filter_value ? Filter::linear : Filter::nearest;
+    options.opaque.method = method == 0 ? OpaqueMethod::paper : method == 2 ? OpaqueMethod::grow : OpaqueMethod::fast;
+
+    *out = analyze_image(image, rect, options);
+    if (rect_out) *rect_out = rect;
+    return true;
+}
+
+// ---- Moving sprites (include/depthcull/frame.h's FrameAssembler) ----
+//
+// A handle per assembler. After warm-up a frame allocates nothing: the
+// sprite input, the sprite lists, the AssembledFrame and the flat draw and
+// point tables keep their capacity, and JavaScript reads the frame through
+// typed-array views of linear memory (dcw_frame_info's pointers).
+
+// Sprite input, kSpriteDoubles doubles each: image, animation, frame,
+// transform a b c d e f, colour r g b a, blend (0 alpha, 1 add, 2 multiply,
+// 3 opaque).
+constexpr std::size_t kSpriteDoubles = 14;
+
+// What dcw_frame_info points at, 32-bit words (wasm32 pointers): vertices
+// pointer and float count, indices pointer and count, draws pointer and
+// count (5 words each: image, pass 0 opaque / 1 blend, blend, first index,
+// index count), opaque draw count, points pointer and count (3 words each:
+// static draw, first draw, end draw), depth test, then the stats sprites,
+// draw calls, opaque draws, triangles, blend batches, over budget.
+constexpr std::size_t kInfoWords = 16;
+
+struct Frames {
+    FrameAssembler assembler;
+    AssembledFrame frame;
+    SceneMeshes points;     // only insertion_points, depth_denominator and depth_test
+    bool has_points = false;
+    std::vector<double> input; // per-point sprite counts, then the sprites
+    std::vector<Sprite> sprites;
+    std::vector<std::span<const Sprite>> lists;
+    std::vector<std::uint32_t> draws, frame_points;
+    std::uint32_t info[kInfoWords] = {};
+    explicit Frames(const AssemblerOptions& o) : assembler(o) {}
+};
+
+std::vector<std::unique_ptr<Frames>> g_frames;
+
+Frames* frames_of(double handle) {
+    if (!(handle >= 1 && handle <= double(g_frames.size())) || handle != std::floor(handle)) {
+        fail("frame assembler: handle " + number_text(handle) + " is not a live assembler");
+        return nullptr;
+    }
+    Frames* f = g_frames[std::size_t(handle) - 1].get();
+    if (!f) fail("frame assembler: handle " + number_text(handle) + " was freed");
+    return f;
+}
+
+const char* frame_status_text(FrameStatus s) {
+    switch (s) {
+    case FrameStatus::ok: return "ok";
+    case FrameStatus::bad_image: return "bad image (empty rect, rect outside the texture, or a negative texture)";
+    case FrameStatus::bad_sprite: return "a sprite names an unknown image or animation, or has a non-finite transform or colour";
+    case FrameStatus::too_many_sprites: return "more sprites than depth levels (kMaxDepthLevels, or an insertion point's reserved levels)";
+    case FrameStatus::bad_meshes: return "the static meshes have fewer insertion points than the sprite lists";
+    }
+    return "unknown status";
+}
+
 } // namespace
 
 extern "C" {
@@ -111,42 +216,10 @@ int dcw_analyze(const std::uint8_t* rgba, double width, double height, double rx
                 double max_vertices, double split, double filter, double opaque_method, double max_opaque,
                 double min_coverage, double min_opaque_area, const char* name) {
     g_result.clear();
-    const std::string who = name && *name ? std::string(name) : std::string("image");
-    std::string error;
-    int w = 0, h = 0;
-    if (!int_option("width", width, 1, kMaxImageSide, &w, &error) || !int_option("height", height, 1, kMaxImageSide, &h, &error))
-        return fail(who + ": " + error);
-    if (std::int64_t(w) * h > kMaxImageTexels)
-        return fail(who + ": " + std::to_string(w) + "x" + std::to_string(h) + " image exceeds " +
-                    std::to_string(kMaxImageTexels) + " texels");
-    if (!rgba) return fail(who + ": no pixels");
-    Rect rect;
-    if (!int_option("rect.x", rx, -kMaxImageSide, kMaxImageSide, &rect.x, &error) ||
-        !int_option("rect.y", ry, -kMaxImageSide, kMaxImageSide, &rect.y, &error) ||
-        !int_option("rect.width", rw, 0, kMaxImageSide, &rect.w, &error) ||
-        !int_option("rect.height", rh, 0, kMaxImageSide, &rect.h, &error))
-        return fail(who + ": " + error);
-    const ImageView image{rgba, w, h, std::ptrdiff_t(w) * 4};
-    if (rect.empty() || !image.contains(rect))
-        return fail(who + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," + std::to_string(rect.w) +
-                    "," + std::to_string(rect.h) + " is outside the " + std::to_string(w) + "x" + std::to_string(h) + " image");
-
-    AnalyzeOptions options;
-    int split_flag = 1, filter_value = 0, method = 1;
-    if (!int_option("maxVertices", max_vertices, 4, 1000, &options.boundary.max_vertices, &error) ||
-        !int_option("split", split, 0, 1, &split_flag, &error) || !int_option("filter", filter, 0, 1, &filter_value, &error) ||
-        !int_option("opaque", opaque_method, 0, 2, &method, &error) ||
-        !int_option("maxOpaque", max_opaque, 0, 64, &options.opaque.max_polygons, &error) ||
-        !int_option("minOpaqueArea", min_opaque_area, 1, 1 << 30, &options.opaque.min_area, &error))
-        return fail(error);
-    if (!std::isfinite(min_coverage) || min_coverage < 0 || min_coverage > 1)
-        return fail("minCoverage: Value " + number_text(min_coverage) + " not in range 0 to 1");
-    options.opaque.min_coverage = min_coverage;
-    options.boundary.split_parts = split_flag != 0;
-    options.filter = filter_value ? Filter::linear : Filter::nearest;
-    options.opaque.method = method == 0 ? OpaqueMethod::paper : method == 2 ? OpaqueMethod::grow : OpaqueMethod::fast;
-
-    const ImageAnalysis a = analyze_image(image, rect, options);
+    ImageAnalysis a;
+    if (!analyze_args(rgba, width, height, rx, ry, rw, rh, max_vertices, split, filter, opaque_method, max_opaque, min_coverage,
+                      min_opaque_area, name, &a))
+        return DCW_ERROR_INVALID_ARGUMENT;
     append_polygons(a.boundary);
     append_polygons(a.opaque);
     const ImageStats& s = a.stats;
@@ -154,6 +227,210 @@ int dcw_analyze(const std::uint8_t* rgba, double width, double height, double rx
                      double(s.boundary_vertices), s.opaque_area, double(s.opaque_covered_texels), s.opaque_coverage})
         g_result.push_back(v);
     return DCW_OK;
+}
+
+// A new FrameAssembler: opaque_pass 0 or 1 (AssemblerOptions::opaque_pass),
+// filter 0 nearest, 1 linear. The handle (>= 1) is the result's one number.
+DCW_EXPORT(dcw_frame_new) int dcw_frame_new(double opaque_pass, double filter) {
+    g_result.clear();
+    std::string error;
+    int pass = 1, filt = 0;
+    if (!int_option("opaquePass", opaque_pass, 0, 1, &pass, &error) || !int_option("filter", filter, 0, 1, &filt, &error)) return fail(error);
+    AssemblerOptions o;
+    o.opaque_pass = pass != 0;
+    o.filter = filt ? Filter::linear : Filter::nearest;
+    g_frames.push_back(std::make_unique<Frames>(o));
+    g_result.push_back(double(g_frames.size()));
+    return DCW_OK;
+}
+
+DCW_EXPORT(dcw_frame_free) void dcw_frame_free(double handle) {
+    if (handle >= 1 && handle <= double(g_frames.size()) && handle == std::floor(handle)) g_frames[std::size_t(handle) - 1].reset();
+}
+
+// A picture sprites show: `rect` of the RGBA8 texture at `rgba` (its whole
+// width x height), analysed with dcw_analyze's options; `texture` is what
+// the frame's draws name. The picture's id is the result's one number.
+DCW_EXPORT(dcw_frame_add_image)
+int dcw_frame_add_image(double handle, double texture, const std::uint8_t* rgba, double width, double height, double rx, double ry,
+                        double rw, double rh, double max_vertices, double split, double filter, double opaque_method,
+                        double max_opaque, double min_coverage, double min_opaque_area, const char* name) {
+    g_result.clear();
+    Frames* f = frames_of(handle);
+    if (!f) return DCW_ERROR_INVALID_ARGUMENT;
+    std::string error;
+    int tex = 0;
+    if (!int_option("texture", texture, 0, INT32_MAX, &tex, &error)) return fail(error);
+    ImageAnalysis a;
+    Rect rect;
+    if (!analyze_args(rgba, width, height, rx, ry, rw, rh, max_vertices, split, filter, opaque_method, max_opaque, min_coverage,
+                      min_opaque_area, name, &a, &rect))
+        return DCW_ERROR_INVALID_ARGUMENT;
+    SpriteImage image{tex, int(width), int(height), rect, &a};
+    int id = 0;
+    if (FrameStatus s = f->assembler.add_image(image, &id); s != FrameStatus::ok)
+        return fail(std::string("addImage: ") + frame_status_text(s));
+    g_result.push_back(id);
+    return DCW_OK;
+}
+
+// An animation of `count` picture ids (doubles at `ids`). Its id is the
+// result's one number.
+DCW_EXPORT(dcw_frame_add_animation) int dcw_frame_add_animation(double handle, const double* ids, double count) {
+    g_result.clear();
+    Frames* f = frames_of(handle);
+    if (!f) return DCW_ERROR_INVALID_ARGUMENT;
+    std::string error;
+    int n = 0;
+    if (!int_option("frames", count, 1, 1 << 16, &n, &error)) return fail("addAnimation: " + error);
+    std::vector<int> images(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k)
+        if (!int_option("image", ids[k], 0, int(f->assembler.image_count()) - 1, &images[std::size_t(k)], &error))
+            return fail("addAnimation: frame " + std::to_string(k) + ": " + error);
+    int id = 0;
+    if (FrameStatus s = f->assembler.add_animation(images, &id); s != FrameStatus::ok)
+        return fail(std::string("addAnimation: ") + frame_status_text(s));
+    g_result.push_back(id);
+    return DCW_OK;
+}
+
+// The static meshes' insertion points, as a meshes file states them
+// (web/src/meshes.js checked them as the C++ readers do): `count` points of
+// 3 doubles (levels, first_level, blend_draw) at `points`, the file's
+// depth_bits and depth_test. count 0: fully dynamic frames (assemble()).
+DCW_EXPORT(dcw_frame_set_points)
+int dcw_frame_set_points(double handle, const double* points, double count, double depth_bits, double depth_test) {
+    g_result.clear();
+    Frames* f = frames_of(handle);
+    if (!f) return DCW_ERROR_INVALID_ARGUMENT;
+    std::string error;
+    int n = 0, bits = 0, test = 0;
+    if (!int_option("insertionPoints.length", count, 0, 1 << 16, &n, &error) || !int_option("depthBits", depth_bits, 0, 62, &bits, &error) ||
+        !int_option("depthTest", depth_test, 0, 1, &test, &error))
+        return fail("setInsertionPoints: " + error);
+    if (n > 0 && bits < 2) return fail("setInsertionPoints: insertion points need depth values (depthBits " + std::to_string(bits) + ")");
+    f->points.insertion_points.clear();
+    f->points.depth_denominator = bits >= 2 ? std::int64_t(1) << (bits - 2) : 0;
+    f->points.depth_test = test != 0;
+    for (int k = 0; k < n; ++k) {
+        InsertionPoint p;
+        int levels = 0, first = 0, blend_draw = 0;
+        const std::string at = "setInsertionPoints: point " + std::to_string(k) + ": ";
+        if (!int_option("levels", points[3 * k], 0, int(kMaxDepthLevels), &levels, &error) ||
+            !int_option("firstLevel", points[3 * k + 1], 0, int(kMaxDepthLevels), &first, &error) ||
+            !int_option("blendDraw", points[3 * k + 2], 0, INT32_MAX, &blend_draw, &error))
+            return fail(at + error);
+        if (std::int64_t(first) + levels > f->points.depth_denominator / 2)
+            return fail(at + "levels " + std::to_string(first) + " + " + std::to_string(levels) + " are past the depth mapping");
+        p.levels = levels;
+        p.first_level = first;
+        p.blend_draw = std::uint32_t(blend_draw);
+        f->points.insertion_points.push_back(p);
+    }
+    f->has_points = n > 0;
+    return DCW_OK;
+}
+
+// Room for a frame's input: `lists` sprite counts (one per insertion
+// point; 1 list without points), then `sprites` sprites of kSpriteDoubles.
+// Returns the doubles' address (kept, with its capacity, for later frames;
+// it moves only when a frame needs more room), 0 on a bad size.
+DCW_EXPORT(dcw_frame_input) double* dcw_frame_input(double handle, double lists, double sprites) {
+    Frames* f = frames_of(handle);
+    std::string error;
+    int nl = 0, ns = 0;
+    if (!f || !int_option("lists", lists, 0, 1 << 16, &nl, &error) || !int_option("sprites", sprites, 0, int(kMaxDepthLevels), &ns, &error)) {
+        if (!error.empty()) fail(error);
+        return nullptr;
+    }
+    f->input.resize(std::size_t(nl) + std::size_t(ns) * kSpriteDoubles);
+    return f->input.data();
+}
+
+// Assembles a frame from dcw_frame_input's doubles (`lists` counts, then
+// the sprites, in painter's order per list), the overlap grid over the
+// world rectangle bx, by, bw, bh (the camera's view). dcw_frame_info then
+// points at the frame.
+DCW_EXPORT(dcw_frame_assemble)
+int dcw_frame_assemble(double handle, double lists, double bx, double by, double bw, double bh) {
+    Frames* f = frames_of(handle);
+    if (!f) return DCW_ERROR_INVALID_ARGUMENT;
+    std::string error;
+    int nl = 0;
+    Viewport bounds;
+    if (!int_option("lists", lists, 0, 1 << 16, &nl, &error) || !int_option("bounds.width", bw, 0, INT32_MAX, &bounds.width, &error) ||
+        !int_option("bounds.height", bh, 0, INT32_MAX, &bounds.height, &error))
+        return fail("assemble: " + error);
+    if (!std::isfinite(bx) || !std::isfinite(by)) return fail("assemble: bounds.x and bounds.y must be finite");
+    bounds.x = bx;
+    bounds.y = by;
+    if (std::size_t(nl) > f->input.size()) return fail("assemble: more lists than dcw_frame_input made room for");
+    if (!f->has_points && nl != 1) return fail("assemble: without insertion points the sprites are one list, not " + std::to_string(nl));
+    if (f->has_points && std::size_t(nl) > f->points.insertion_points.size())
+        return fail("assemble: " + std::to_string(nl) + " sprite lists but the meshes have " +
+                    std::to_string(f->points.insertion_points.size()) + " insertion points");
+    std::size_t total = 0;
+    for (int k = 0; k < nl; ++k) {
+        int n = 0;
+        if (!int_option("sprites.length", f->input[std::size_t(k)], 0, int(kMaxDepthLevels), &n, &error)) return fail("assemble: list " + std::to_string(k) + ": " + error);
+        total += std::size_t(n);
+    }
+    if (std::size_t(nl) + total * kSpriteDoubles > f->input.size()) return fail("assemble: more sprites than dcw_frame_input made room for");
+    f->sprites.resize(total);
+    const double* in = f->input.data() + nl;
+    for (std::size_t i = 0; i < total; ++i, in += kSpriteDoubles) {
+        Sprite& s = f->sprites[i];
+        const std::string at = "assemble: sprite " + std::to_string(i) + ": ";
+        int blend = 0;
+        if (!int_option("image", in[0], -1, INT32_MAX, &s.image, &error) || !int_option("animation", in[1], -1, INT32_MAX, &s.animation, &error) ||
+            !int_option("frame", in[2], 0, INT32_MAX, &s.frame, &error) || !int_option("blend", in[13], 0, 3, &blend, &error))
+            return fail(at + error);
+        for (int k = 0; k < 6; ++k) s.transform[std::size_t(k)] = in[3 + k];
+        for (int k = 0; k < 4; ++k) s.color[std::size_t(k)] = float(in[9 + k]);
+        s.blend = Blend(blend);
+    }
+    f->lists.clear();
+    std::size_t at = 0;
+    for (int k = 0; k < nl; ++k) {
+        const std::size_t n = std::size_t(f->input[std::size_t(k)]);
+        f->lists.push_back(std::span<const Sprite>(f->sprites.data() + at, n));
+        at += n;
+    }
+    const FrameStatus st = f->has_points ? f->assembler.assemble_at(f->points, f->lists, bounds, &f->frame)
+                                         : f->assembler.assemble(f->lists.empty() ? std::span<const Sprite>() : f->lists[0], bounds, &f->frame);
+    if (st != FrameStatus::ok) return fail(std::string("assemble: ") + frame_status_text(st));
+    const AssembledFrame& fr = f->frame;
+    f->draws.resize(fr.draws.size() * 5);
+    for (std::size_t d = 0; d < fr.draws.size(); ++d) {
+        const FrameDraw& x = fr.draws[d];
+        std::uint32_t* w = f->draws.data() + 5 * d;
+        w[0] = std::uint32_t(x.image);
+        w[1] = x.pass == Pass::opaque ? 0 : 1;
+        w[2] = std::uint32_t(x.blend);
+        w[3] = x.first_index;
+        w[4] = x.index_count;
+    }
+    f->frame_points.resize(fr.points.size() * 3);
+    for (std::size_t p = 0; p < fr.points.size(); ++p) {
+        f->frame_points[3 * p] = fr.points[p].static_draw;
+        f->frame_points[3 * p + 1] = fr.points[p].first_draw;
+        f->frame_points[3 * p + 2] = fr.points[p].end_draw;
+    }
+    auto address = [](const void* p) { return std::uint32_t(reinterpret_cast<std::uintptr_t>(p)); };
+    const FrameStats& s = fr.stats;
+    const std::uint32_t info[kInfoWords] = {address(fr.vertices.data()), std::uint32_t(fr.vertices.size()), address(fr.indices.data()),
+                                            std::uint32_t(fr.indices.size()), address(f->draws.data()), std::uint32_t(fr.draws.size()),
+                                            std::uint32_t(fr.opaque_draws), address(f->frame_points.data()), std::uint32_t(fr.points.size()),
+                                            fr.depth_test ? 1u : 0u, std::uint32_t(s.sprites), std::uint32_t(s.draw_calls),
+                                            std::uint32_t(s.opaque_draws), std::uint32_t(s.triangles), std::uint32_t(s.blend_batches),
+                                            std::uint32_t(s.over_budget)};
+    std::copy(std::begin(info), std::end(info), f->info);
+    return DCW_OK;
+}
+
+DCW_EXPORT(dcw_frame_info) const std::uint32_t* dcw_frame_info(double handle) {
+    Frames* f = frames_of(handle);
+    return f ? f->info : nullptr;
 }
 
 } // extern "C"

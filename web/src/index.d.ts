@@ -1,3 +1,4 @@
+import type { FrameAssembler } from './frames.js';
 // TypeScript declarations for src/index.js.
 
 /** Thrown for every refused input, with the CLI's one-line message. */
@@ -76,6 +77,8 @@ export class Depthcull {
   private constructor();
   /** Boundary and opaque polygons of an image, as `depthcull analyze` computes them. Throws DepthcullError. */
   analyzeImage(image: ImageLike, options?: AnalyzeOptions): ImageAnalysis;
+  /** Moving sprites depth-culled every frame (src/frames.js). */
+  createFrameAssembler(options?: { opaquePass?: boolean; filter?: 'nearest' | 'linear' }): FrameAssembler;
 }
 
 export function loadDepthcull(options?: LoadOptions): Promise<Depthcull>;

@@ -10,6 +10,7 @@
 // prints for the same mistake (the option named as JavaScript spells it).
 
 import { wasiImports } from './wasi.js';
+import { FrameAssembler } from './frames.js';
 
 export class DepthcullError extends Error {
   constructor(message) {
@@ -143,7 +144,8 @@ export class Depthcull {
    * RGBA8 image (ImageData or any {width, height, data}), as `depthcull
    * analyze` computes them with the same options.
    */
-  analyzeImage(image, options = {}) {
+  // analyzeImage's arguments checked: the wasm call's numbers.
+  #prepare(image, options) {
     for (const key of Object.keys(options))
       if (!OPTION_NAMES.has(key)) throw new DepthcullError(`analyzeImage: unknown option '${key}' (known: ${[...OPTION_NAMES].join(', ')})`);
     const o = { ...DEFAULTS, ...options };
@@ -166,10 +168,15 @@ export class Depthcull {
     const validSides = Number.isInteger(width) && Number.isInteger(height) && width > 0 && height > 0;
     if (validSides && width <= 16384 && height <= 16384 && data.length !== width * height * 4)
       throw new DepthcullError(`${name}: data has ${data.length} bytes, a ${width}x${height} RGBA8 image has ${width * height * 4}`);
+    return { name, data, rect, args, copy: validSides && data.length === width * height * 4 };
+  }
+
+  analyzeImage(image, options = {}) {
+    const { name, data, rect, args, copy } = this.#prepare(image, options);
     const ex = this.#exports;
     let pixels = 0;
     try {
-      if (validSides && data.length === width * height * 4) {
+      if (copy) {
         pixels = ex.dcw_alloc(data.length);
         new Uint8Array(ex.memory.buffer, pixels, data.length).set(data);
       }
@@ -182,6 +189,23 @@ export class Depthcull {
     } finally {
       if (pixels && this.#instance?.exports === ex) ex.dcw_free(pixels);
     }
+  }
+
+  /**
+   * A FrameAssembler (src/frames.js): moving sprites depth-culled every
+   * frame, alone or at the insertion points of static meshes.
+   */
+  createFrameAssembler(options = {}) {
+    return new FrameAssembler(
+      {
+        exports: () => this.#exports,
+        error: () => new DepthcullError(this.#cString(this.#exports.dcw_last_error())),
+        prepare: (image, o) => this.#prepare(image, o),
+        withString: (text, fn) => this.#withString(text, fn),
+        trapped: (name, e) => this.#trapped(name, e),
+      },
+      options,
+    );
   }
 
   #readAnalysis(rect) {
