@@ -26,6 +26,7 @@ export class FrameAssembler {
   #handle = 0;
   #lists = 1; // sprite lists a frame takes: one without insertion points
   #points = false;
+  #onTop = false; // static meshes without points: one list on top
   #input = null; // Float64Array view of dcw_frame_input's doubles
   #inputPtr = 0;
   #inputCap = -1;
@@ -107,12 +108,24 @@ export class FrameAssembler {
   }
 
   /**
-   * Frames at the insertion points of static meshes (parseMeshes' result:
-   * its insertionPoints, stats.depthBits and depthTest); meshes without
-   * points (or null) make fully dynamic frames again.
+   * Frames drawn with static meshes (parseMeshes' result): at their
+   * insertion points (insertionPoints, stats.depthBits, depthTest), one
+   * sprite list per point; meshes without points take one list, drawn on
+   * top of the whole scene (the levels above stats.depthLevels, as a point
+   * after the last element would reserve them). null: fully dynamic frames
+   * again (sprite i at depth level i, no static meshes).
    */
   setStaticMeshes(meshes) {
-    const points = meshes?.insertionPoints ?? [];
+    let points = meshes?.insertionPoints ?? [];
+    this.#onTop = false;
+    if (meshes && points.length === 0) {
+      const bits = meshes.stats?.depthBits ?? 0;
+      const top = bits >= 2 && bits <= 62 ? 2 ** (bits - 3) : 0; // D / 2 levels
+      const first = meshes.stats?.depthLevels ?? 0;
+      if (top - first < 1) throw new DepthcullError('setStaticMeshes: the meshes leave no depth level above them for sprites (stats depth_levels, depth_bits)');
+      points = [{ levels: Math.min(top - first, 2 ** 21 - 1), firstLevel: first, blendDraw: meshes.draws.length }];
+      this.#onTop = true;
+    }
     const ex = this.#ex();
     this.#call('setStaticMeshes', () => {
       const ptr = ex.dcw_alloc(Math.max(1, points.length) * 24);
@@ -148,9 +161,9 @@ export class FrameAssembler {
    * end draw: the point's blend draws go before that static draw), stats.
    */
   assemble(sprites, bounds) {
-    const lists = this.#points ? sprites : [sprites];
+    const lists = this.#points && !this.#onTop ? sprites : [sprites];
     if (!Array.isArray(lists) || !lists.every(Array.isArray))
-      throw spriteError(this.#points ? 'expected an array of sprite lists, one per insertion point' : 'expected an array of sprites');
+      throw spriteError(this.#points && !this.#onTop ? 'expected an array of sprite lists, one per insertion point' : 'expected an array of sprites');
     if (lists.length > this.#lists) throw spriteError(`${lists.length} sprite lists but the meshes have ${this.#lists} insertion points`);
     const b = bounds ?? {};
     const ex = this.#ex();

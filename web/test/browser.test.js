@@ -95,6 +95,26 @@ for (const [name, file, viewport] of corpusMaps) {
   });
 }
 
+// Moving sprites (FrameAssembler in the wasm, DepthCulledLayer.movingSprites)
+// on top of each scene, 60 frames, each compared with plain Pixi sprites.
+async function identityMoving(label, scene, meshes) {
+  const r = await page.evaluate((a) => window.depthcullTest.identityMoving(a), { sceneUrl: urlOf(scene), meshesUrl: urlOf(meshes), frames: 60, count: 24 });
+  console.log(`# ${label} + moving sprites: ${r.frames} frames of ${r.sprites} sprites (${r.pictures} pictures), layer up to ${r.stats.draws} draws ${r.stats.triangles} triangles; at most ${r.differ} pixels differ, ${r.offEdges} off texel edges`);
+  assert.equal(r.offEdges, 0, `${label}: ${r.offEdges} pixels differ off texel edges: ${r.examples.join('; ')}`);
+  assert.deepEqual(pageErrors, []);
+}
+
+for (const [name, file, viewport] of corpusMaps) {
+  test(`corpus ${name}: moving sprites for 60 frames, Pixi sprites and DepthCulledLayer draw the same pixels`, { skip: missing ?? false }, async () => {
+    const scene = join(gen, `${name}.page.json`);
+    const meshes = join(gen, `${name}.meshes.json`);
+    if (!existsSync(scene) || !existsSync(meshes)) return assert.fail(`${name}: the static test above makes ${scene}`);
+    void viewport;
+    void file;
+    await identityMoving(name, scene, meshes);
+  });
+}
+
 test('MeshRenderer restores every GL state it changes', { skip: missing ?? false }, async () => {
   const scene = join(root, 'examples/meadow.json');
   const meshes = join(gen, 'meadow.meshes.json');

@@ -5,6 +5,7 @@ import * as PIXI from 'pixi.js';
 import { DepthCulledLayer } from '../../src/pixi.js';
 import { parseMeshes, loadMeshes } from '../../src/meshes.js';
 import { MeshRenderer } from '../../src/renderer.js';
+import { loadDepthcull } from '../../src/index.js';
 
 const TEXEL_EDGE_TOLERANCE = 1 / 65536; // render::kTexelEdgeTolerance
 
@@ -171,6 +172,100 @@ window.depthcullTest = {
     const stats = layer.stats;
     app.destroy(true, { children: true });
     return { ...result, width, height, elements: scene.elements.length, stats, glRenderer };
+  },
+
+  // Moving sprites for `frames` frames: the scene as plain Pixi sprites with
+  // `count` plain Pixi sprites moving on top, against the layer drawing the
+  // same sprites through its FrameAssembler (on top of the meshes: the
+  // levels above them), frame by frame. The sprites show the pictures of
+  // the scene's first plain-image elements, at whole-pixel positions that
+  // change every frame (several overlapping).
+  async identityMoving({ sceneUrl, meshesUrl, frames = 60, count = 24 }) {
+    const scene = await (await fetch(sceneUrl)).json();
+    const meshes = await loadMeshes(meshesUrl);
+    const { width, height } = meshes.viewport;
+    const app = new PIXI.Application();
+    await app.init({ width, height, preference: 'webgl', antialias: false, resolution: 1, background: 0x000000, preserveDrawingBuffer: true, autoStart: false });
+    document.body.appendChild(app.canvas);
+    const sources = await sceneSources(scene, sceneUrl);
+    const world = new PIXI.Container();
+    world.position.set(-meshes.viewport.x, -meshes.viewport.y);
+    const { back, front } = decorations(width, height);
+    app.stage.addChild(back, world, front);
+
+    // Up to 6 distinct pictures (image, rect) of plain images, their
+    // pixels decoded without premultiplication for the analysis.
+    const depthcull = await loadDepthcull();
+    const assembler = depthcull.createFrameAssembler();
+    const pictures = [];
+    const textures = [];
+    const seen = new Set();
+    for (const e of scene.elements) {
+      const img = scene.images.find((i) => i.id === e.image);
+      if (!img || img.fill || img.trans || pictures.length >= 6) continue;
+      const source = sources.get(e.image);
+      const rect = elementRect(e, source);
+      const key = `${e.image}:${rect}`;
+      if (seen.has(key) || rect[2] < 4 || rect[3] < 4) continue;
+      seen.add(key);
+      const bitmap = await createImageBitmap(await (await fetch(new URL(img.path, sceneUrl).href)).blob(), { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
+      const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+      const ctx = canvas.getContext('2d');
+      ctx.drawImage(bitmap, 0, 0);
+      const pixels = ctx.getImageData(0, 0, bitmap.width, bitmap.height);
+      let texture = textures.indexOf(source);
+      if (texture < 0) texture = textures.push(source) - 1;
+      const id = assembler.addImage(pixels, { texture, rect: { x: rect[0], y: rect[1], width: rect[2], height: rect[3] }, name: img.path });
+      pictures.push({ id, source, rect });
+    }
+    if (!pictures.length) throw new Error('no plain-image elements to move');
+    const place = (k, f) => {
+      const p = pictures[k % pictures.length];
+      // Whole pixels, a different path per sprite, crossing each other.
+      const x = meshes.viewport.x + ((k * 97 + f * (3 + (k % 5))) % Math.max(1, width - p.rect[2]));
+      const y = meshes.viewport.y + ((k * 61 + f * (2 + (k % 3))) % Math.max(1, height - p.rect[3]));
+      return { p, x, y };
+    };
+
+    const plain = plainSprites(scene, sources);
+    const moving = new PIXI.Container();
+    const pixiSprites = [];
+    for (let k = 0; k < count; ++k) {
+      const { p } = place(k, 0);
+      const s = new PIXI.Sprite(new PIXI.Texture({ source: p.source, frame: new PIXI.Rectangle(...p.rect) }));
+      pixiSprites.push(s);
+      moving.addChild(s);
+    }
+    const layer = new DepthCulledLayer(meshes, meshes.images.map((img) => sources.get(img.id)));
+    layer.setMovingSprites(assembler, textures);
+    const sprites = Array.from({ length: count }, () => ({ image: 0, x: 0, y: 0 }));
+    let result = { differ: 0, offEdges: 0, examples: [] };
+    let draws = 0, triangles = 0, opaqueSprites = 0;
+    for (let f = 0; f < frames; ++f) {
+      for (let k = 0; k < count; ++k) {
+        const { p, x, y } = place(k, f);
+        pixiSprites[k].position.set(x, y);
+        Object.assign(sprites[k], { image: p.id, x, y });
+      }
+      world.addChild(plain, moving);
+      app.renderer.render(app.stage);
+      const a = readPixels(app);
+      world.removeChildren();
+      layer.movingSprites = sprites;
+      world.addChild(layer);
+      app.renderer.render(app.stage);
+      const b = readPixels(app);
+      world.removeChildren();
+      const r = compare(scene, sources, a, b, width, height);
+      result = { differ: Math.max(result.differ, r.differ), offEdges: result.offEdges + r.offEdges, examples: result.examples.concat(r.examples.map((x) => `frame ${f}: ${x}`)).slice(0, 5) };
+      draws = Math.max(draws, layer.stats.draws);
+      triangles = Math.max(triangles, layer.stats.triangles);
+      opaqueSprites = layer.frameStats.opaqueDraws;
+    }
+    const glRenderer = rendererString(app.renderer.gl);
+    assembler.free();
+    app.destroy(true, { children: true });
+    return { ...result, width, height, elements: scene.elements.length, sprites: count, pictures: pictures.length, frames, stats: { draws, triangles, frameOpaqueDraws: opaqueSprites }, glRenderer };
   },
 
   // The error a bad meshes file gives, as the caller sees it.
