@@ -19,13 +19,17 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
+#include <tuple>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "depthcull/analyze.h"
+#include "depthcull/cost.h"
 #include "depthcull/frame.h"
+#include "depthcull/scene.h"
 #include "depthcull/image.h"
 
 #define DCW_EXPORT(name) __attribute__((export_name(#name)))
@@ -186,6 +190,49 @@ const char* frame_status_text(FrameStatus s) {
     case FrameStatus::bad_meshes: return "the static meshes have fewer insertion points than the sprite lists";
     }
     return "unknown status";
+}
+
+// Scene sizes the wasm takes (its memory is at most 4 GiB).
+constexpr std::size_t kMaxSceneImagesWasm = 1 << 16;
+constexpr std::size_t kMaxSceneElementsWasm = 1 << 22;
+
+// ---- Reconstruction (paper 2.3) and --target in the wasm ----
+//
+// A scene built image by image and element by element from JavaScript
+// (pixels copied in, as the CLI decodes its files), then reconstructed as
+// `depthcull optimize` does: each distinct (image, rect) analysed once,
+// reconstruct_scene; with a target, each distinct rect analysed at the
+// CLI's vertex budgets and the profile's opaque area (pipeline::
+// plan_target's choice, single-threaded here), then choose_for_target.
+struct SceneBuild {
+    Scene scene;
+    std::vector<std::vector<std::uint8_t>> pixels; // per image, RGBA8 rows packed
+};
+
+std::vector<std::unique_ptr<SceneBuild>> g_scenes;
+
+SceneBuild* scene_of(double handle) {
+    if (!(handle >= 1 && handle <= double(g_scenes.size())) || handle != std::floor(handle) || !g_scenes[std::size_t(handle) - 1]) {
+        fail("scene: handle " + number_text(handle) + " is not a live scene");
+        return nullptr;
+    }
+    return g_scenes[std::size_t(handle) - 1].get();
+}
+
+void append_meshes(const SceneMeshes& m) {
+    const SceneStats& s = m.stats;
+    for (std::int64_t v : {s.elements, s.draw_calls, s.triangles, s.depth_levels, s.depth_bits, s.graph_edges}) g_result.push_back(double(v));
+    g_result.push_back(m.depth_test ? 1 : 0);
+    g_result.push_back(double(m.draws.size()));
+    for (const Draw& d : m.draws) {
+        g_result.push_back(d.image);
+        g_result.push_back(d.pass == Pass::opaque ? 0 : 1);
+        g_result.push_back(double(int(d.blend)));
+        g_result.push_back(double(d.vertices.size() / kVertexFloats));
+        g_result.push_back(double(d.indices.size()));
+        for (float v : d.vertices) g_result.push_back(v);
+        for (std::uint32_t i : d.indices) g_result.push_back(i);
+    }
 }
 
 } // namespace
@@ -431,6 +478,193 @@ int dcw_frame_assemble(double handle, double lists, double bx, double by, double
 DCW_EXPORT(dcw_frame_info) const std::uint32_t* dcw_frame_info(double handle) {
     Frames* f = frames_of(handle);
     return f ? f->info : nullptr;
+}
+
+DCW_EXPORT(dcw_scene_new) int dcw_scene_new() {
+    g_result.clear();
+    g_scenes.push_back(std::make_unique<SceneBuild>());
+    g_result.push_back(double(g_scenes.size()));
+    return DCW_OK;
+}
+
+DCW_EXPORT(dcw_scene_free) void dcw_scene_free(double handle) {
+    if (handle >= 1 && handle <= double(g_scenes.size()) && handle == std::floor(handle)) g_scenes[std::size_t(handle) - 1].reset();
+}
+
+// An image of the scene: width x height RGBA8 texels at `rgba` (copied),
+// `name` its id in messages. Its index is the result's one number.
+DCW_EXPORT(dcw_scene_add_image)
+int dcw_scene_add_image(double handle, const std::uint8_t* rgba, double width, double height, const char* name) {
+    g_result.clear();
+    SceneBuild* s = scene_of(handle);
+    if (!s) return DCW_ERROR_INVALID_ARGUMENT;
+    const std::string who = name && *name ? std::string(name) : std::string("image");
+    std::string error;
+    int w = 0, h = 0;
+    if (!int_option("width", width, 1, kMaxImageSide, &w, &error) || !int_option("height", height, 1, kMaxImageSide, &h, &error))
+        return fail(who + ": " + error);
+    if (std::int64_t(w) * h > kMaxImageTexels)
+        return fail(who + ": " + std::to_string(w) + "x" + std::to_string(h) + " image exceeds " + std::to_string(kMaxImageTexels) + " texels");
+    if (!rgba) return fail(who + ": no pixels");
+    if (s->scene.images.size() >= kMaxSceneImagesWasm) return fail(who + ": more than " + std::to_string(kMaxSceneImagesWasm) + " images");
+    SceneImage img;
+    img.id = who;
+    img.path = who;
+    img.width = w;
+    img.height = h;
+    s->scene.images.push_back(img);
+    s->pixels.emplace_back(rgba, rgba + std::size_t(w) * std::size_t(h) * 4);
+    g_result.push_back(double(s->scene.images.size() - 1));
+    return DCW_OK;
+}
+
+// An element, in painter's order: `rect` of image `image` drawn through
+// the transform [a b c d e f], colour multiplier r g b a (0..1), blend 0
+// alpha, 1 add, 2 multiply, 3 opaque.
+DCW_EXPORT(dcw_scene_add_element)
+int dcw_scene_add_element(double handle, double image, double rx, double ry, double rw, double rh, double a, double b, double c, double d,
+                          double e, double f, double r, double g, double bl, double al, double blend) {
+    SceneBuild* s = scene_of(handle);
+    if (!s) return DCW_ERROR_INVALID_ARGUMENT;
+    const std::string at = "element " + std::to_string(s->scene.elements.size()) + ": ";
+    std::string error;
+    Element el;
+    int blend_value = 0;
+    if (s->scene.elements.size() >= kMaxSceneElementsWasm) return fail(at + "more than " + std::to_string(kMaxSceneElementsWasm) + " elements");
+    if (!int_option("image", image, 0, int(s->scene.images.size()) - 1, &el.image, &error) ||
+        !int_option("rect.x", rx, 0, kMaxImageSide, &el.rect.x, &error) || !int_option("rect.y", ry, 0, kMaxImageSide, &el.rect.y, &error) ||
+        !int_option("rect.width", rw, 1, kMaxImageSide, &el.rect.w, &error) ||
+        !int_option("rect.height", rh, 1, kMaxImageSide, &el.rect.h, &error) || !int_option("blend", blend, 0, 3, &blend_value, &error))
+        return fail(at + error);
+    const SceneImage& img = s->scene.images[std::size_t(el.image)];
+    if (el.rect.x + el.rect.w > img.width || el.rect.y + el.rect.h > img.height)
+        return fail(at + "rect " + std::to_string(el.rect.x) + "," + std::to_string(el.rect.y) + "," + std::to_string(el.rect.w) + "," +
+                    std::to_string(el.rect.h) + " is outside the " + std::to_string(img.width) + "x" + std::to_string(img.height) + " image");
+    const double t[6] = {a, b, c, d, e, f};
+    for (int k = 0; k < 6; ++k) {
+        if (!std::isfinite(t[k])) return fail(at + "transform value " + std::to_string(k) + " is not a finite number");
+        el.transform[std::size_t(k)] = t[k];
+    }
+    const double col[4] = {r, g, bl, al};
+    for (int k = 0; k < 4; ++k) {
+        if (!(col[k] >= 0 && col[k] <= 1)) return fail(at + "colour value " + std::to_string(k) + " is outside 0..1");
+        el.color[std::size_t(k)] = float(col[k]);
+    }
+    el.blend = Blend(blend_value);
+    s->scene.elements.push_back(el);
+    return DCW_OK;
+}
+
+// Reconstructs the scene for the viewport (x, y, width, height) and filter
+// (0 nearest, 1 linear), analysing with dcw_analyze's options; opaque
+// polygons 0 or 1 (optimize --no-opaque); `target` (UTF-8, may be null or
+// empty) a built-in cost profile name (optimize --target NAME). The result:
+// the stats (elements, draw calls, triangles, depth levels, depth bits,
+// graph edges), depth test, the draw count, per draw image, pass (0 opaque,
+// 1 blend), blend, vertex count, index count, the vertices' floats and the
+// indices; then with a target the predicted ms (chosen, meshes only,
+// overpaint) and the elements dropped, drawing opaque polygons, reverted.
+DCW_EXPORT(dcw_scene_reconstruct)
+int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double vh, double filter, double max_vertices, double split,
+                          double opaque_method, double max_opaque, double min_coverage, double min_opaque_area, double opaque_polygons,
+                          const char* target) {
+    g_result.clear();
+    SceneBuild* s = scene_of(handle);
+    if (!s) return DCW_ERROR_INVALID_ARGUMENT;
+    std::string error;
+    Scene& scene = s->scene;
+    int filt = 0, opaque_flag = 1;
+    if (!std::isfinite(vx) || !std::isfinite(vy)) return fail("viewport: x and y must be finite");
+    if (!int_option("viewport.width", vw, 1, INT32_MAX, &scene.viewport.width, &error) ||
+        !int_option("viewport.height", vh, 1, INT32_MAX, &scene.viewport.height, &error) || !int_option("filter", filter, 0, 1, &filt, &error) ||
+        !int_option("opaquePolygons", opaque_polygons, 0, 1, &opaque_flag, &error))
+        return fail(error);
+    scene.viewport.x = vx;
+    scene.viewport.y = vy;
+    scene.filter = filt ? Filter::linear : Filter::nearest;
+    // The options checked once (dcw_analyze's words) on a 1x1 probe.
+    const std::uint8_t probe[4] = {0, 0, 0, 0};
+    ImageAnalysis unused;
+    if (!analyze_args(probe, 1, 1, 0, 0, 1, 1, max_vertices, split, filt, opaque_method, max_opaque, min_coverage, min_opaque_area,
+                      nullptr, &unused))
+        return DCW_ERROR_INVALID_ARGUMENT;
+    AnalyzeOptions analyze;
+    analyze.boundary.max_vertices = int(max_vertices);
+    analyze.boundary.split_parts = split != 0;
+    analyze.filter = scene.filter;
+    analyze.opaque.method = opaque_method == 0 ? OpaqueMethod::paper : opaque_method == 2 ? OpaqueMethod::grow : OpaqueMethod::fast;
+    analyze.opaque.max_polygons = int(max_opaque);
+    analyze.opaque.min_coverage = min_coverage;
+    analyze.opaque.min_area = int(min_opaque_area);
+
+    const bool targeted = target && *target;
+    CostProfile profile;
+    if (targeted && !builtin_profile(target, &profile)) {
+        std::string names;
+        for (const std::string& n : builtin_profile_names()) names += (names.empty() ? "" : ", ") + n;
+        return fail("target: '" + std::string(target) + "' is not a built-in profile (" + names + "; profile files are read by the CLI)");
+    }
+    // Distinct (image, rect) keys in first-use order, as the pipeline's.
+    std::map<std::tuple<int, int, int, int, int>, int> key_of;
+    std::vector<int> element_key(scene.elements.size());
+    std::vector<std::size_t> first_use;
+    for (std::size_t i = 0; i < scene.elements.size(); ++i) {
+        const Element& e = scene.elements[i];
+        auto [it, fresh] = key_of.emplace(std::make_tuple(e.image, e.rect.x, e.rect.y, e.rect.w, e.rect.h), int(first_use.size()));
+        if (fresh) first_use.push_back(i);
+        element_key[i] = it->second;
+    }
+    auto view = [&](int image) {
+        const SceneImage& img = scene.images[std::size_t(image)];
+        return ImageView{s->pixels[std::size_t(image)].data(), img.width, img.height, std::ptrdiff_t(img.width) * 4};
+    };
+    ReconstructOptions reconstruct;
+    reconstruct.opaque_polygons = opaque_flag != 0;
+    SceneMeshes meshes;
+    ReconstructStatus st;
+    TargetChoice choice;
+    std::vector<ImageAnalysis> analyses;
+    if (!targeted) {
+        analyses.reserve(first_use.size());
+        for (std::size_t i : first_use) analyses.push_back(analyze_image(view(scene.elements[i].image), scene.elements[i].rect, analyze));
+        std::vector<const ImageAnalysis*> per_element(scene.elements.size());
+        for (std::size_t i = 0; i < per_element.size(); ++i) per_element[i] = &analyses[std::size_t(element_key[i])];
+        st = reconstruct_scene(scene, per_element, reconstruct, &meshes);
+    } else {
+        // pipeline::plan_target's budgets and opaque area.
+        const int cap = std::max(kMinBoundaryVertices, analyze.boundary.max_vertices);
+        std::vector<int> budgets;
+        for (int b : {4, 6, 8})
+            if (b < cap) budgets.push_back(b);
+        budgets.push_back(cap);
+        analyze.opaque.min_area = depthcull::min_opaque_area(profile); // the function, not the parameter
+        const std::size_t nb = budgets.size();
+        analyses.reserve(first_use.size() * nb);
+        for (std::size_t i : first_use)
+            for (int b : budgets) {
+                AnalyzeOptions o = analyze;
+                o.boundary.max_vertices = b;
+                analyses.push_back(analyze_image(view(scene.elements[i].image), scene.elements[i].rect, o));
+            }
+        std::vector<TargetCandidates> candidates(first_use.size());
+        for (std::size_t k = 0; k < first_use.size(); ++k)
+            for (std::size_t b = 0; b < nb; ++b) {
+                candidates[k].analyses.push_back(&analyses[k * nb + b]);
+                candidates[k].max_vertices.push_back(budgets[b]);
+            }
+        choice = choose_for_target(scene, candidates, element_key, profile, reconstruct);
+        ReconstructOptions chosen = reconstruct;
+        chosen.opaque_polygons = reconstruct.opaque_polygons && choice.opaque_pass;
+        st = reconstruct_scene(scene, choice.element_analysis, chosen, &meshes);
+    }
+    if (st == ReconstructStatus::too_many_depth_levels) return fail("reconstruct: the scene needs more depth levels than a 24-bit depth buffer resolves");
+    if (st != ReconstructStatus::ok) return fail("reconstruct: invalid scene (an element names a missing image or analysis)");
+    append_meshes(meshes);
+    if (targeted)
+        for (double v : {choice.predicted_ms, choice.meshes_only_ms, choice.overpaint_ms, double(choice.elements_dropped),
+                         double(choice.elements_opaque), double(choice.elements_reverted)})
+            g_result.push_back(v);
+    return DCW_OK;
 }
 
 } // extern "C"
