@@ -124,6 +124,17 @@ for (const [name, file, viewport] of corpusMaps) {
   });
 }
 
+// The figure issue 24 asks for: the time to analyse an atlas page in the
+// browser (a packed corpus page, scripts/fetch-corpus), and the .wasm size.
+const atlasDir = join(homedir(), '.cache/depthcull/corpus/packed-atlases');
+test('analysing an atlas page in the browser: time and .wasm size', { skip: missing ?? (!existsSync(join(atlasDir, 'hash-0.json')) && 'no packed-atlases corpus') }, async () => {
+  for (const f of ['hash-0.png', 'hash-0.json']) writeFileSync(join(gen, f), readFileSync(join(atlasDir, f)));
+  const r = await page.evaluate((a) => window.depthcullTest.analyzeAtlas(a), { pngUrl: `${origin}/gen/hash-0.png`, jsonUrl: `${origin}/gen/hash-0.json` });
+  console.log(`# atlas page hash-0.png ${r.width}x${r.height}: ${r.frames} frames analysed in ${r.ms.toFixed(1)} ms (median of 5; whole page as one image ${r.wholeMs.toFixed(1)} ms); depthcull.wasm ${r.wasmBytes} bytes, loaded in ${r.loadMs.toFixed(0)} ms`);
+  assert.equal(r.frames, 18);
+  assert.ok(r.vertices > 0);
+});
+
 test('MeshRenderer restores every GL state it changes', { skip: missing ?? false }, async () => {
   const scene = join(root, 'examples/meadow.json');
   const meshes = join(gen, 'meadow.meshes.json');
