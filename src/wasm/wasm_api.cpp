@@ -562,12 +562,14 @@ int dcw_scene_add_element(double handle, double image, double rx, double ry, dou
 // the stats (elements, draw calls, triangles, depth levels, depth bits,
 // graph edges), depth test, the draw count, per draw image, pass (0 opaque,
 // 1 blend), blend, vertex count, index count, the vertices' floats and the
-// indices; then with a target the predicted ms (chosen, meshes only,
+// indices; the insertion points (count, then element, levels, first level,
+// blend draw each: `points` holds point_count (element, levels) pairs, as
+// ReconstructOptions::insertion_points); then with a target the predicted ms (chosen, meshes only,
 // overpaint) and the elements dropped, drawing opaque polygons, reverted.
 DCW_EXPORT(dcw_scene_reconstruct)
 int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double vh, double filter, double max_vertices, double split,
                           double opaque_method, double max_opaque, double min_coverage, double min_opaque_area, double opaque_polygons,
-                          const char* target) {
+                          const double* points, double point_count, const char* target) {
     g_result.clear();
     SceneBuild* s = scene_of(handle);
     if (!s) return DCW_ERROR_INVALID_ARGUMENT;
@@ -620,6 +622,21 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
     };
     ReconstructOptions reconstruct;
     reconstruct.opaque_polygons = opaque_flag != 0;
+    int np = 0;
+    if (!int_option("insertionPoints.length", point_count, 0, 1 << 16, &np, &error)) return fail(error);
+    for (int k = 0; k < np; ++k) {
+        int element = 0, levels = 0;
+        const std::string at = "insertionPoints[" + std::to_string(k) + "].";
+        if (!int_option((at + "element").c_str(), points[2 * k], 0, int(scene.elements.size()), &element, &error) ||
+            !int_option((at + "levels").c_str(), points[2 * k + 1], 0, int(kMaxDepthLevels), &levels, &error))
+            return fail(error);
+        if (k && std::size_t(element) < reconstruct.insertion_points.back().element)
+            return fail(at + "element: " + std::to_string(element) + " is before the previous point's (points go in element order)");
+        InsertionPoint p;
+        p.element = std::size_t(element);
+        p.levels = levels;
+        reconstruct.insertion_points.push_back(p);
+    }
     SceneMeshes meshes;
     ReconstructStatus st;
     TargetChoice choice;
@@ -660,6 +677,9 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
     if (st == ReconstructStatus::too_many_depth_levels) return fail("reconstruct: the scene needs more depth levels than a 24-bit depth buffer resolves");
     if (st != ReconstructStatus::ok) return fail("reconstruct: invalid scene (an element names a missing image or analysis)");
     append_meshes(meshes);
+    g_result.push_back(double(meshes.insertion_points.size()));
+    for (const InsertionPoint& p : meshes.insertion_points)
+        for (double v : {double(p.element), double(p.levels), double(p.first_level), double(p.blend_draw)}) g_result.push_back(v);
     if (targeted)
         for (double v : {choice.predicted_ms, choice.meshes_only_ms, choice.overpaint_ms, double(choice.elements_dropped),
                          double(choice.elements_opaque), double(choice.elements_reverted)})

@@ -213,7 +213,8 @@ export class Depthcull {
    * 2.3; with `target`, optimize --target's choice per image): `scene`
    * {viewport: {x, y, width, height}, filter, images: [{width, height,
    * data, id}], elements: [{image (index), rect [x, y, w, h] (default the
-   * whole image), transform [a, b, c, d, e, f], color [r, g, b, a], blend}]},
+   * whole image), transform [a, b, c, d, e, f], color [r, g, b, a], blend}],
+   * insertionPoints: [{element, levels}] (optimize --insert-at)},
    * options: analyzeImage's (maxVertices, split, opaque, maxOpaque,
    * minCoverage, minOpaqueArea), `opaquePolygons` (false: optimize
    * --no-opaque), `target` (a built-in profile: llvmpipe, ipad1). Returns
@@ -266,7 +267,17 @@ export class Depthcull {
         choice('filter', o.filter, FILTERS), number('maxVertices', o.maxVertices), number('split', o.split), choice('opaque', o.opaque, OPAQUE_METHODS),
         number('maxOpaque', o.maxOpaque), number('minCoverage', o.minCoverage), number('minOpaqueArea', o.minOpaqueArea), number('opaquePolygons', o.opaquePolygons),
       ];
-      const status = this.#withString(String(o.target ?? ''), (targetPtr) => ex.dcw_scene_reconstruct(handle, ...args, targetPtr));
+      const points = scene.insertionPoints ?? [];
+      if (!Array.isArray(points)) throw new DepthcullError('insertionPoints: must be an array of {element, levels}');
+      const pointsPtr = ex.dcw_alloc(Math.max(1, points.length) * 16);
+      let status;
+      try {
+        const view = new Float64Array(ex.memory.buffer, pointsPtr, points.length * 2);
+        points.forEach((p, k) => view.set([typeof p?.element === 'number' ? p.element : NaN, typeof p?.levels === 'number' ? p.levels : NaN], 2 * k));
+        status = this.#withString(String(o.target ?? ''), (targetPtr) => ex.dcw_scene_reconstruct(handle, ...args, pointsPtr, points.length, targetPtr));
+      } finally {
+        if (this.#instance?.exports === ex) ex.dcw_free(pointsPtr);
+      }
       if (status !== 0) throw fail();
       return this.#readMeshes(scene, o.filter, Boolean(o.target));
     } catch (e) {
@@ -302,6 +313,7 @@ export class Depthcull {
       images: scene.images.map((img, k) => ({ id: String(img.id ?? `images[${k}]`), path: '', url: '', width: img.width, height: img.height })),
       draws, stats, animations: [], animated: [], insertionPoints: [],
     };
+    for (let n = r[i++]; n > 0; --n, i += 4) out.insertionPoints.push({ element: r[i], levels: r[i + 1], firstLevel: r[i + 2], blendDraw: r[i + 3] });
     if (targeted) {
       const t = {};
       for (const key of ['predictedMs', 'meshesOnlyMs', 'overpaintMs', 'elementsDropped', 'elementsOpaque', 'elementsReverted']) t[key] = r[i++];

@@ -89,3 +89,25 @@ for (const [label, change, message] of bad) {
     assert.equal(depthcull.reconstructScene(small()).draws.length > 0, true);
   });
 }
+
+test('reconstructScene with an insertion point: the point as optimize --insert-at states it, valid for the meshes reader', () => {
+  const m = depthcull.reconstructScene({ ...scene, insertionPoints: [{ element: 230, levels: 64 }] });
+  assert.equal(m.insertionPoints.length, 1);
+  const p = m.insertionPoints[0];
+  assert.equal(p.element, 230);
+  assert.equal(p.levels, 64);
+  assert.ok(p.firstLevel > 0 && p.firstLevel + p.levels <= m.stats.depthLevels);
+  // Written as a meshes JSON, it passes the reader's insertion point checks.
+  const json = {
+    viewport: m.viewport,
+    depth_test: m.depthTest,
+    images: m.images.map((img) => ({ id: img.id, path: `${img.id}.png`, width: img.width, height: img.height })),
+    draws: m.draws.map((d) => ({ image: m.images[d.image].id, pass: d.pass, blend: d.blend, vertices: Array.from(d.vertices), indices: Array.from(d.indices) })),
+    stats: { elements: m.stats.elements, draw_calls: m.stats.drawCalls, triangles: m.stats.triangles, depth_levels: m.stats.depthLevels, depth_bits: m.stats.depthBits, graph_edges: m.stats.graphEdges, seconds: 0 },
+    insertion_points: [{ element: p.element, levels: p.levels, first_level: p.firstLevel, blend_draw: p.blendDraw }],
+  };
+  assert.deepEqual(parseMeshesJson(json).insertionPoints, m.insertionPoints);
+  assert.throws(() => depthcull.reconstructScene({ ...scene, insertionPoints: [{ element: 500, levels: 1 }] }), {
+    message: 'insertionPoints[0].element: Value 500 not in range 0 to 459',
+  });
+});

@@ -97,6 +97,15 @@ function ulp32(x) {
 // examples/meadow.json's pixel (542, 69) has its centre 3.0e-5 texels from
 // a "moons" texel edge (u = 19.0000297; scale 1.2), under one float32 step
 // at x = 542 (6.1e-5 px = 5.1e-5 texels): either side is a right answer.
+// An image file's RGBA8 texels, not premultiplied (what the analysis reads).
+async function decodedPixels(url) {
+  const bitmap = await createImageBitmap(await (await fetch(url)).blob(), { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
+  const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+  const ctx = canvas.getContext('2d');
+  ctx.drawImage(bitmap, 0, 0);
+  return ctx.getImageData(0, 0, bitmap.width, bitmap.height);
+}
+
 function onTexelEdge(t, tol = TEXEL_EDGE_TOLERANCE) {
   return Math.abs(t - Math.round(t)) <= tol;
 }
@@ -196,9 +205,26 @@ window.depthcullTest = {
   // levels above them), frame by frame. The sprites show the pictures of
   // the scene's first plain-image elements, at whole-pixel positions that
   // change every frame (several overlapping).
-  async identityMoving({ sceneUrl, meshesUrl, frames = 60, count = 24 }) {
+  //
+  // With `atElement` (no meshesUrl): the meshes are reconstructed in the
+  // wasm with an insertion point before that element (reconstructScene,
+  // as optimize --insert-at), the sprites go there, and the plain app draws
+  // them between the elements before it and those after it.
+  async identityMoving({ sceneUrl, meshesUrl, frames = 60, count = 24, atElement }) {
     const scene = await (await fetch(sceneUrl)).json();
-    const meshes = await loadMeshes(meshesUrl);
+    const depthcull = await loadDepthcull();
+    let meshes;
+    if (atElement === undefined) meshes = await loadMeshes(meshesUrl);
+    else {
+      const ids = scene.images.map((i) => i.id);
+      const images = [];
+      for (const img of scene.images) {
+        const { width, height, data } = await decodedPixels(new URL(img.path, sceneUrl).href); // getters: no spread
+        images.push({ id: img.id, width, height, data });
+      }
+      const elements = scene.elements.map((e) => ({ ...e, image: ids.indexOf(e.image) }));
+      meshes = depthcull.reconstructScene({ viewport: scene.viewport, images, elements, insertionPoints: [{ element: atElement, levels: count }] });
+    }
     const { width, height } = meshes.viewport;
     const app = new PIXI.Application();
     await app.init({ width, height, preference: 'webgl', antialias: false, resolution: 1, background: 0x000000, preserveDrawingBuffer: true, autoStart: false });
@@ -211,7 +237,6 @@ window.depthcullTest = {
 
     // Up to 6 distinct pictures (image, rect) of plain images, their
     // pixels decoded without premultiplication for the analysis.
-    const depthcull = await loadDepthcull();
     const assembler = depthcull.createFrameAssembler();
     const pictures = [];
     const textures = [];
@@ -224,11 +249,7 @@ window.depthcullTest = {
       const key = `${e.image}:${rect}`;
       if (seen.has(key) || rect[2] < 4 || rect[3] < 4) continue;
       seen.add(key);
-      const bitmap = await createImageBitmap(await (await fetch(new URL(img.path, sceneUrl).href)).blob(), { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
-      const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
-      const ctx = canvas.getContext('2d');
-      ctx.drawImage(bitmap, 0, 0);
-      const pixels = ctx.getImageData(0, 0, bitmap.width, bitmap.height);
+      const pixels = await decodedPixels(new URL(img.path, sceneUrl).href);
       let texture = textures.indexOf(source);
       if (texture < 0) texture = textures.push(source) - 1;
       const id = assembler.addImage(pixels, { texture, rect: { x: rect[0], y: rect[1], width: rect[2], height: rect[3] }, name: img.path });
@@ -263,11 +284,16 @@ window.depthcullTest = {
         pixiSprites[k].position.set(x, y);
         Object.assign(sprites[k], { image: p.id, x, y });
       }
-      world.addChild(plain, moving);
+      if (atElement === undefined) world.addChild(plain, moving);
+      else {
+        plain.addChildAt(moving, atElement);
+        world.addChild(plain);
+      }
       app.renderer.render(app.stage);
       const a = readPixels(app);
       world.removeChildren();
-      layer.movingSprites = sprites;
+      if (atElement !== undefined) plain.removeChild(moving);
+      layer.movingSprites = atElement === undefined ? sprites : [sprites];
       world.addChild(layer);
       app.renderer.render(app.stage);
       const b = readPixels(app);
