@@ -1,3 +1,5 @@
+import type { FrameAssembler } from './frames.js';
+import type { Meshes } from './meshes.js';
 // TypeScript declarations for src/index.js.
 
 /** Thrown for every refused input, with the CLI's one-line message. */
@@ -76,6 +78,18 @@ export class Depthcull {
   private constructor();
   /** Boundary and opaque polygons of an image, as `depthcull analyze` computes them. Throws DepthcullError. */
   analyzeImage(image: ImageLike, options?: AnalyzeOptions): ImageAnalysis;
+  /** Paper 2.3 (and optimize --target with a built-in profile) in the wasm: meshes as parseMeshes returns them. */
+  reconstructScene(
+    scene: {
+      viewport: { x?: number; y?: number; width: number; height: number };
+      filter?: 'nearest' | 'linear';
+      images: (ImageLike & { id?: string })[];
+      elements: { image: number; rect?: [number, number, number, number]; transform?: number[]; color?: number[]; blend?: 'alpha' | 'add' | 'multiply' | 'opaque' }[];
+    },
+    options?: Omit<AnalyzeOptions, 'rect' | 'name' | 'filter'> & { opaquePolygons?: boolean; target?: string },
+  ): Meshes & { target?: { predictedMs: number; meshesOnlyMs: number; overpaintMs: number; elementsDropped: number; elementsOpaque: number; elementsReverted: number } };
+  /** Moving sprites depth-culled every frame (src/frames.js). */
+  createFrameAssembler(options?: { opaquePass?: boolean; filter?: 'nearest' | 'linear' }): FrameAssembler;
 }
 
 export function loadDepthcull(options?: LoadOptions): Promise<Depthcull>;

@@ -10,6 +10,7 @@
 // prints for the same mistake (the option named as JavaScript spells it).
 
 import { wasiImports } from './wasi.js';
+import { FrameAssembler } from './frames.js';
 
 export class DepthcullError extends Error {
   constructor(message) {
@@ -143,7 +144,8 @@ export class Depthcull {
    * RGBA8 image (ImageData or any {width, height, data}), as `depthcull
    * analyze` computes them with the same options.
    */
-  analyzeImage(image, options = {}) {
+  // analyzeImage's arguments checked: the wasm call's numbers.
+  #prepare(image, options) {
     for (const key of Object.keys(options))
       if (!OPTION_NAMES.has(key)) throw new DepthcullError(`analyzeImage: unknown option '${key}' (known: ${[...OPTION_NAMES].join(', ')})`);
     const o = { ...DEFAULTS, ...options };
@@ -166,10 +168,15 @@ export class Depthcull {
     const validSides = Number.isInteger(width) && Number.isInteger(height) && width > 0 && height > 0;
     if (validSides && width <= 16384 && height <= 16384 && data.length !== width * height * 4)
       throw new DepthcullError(`${name}: data has ${data.length} bytes, a ${width}x${height} RGBA8 image has ${width * height * 4}`);
+    return { name, data, rect, args, copy: validSides && data.length === width * height * 4 };
+  }
+
+  analyzeImage(image, options = {}) {
+    const { name, data, rect, args, copy } = this.#prepare(image, options);
     const ex = this.#exports;
     let pixels = 0;
     try {
-      if (validSides && data.length === width * height * 4) {
+      if (copy) {
         pixels = ex.dcw_alloc(data.length);
         new Uint8Array(ex.memory.buffer, pixels, data.length).set(data);
       }
@@ -182,6 +189,137 @@ export class Depthcull {
     } finally {
       if (pixels && this.#instance?.exports === ex) ex.dcw_free(pixels);
     }
+  }
+
+  /**
+   * A FrameAssembler (src/frames.js): moving sprites depth-culled every
+   * frame, alone or at the insertion points of static meshes.
+   */
+  createFrameAssembler(options = {}) {
+    return new FrameAssembler(
+      {
+        exports: () => this.#exports,
+        error: () => new DepthcullError(this.#cString(this.#exports.dcw_last_error())),
+        prepare: (image, o) => this.#prepare(image, o),
+        withString: (text, fn) => this.#withString(text, fn),
+        trapped: (name, e) => this.#trapped(name, e),
+      },
+      options,
+    );
+  }
+
+  /**
+   * Reconstructs a scene in the wasm as `depthcull optimize` does (paper
+   * 2.3; with `target`, optimize --target's choice per image): `scene`
+   * {viewport: {x, y, width, height}, filter, images: [{width, height,
+   * data, id}], elements: [{image (index), rect [x, y, w, h] (default the
+   * whole image), transform [a, b, c, d, e, f], color [r, g, b, a], blend}],
+   * insertionPoints: [{element, levels}] (optimize --insert-at)},
+   * options: analyzeImage's (maxVertices, split, opaque, maxOpaque,
+   * minCoverage, minOpaqueArea), `opaquePolygons` (false: optimize
+   * --no-opaque), `target` (a built-in profile: llvmpipe, ipad1). Returns
+   * meshes as parseMeshes does (MeshRenderer.setMeshes takes them), and
+   * with a target `target: {predictedMs, meshesOnlyMs, overpaintMs,
+   * elementsDropped, elementsOpaque, elementsReverted}`.
+   */
+  reconstructScene(scene, options = {}) {
+    const known = new Set([...Object.keys(DEFAULTS), 'opaquePolygons', 'target']);
+    for (const key of Object.keys(options))
+      if (!known.has(key)) throw new DepthcullError(`reconstructScene: unknown option '${key}' (known: ${[...known].join(', ')})`);
+    const o = { ...DEFAULTS, opaquePolygons: true, target: '', ...options, filter: scene?.filter ?? 'nearest' };
+    if (scene === null || typeof scene !== 'object' || !Array.isArray(scene.images) || !Array.isArray(scene.elements))
+      throw new DepthcullError('reconstructScene: scene must be {viewport, images, elements}');
+    const ex = this.#exports;
+    if (ex.dcw_scene_new() !== 0) throw new DepthcullError(this.#cString(ex.dcw_last_error()));
+    const handle = new Float64Array(ex.memory.buffer, ex.dcw_result(), 1)[0];
+    const fail = () => new DepthcullError(this.#cString(ex.dcw_last_error()));
+    try {
+      scene.images.forEach((img, i) => {
+        const name = String(img.id ?? `images[${i}]`);
+        const { width, height, data } = img;
+        if (!(data instanceof Uint8Array || data instanceof Uint8ClampedArray))
+          throw new DepthcullError(`${name}: data must be a Uint8Array or Uint8ClampedArray of RGBA8 texels`);
+        if (Number.isInteger(width) && Number.isInteger(height) && data.length !== width * height * 4)
+          throw new DepthcullError(`${name}: data has ${data.length} bytes, a ${width}x${height} RGBA8 image has ${width * height * 4}`);
+        const pixels = ex.dcw_alloc(data.length);
+        try {
+          new Uint8Array(ex.memory.buffer, pixels, data.length).set(data);
+          if (this.#withString(name, (namePtr) => ex.dcw_scene_add_image(handle, pixels, number('width', width), number('height', height), namePtr)) !== 0)
+            throw fail();
+        } finally {
+          ex.dcw_free(pixels);
+        }
+      });
+      const BLEND = { alpha: 0, add: 1, multiply: 2, opaque: 3 };
+      scene.elements.forEach((e, i) => {
+        const img = scene.images[e.image];
+        const rect = e.rect ?? [0, 0, img?.width ?? 0, img?.height ?? 0];
+        const t = e.transform ?? [1, 0, 0, 1, 0, 0];
+        const c = e.color ?? [1, 1, 1, 1];
+        const blend = e.blend ?? 'alpha';
+        if (!Object.hasOwn(BLEND, blend)) throw new DepthcullError(`element ${i}: blend '${blend}' is not one of alpha, add, multiply, opaque`);
+        const nums = [e.image, ...rect, ...t, ...c].map((v) => (typeof v === 'number' ? v : NaN));
+        if (ex.dcw_scene_add_element(handle, ...nums, BLEND[blend]) !== 0) throw fail();
+      });
+      const vp = scene.viewport ?? {};
+      const args = [
+        number('viewport.x', vp.x ?? 0), number('viewport.y', vp.y ?? 0), number('viewport.width', vp.width), number('viewport.height', vp.height),
+        choice('filter', o.filter, FILTERS), number('maxVertices', o.maxVertices), number('split', o.split), choice('opaque', o.opaque, OPAQUE_METHODS),
+        number('maxOpaque', o.maxOpaque), number('minCoverage', o.minCoverage), number('minOpaqueArea', o.minOpaqueArea), number('opaquePolygons', o.opaquePolygons),
+      ];
+      const points = scene.insertionPoints ?? [];
+      if (!Array.isArray(points)) throw new DepthcullError('insertionPoints: must be an array of {element, levels}');
+      const pointsPtr = ex.dcw_alloc(Math.max(1, points.length) * 16);
+      let status;
+      try {
+        const view = new Float64Array(ex.memory.buffer, pointsPtr, points.length * 2);
+        points.forEach((p, k) => view.set([typeof p?.element === 'number' ? p.element : NaN, typeof p?.levels === 'number' ? p.levels : NaN], 2 * k));
+        status = this.#withString(String(o.target ?? ''), (targetPtr) => ex.dcw_scene_reconstruct(handle, ...args, pointsPtr, points.length, targetPtr));
+      } finally {
+        if (this.#instance?.exports === ex) ex.dcw_free(pointsPtr);
+      }
+      if (status !== 0) throw fail();
+      return this.#readMeshes(scene, o.filter, Boolean(o.target));
+    } catch (e) {
+      if (e instanceof WebAssembly.RuntimeError) throw this.#trapped('reconstructScene', e);
+      throw e;
+    } finally {
+      if (this.#instance?.exports === ex) ex.dcw_scene_free(handle);
+    }
+  }
+
+  #readMeshes(scene, filter, targeted) {
+    const ex = this.#exports;
+    const r = new Float64Array(ex.memory.buffer, ex.dcw_result(), ex.dcw_result_size());
+    let i = 0;
+    const stats = {};
+    for (const key of ['elements', 'drawCalls', 'triangles', 'depthLevels', 'depthBits', 'graphEdges']) stats[key] = r[i++];
+    const depthTest = r[i++] !== 0;
+    const draws = [];
+    const BLENDS = ['alpha', 'add', 'multiply', 'opaque'];
+    for (let n = r[i++]; n > 0; --n) {
+      const image = r[i++], pass = r[i++] === 0 ? 'opaque' : 'blend', blend = BLENDS[r[i++]];
+      const nv = r[i++], ni = r[i++];
+      const vertices = Float32Array.from(r.subarray(i, i + nv * 9));
+      i += nv * 9;
+      const indices = Uint32Array.from(r.subarray(i, i + ni));
+      i += ni;
+      draws.push({ image, pass, blend, vertices, indices });
+    }
+    const vp = scene.viewport;
+    const out = {
+      viewport: { x: vp.x ?? 0, y: vp.y ?? 0, width: vp.width, height: vp.height },
+      depthTest, filter,
+      images: scene.images.map((img, k) => ({ id: String(img.id ?? `images[${k}]`), path: '', url: '', width: img.width, height: img.height })),
+      draws, stats, animations: [], animated: [], insertionPoints: [],
+    };
+    for (let n = r[i++]; n > 0; --n, i += 4) out.insertionPoints.push({ element: r[i], levels: r[i + 1], firstLevel: r[i + 2], blendDraw: r[i + 3] });
+    if (targeted) {
+      const t = {};
+      for (const key of ['predictedMs', 'meshesOnlyMs', 'overpaintMs', 'elementsDropped', 'elementsOpaque', 'elementsReverted']) t[key] = r[i++];
+      out.target = t;
+    }
+    return out;
   }
 
   #readAnalysis(rect) {

@@ -9,9 +9,13 @@ export interface Meshes {
   stats: { elements?: number; drawCalls?: number; triangles?: number; depthLevels?: number; depthBits?: number; graphEdges?: number; seconds?: number };
   animations: { frames: { image: number; rect: [number, number, number, number]; duration: number }[] }[];
   animated: { draw: number; firstVertex: number; vertexCount: number; animation: number }[];
+  /** Where moving sprites go between the layers (docs/mesh-format.md "insertion_points"; binary flags bit 4). */
+  insertionPoints: InsertionPoint[];
 }
+export interface InsertionPoint { element: number; levels: number; firstLevel: number; blendDraw: number }
 export declare const limits: Readonly<Record<string, number>>;
 export declare function parseMeshesJson(text: string | object, options?: { name?: string; baseUrl?: string }): Meshes;
 export declare function parseMeshes(data: string | ArrayBuffer | ArrayBufferView, options?: { name?: string; baseUrl?: string }): Meshes;
-export declare function parseMeshesBinary(bytes: Uint8Array, options?: { name?: string }): Meshes;
+export declare function parseMeshesBinary(bytes: ArrayBuffer | ArrayBufferView, options?: { name?: string; baseUrl?: string }): Meshes;
+export declare function isBinaryMeshes(bytes: Uint8Array): boolean;
 export declare function loadMeshes(url: string | URL, options?: { name?: string; fetch?: typeof fetch }): Promise<Meshes>;

@@ -15,6 +15,8 @@ export const limits = Object.freeze({
   maxImageSide: 16384,
   maxAnimations: 2 ** 20,
   maxAnimationFrames: 2 ** 16,
+  maxInsertionPoints: 2 ** 16,
+  maxDepthLevels: 2 ** 21 - 1, // kMaxDepthLevels
 });
 
 const VERTEX_FLOATS = 9;
@@ -209,9 +211,97 @@ function readStats(name, v) {
   return stats;
 }
 
+// SceneMeshes::depth_denominator from the stated depth_bits (the writers
+// write 2 + log2 D): 0 when it names no usable mapping.
+function depthDenominator(bits) {
+  return bits >= 2 && bits <= 62 ? 2 ** (bits - 2) : 0;
+}
+
+// The highest depth level the draws' z values use (depth_levels_of_draws).
+function levelsOfDraws(draws, denominator) {
+  if (denominator < 2) return 0;
+  let top = 0;
+  for (const d of draws) for (let k = 2; k < d.vertices.length; k += VERTEX_FLOATS) if (d.vertices[k] > top) top = d.vertices[k];
+  return Math.ceil((top * denominator) / 2);
+}
+
+// src/io/mesh_common.h's check_depth_levels: the stated depth_levels covers
+// the draws' levels and fits the mapping, so sprites go above them.
+function checkDepthLevels(name, m) {
+  const stated = m.stats.depthLevels ?? 0;
+  const bits = m.stats.depthBits ?? 0;
+  const den = depthDenominator(bits);
+  const most = den >= 2 ? Math.min(limits.maxDepthLevels, den / 2) : limits.maxDepthLevels;
+  if (stated > most)
+    throw new DepthcullError(`${name}: stats depth_levels ${stated} is more than the depth mapping resolves (${most} levels for depth_bits ${bits}; kMaxDepthLevels)`);
+  const used = levelsOfDraws(m.draws, den);
+  if (stated < used) throw new DepthcullError(`${name}: stats depth_levels ${stated} is lower than the ${used} levels its draws' z values use`);
+}
+
+// src/io/mesh_common.h's insertion_point_problem: why point k cannot be
+// drawn at, as [field, problem], or null.
+function insertionPointProblem(m, k) {
+  const p = m.insertionPoints[k];
+  const prev = k ? m.insertionPoints[k - 1] : null;
+  const elements = m.stats.elements ?? 0;
+  const levels = m.stats.depthLevels ?? 0;
+  if (p.element > elements) return ['element', `element ${p.element} is past the scene's ${elements} elements (stats elements)`];
+  if (prev && p.element < prev.element) return ['element', `element ${p.element} is before the previous point's (points go in element order)`];
+  if (p.levels < 0 || p.levels > limits.maxDepthLevels) return ['levels', `levels ${p.levels} is outside 0..${limits.maxDepthLevels}`];
+  if (depthDenominator(m.stats.depthBits ?? 0) < 2) return ['first_level', 'insertion points need depth values (stats depth_bits names no depth mapping)'];
+  if (p.firstLevel < 0 || p.firstLevel > levels - p.levels)
+    return ['first_level', `levels ${p.firstLevel} + ${p.levels} are not inside the ${levels} depth levels of stats depth_levels`];
+  if (prev && p.firstLevel < prev.firstLevel + prev.levels) return ['first_level', `first_level ${p.firstLevel} overlaps the previous point's levels`];
+  if (p.blendDraw > m.draws.length) return ['blend_draw', `blend_draw ${p.blendDraw} is past the ${m.draws.length} draws`];
+  if (prev && p.blendDraw < prev.blendDraw) return ['blend_draw', `blend_draw ${p.blendDraw} is before the previous point's`];
+  for (let d = p.blendDraw; d < m.draws.length; ++d)
+    if (m.draws[d].pass !== 'blend') return ['blend_draw', `blend_draw ${p.blendDraw} is not in the blend pass (draw ${d} is opaque)`];
+  return null;
+}
+
+// src/io/mesh_common.h's insertion_levels_problem: no static vertex lies in
+// a point's reserved levels (sprites there would tie in the depth test).
+function insertionLevelsProblem(m) {
+  const points = m.insertionPoints;
+  const den = depthDenominator(m.stats.depthBits ?? 0);
+  if (!points.length || den < 2) return null;
+  for (let d = 0; d < m.draws.length; ++d) {
+    const v = m.draws[d].vertices;
+    for (let k = 2; k < v.length; k += VERTEX_FLOATS) {
+      const level = Math.ceil(v[k] * (den / 2)) - 1;
+      let i = -1; // the last point starting at or below the level
+      while (i + 1 < points.length && points[i + 1].firstLevel <= level) ++i;
+      if (i >= 0 && level < points[i].firstLevel + points[i].levels)
+        return `draw ${d} vertex ${(k - 2) / VERTEX_FLOATS} has depth level ${level}, reserved by insertion point ${i}`;
+    }
+  }
+  return null;
+}
+
+function readInsertionPointsJson(name, doc, out) {
+  if (!('insertion_points' in doc)) return;
+  const points = array(name, doc.insertion_points, 'insertion_points', limits.maxInsertionPoints);
+  for (let k = 0; k < points.length; ++k) {
+    const where = at('insertion_points', k);
+    object(name, points[k], where);
+    const p = {
+      element: integer(name, field(name, points[k], where, 'element'), at(where, 'element'), Number.MAX_SAFE_INTEGER),
+      levels: integer(name, field(name, points[k], where, 'levels'), at(where, 'levels'), limits.maxDepthLevels),
+      firstLevel: integer(name, field(name, points[k], where, 'first_level'), at(where, 'first_level'), limits.maxDepthLevels),
+      blendDraw: integer(name, field(name, points[k], where, 'blend_draw'), at(where, 'blend_draw'), 2 ** 32 - 1),
+    };
+    out.insertionPoints.push(p);
+    const problem = insertionPointProblem(out, k);
+    if (problem) fail(name, at(where, problem[0]), problem[1]);
+  }
+  const problem = insertionLevelsProblem(out);
+  if (problem) fail(name, 'insertion_points', problem);
+}
+
 /**
  * The meshes JSON text (or its parsed value) as
- * `{viewport, depthTest, filter, images, draws, stats, animations, animated}`;
+ * `{viewport, depthTest, filter, images, draws, stats, animations, animated,
+ * insertionPoints}` (points `{element, levels, firstLevel, blendDraw}`);
  * `draws[i].vertices` a Float32Array of 9 floats per vertex,
  * `draws[i].indices` a Uint32Array, `draws[i].image` an index into `images`.
  * `name` starts every error message (the file's name or URL); `baseUrl`
@@ -257,8 +347,10 @@ export function parseMeshesJson(text, { name = 'meshes', baseUrl } = {}) {
   const totals = { vertices: 0, indices: 0 };
   const draws = [];
   for (let i = 0; i < drawsIn.length; ++i) draws.push(readDraw(name, drawsIn[i], at('draws', i), ids, totals));
-  const out = { viewport, depthTest, filter, images, draws, stats: 'stats' in doc ? readStats(name, doc.stats) : {}, animations: [], animated: [] };
+  const out = { viewport, depthTest, filter, images, draws, stats: 'stats' in doc ? readStats(name, doc.stats) : {}, animations: [], animated: [], insertionPoints: [] };
   readAnimations(name, doc, out);
+  checkDepthLevels(name, out);
+  readInsertionPointsJson(name, doc, out);
   return out;
 }
 
@@ -269,7 +361,7 @@ export function parseMeshesJson(text, { name = 'meshes', baseUrl } = {}) {
 export function parseMeshes(data, options = {}) {
   const bytes = data instanceof ArrayBuffer ? new Uint8Array(data) : ArrayBuffer.isView(data) ? new Uint8Array(data.buffer, data.byteOffset, data.byteLength) : null;
   if (bytes) {
-    if (bytes.length >= 6 && String.fromCharCode(...bytes.subarray(0, 6)) === 'DCMESH') return parseMeshesBinary(bytes, options);
+    if (isBinaryMeshes(bytes)) return parseMeshesBinary(bytes, options);
     return parseMeshesJson(new TextDecoder().decode(bytes), options);
   }
   return parseMeshesJson(data, options);
@@ -288,7 +380,275 @@ export async function loadMeshes(url, { name = String(url), fetch: f = globalThi
   return parseMeshes(await response.arrayBuffer(), { name, baseUrl });
 }
 
-export function parseMeshesBinary(bytes, { name = 'meshes' } = {}) {
-  void bytes;
-  throw new DepthcullError(`${name}: the binary meshes form is not read in JavaScript yet; write JSON (optimize -o X.meshes.json)`);
+
+const MAGIC = [0x44, 0x43, 0x4d, 0x45, 0x53, 0x48, 0, 0]; // "DCMESH\0\0"
+
+/** Whether the bytes start with the binary form's magic (is_binary_meshes). */
+export function isBinaryMeshes(bytes) {
+  return bytes.length >= 8 && MAGIC.every((b, i) => bytes[i] === b);
+}
+
+// The C++ reader's Reader: little-endian fields at `pos`, every failure
+// "NAME: byte N: what" at the field's offset from the file's start.
+class ByteReader {
+  constructor(bytes, name) {
+    this.bytes = bytes;
+    this.view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+    this.name = name;
+    this.pos = 0;
+  }
+  fail(at, what) {
+    throw new DepthcullError(`${this.name}: byte ${at}: ${what}`);
+  }
+  left() {
+    return this.bytes.length - this.pos;
+  }
+  need(n, what) {
+    if (this.left() < n) this.fail(this.pos, `the file ends inside ${what}`);
+  }
+  take(n, what) {
+    this.need(n, what);
+    const at = this.pos;
+    this.pos += n;
+    return at;
+  }
+  u8(what) {
+    return this.view.getUint8(this.take(1, what));
+  }
+  u16(what) {
+    return this.view.getUint16(this.take(2, what), true);
+  }
+  u32(what) {
+    return this.view.getUint32(this.take(4, what), true);
+  }
+  i32(what) {
+    return this.view.getInt32(this.take(4, what), true);
+  }
+  i64(what) {
+    return this.view.getBigInt64(this.take(8, what), true);
+  }
+  u64(what) {
+    return this.view.getBigUint64(this.take(8, what), true);
+  }
+  f64(what) {
+    return this.view.getFloat64(this.take(8, what), true);
+  }
+  finite(what) {
+    const at = this.pos;
+    const v = this.f64(what);
+    if (!Number.isFinite(v)) this.fail(at, `${what} is not a finite number`);
+    return v;
+  }
+  size(what, max) {
+    const at = this.pos;
+    const v = this.i32(what);
+    if (v < 0 || v > max) this.fail(at, `${what} ${v} is outside 0..${max}`);
+    return v;
+  }
+  str(what) {
+    const at = this.pos;
+    const n = this.u32(what);
+    if (n > limits.maxStringBytes) this.fail(at, `${what} is longer than ${limits.maxStringBytes} bytes`);
+    const start = this.take(n, what);
+    return new TextDecoder().decode(this.bytes.subarray(start, start + n));
+  }
+  pad4(what) {
+    while (this.pos % 4) if (this.u8(what) !== 0) this.fail(this.pos - 1, `${what} padding is not zero`);
+  }
+}
+
+const MIN_IMAGE_BYTES = 16; // two empty strings and the sizes
+const DRAW_HEADER_BYTES = 16;
+const COLOUR_KEYED = 1 << 24;
+const SOLID_FILL = 1 << 25;
+const hex = (key) => (key & 0xffffff).toString(16).padStart(6, '0');
+
+function readBinaryHeader(r, out) {
+  if (!isBinaryMeshes(r.bytes)) r.fail(0, 'not a depthcull binary meshes file (no "DCMESH" magic)');
+  r.pos = 8;
+  const version = r.u32('the header');
+  if (version !== 1) r.fail(8, `format version ${version} is not supported (expected 1)`);
+  const flags = r.u32('the header');
+  if (flags & ~31)
+    r.fail(12, `unknown flags ${flags} (bit 0 depth_test, bit 1 colour keys, bit 2 linear filtering, bit 3 animations and bit 4 insertion points are defined)`);
+  out.depthTest = Boolean(flags & 1);
+  out.filter = flags & 4 ? 'linear' : 'nearest';
+  const x = r.finite('viewport x');
+  const y = r.finite('viewport y');
+  out.viewport = { x, y, width: r.size('viewport width', INT32_MAX), height: r.size('viewport height', INT32_MAX) };
+  const countsAt = r.pos;
+  const images = r.u32('the header');
+  const draws = r.u32('the header');
+  if (images > limits.maxImages) r.fail(countsAt, `more than ${limits.maxImages} images`);
+  if (draws > limits.maxDraws) r.fail(countsAt + 4, `more than ${limits.maxDraws} draws`);
+  for (const key of ['elements', 'drawCalls', 'triangles', 'depthLevels', 'depthBits', 'graphEdges']) {
+    const at = r.pos;
+    const v = r.i64('the header');
+    if (v < 0n) r.fail(at, 'a negative stats count');
+    out.stats[key] = Number(v);
+  }
+  const secondsAt = r.pos;
+  out.stats.seconds = r.finite('stats seconds');
+  if (out.stats.seconds < 0) r.fail(secondsAt, 'negative stats seconds');
+  const left = r.left();
+  if (Math.floor(left / MIN_IMAGE_BYTES) < images || Math.floor((left - images * MIN_IMAGE_BYTES) / DRAW_HEADER_BYTES) < draws)
+    r.fail(countsAt, `${images} images and ${draws} draws do not fit in the ${left} bytes left`);
+  return { flags, images, draws };
+}
+
+function readBinaryImage(r, colourKeys, baseUrl) {
+  const id = r.str('an image id');
+  const path = r.str('an image path');
+  r.pad4('an image entry');
+  const img = { id, path, width: r.size('image width', limits.maxImageSide), height: r.size('image height', limits.maxImageSide) };
+  img.url = resolvePath(baseUrl, path);
+  if (colourKeys) {
+    const at = r.pos;
+    const key = r.u32('an image colour key');
+    // One encoding per value: a word with neither bit is 0.
+    if (key & ~(COLOUR_KEYED | SOLID_FILL | 0xffffff) || (key & COLOUR_KEYED && key & SOLID_FILL) || (!(key & (COLOUR_KEYED | SOLID_FILL)) && key))
+      r.fail(at, `colour key ${key} has unknown bits`);
+    if (key & SOLID_FILL) {
+      if (path) r.fail(at, 'a solid fill image names a path');
+      img.fill = hex(key);
+      img.url = '';
+    }
+    if (key & COLOUR_KEYED) img.trans = hex(key);
+  }
+  return img;
+}
+
+function readBinaryDraw(r, imageCount, totals) {
+  const at = r.pos;
+  const image = r.u32('a draw header');
+  if (image >= imageCount) r.fail(at, `draw names image ${image} of ${imageCount}`);
+  const pass = r.u8('a draw header');
+  if (pass > 1) r.fail(at + 4, `unknown pass ${pass} (0 opaque, 1 blend)`);
+  const blend = r.u8('a draw header');
+  if (blend > 3) r.fail(at + 5, `unknown blend ${blend} (0 alpha, 1 add, 2 multiply, 3 opaque)`);
+  if (r.u16('a draw header') !== 0) r.fail(at + 6, 'reserved field is not 0');
+  const vertexCount = r.u32('a draw header');
+  const indexCount = r.u32('a draw header');
+  if (vertexCount > limits.maxVertices - totals.vertices) r.fail(at + 8, `more than ${limits.maxVertices} vertices in all draws`);
+  if (indexCount > limits.maxIndices - totals.indices) r.fail(at + 12, `more than ${limits.maxIndices} indices in all draws`);
+  if (indexCount % 3) r.fail(at + 12, `index count ${indexCount} is not a multiple of 3 (triangles)`);
+  const payload = vertexCount * VERTEX_FLOATS * 4 + indexCount * 4;
+  if (payload > r.left()) r.fail(at + 8, `${vertexCount} vertices and ${indexCount} indices do not fit in the ${r.left()} bytes left`);
+  totals.vertices += vertexCount;
+  totals.indices += indexCount;
+  // Copied out (the file's offsets need not be 4-aligned in memory): typed
+  // arrays a renderer uploads as they are.
+  const verticesAt = r.pos;
+  const vertices = new Float32Array(vertexCount * VERTEX_FLOATS);
+  for (let k = 0; k < vertices.length; ++k) {
+    vertices[k] = r.view.getFloat32(verticesAt + 4 * k, true);
+    const problem = vertexProblem(k, vertices[k]);
+    if (problem) r.fail(verticesAt + 4 * k, `vertex ${Math.floor(k / VERTEX_FLOATS)} value ${k % VERTEX_FLOATS} ${problem}`);
+  }
+  r.pos += vertices.length * 4;
+  const indicesAt = r.pos;
+  const indices = new Uint32Array(indexCount);
+  for (let k = 0; k < indexCount; ++k) {
+    indices[k] = r.view.getUint32(indicesAt + 4 * k, true);
+    if (indices[k] >= vertexCount) r.fail(indicesAt + 4 * k, `index ${indices[k]} is not below the draw's vertex count ${vertexCount}`);
+  }
+  r.pos += indexCount * 4;
+  return { image, pass: pass === 0 ? 'opaque' : 'blend', blend: BLENDS[blend], vertices, indices };
+}
+
+function readBinaryAnimations(r, out) {
+  const draws = out.draws.length;
+  const at = r.pos;
+  const count = r.u32('the animation count');
+  if (count === 0) r.fail(at, 'flags bit 3 (animations) is set but the animation count is 0');
+  if (count > limits.maxAnimations) r.fail(at, `more than ${limits.maxAnimations} animations`);
+  const FRAME = 24;
+  const RUN = 12;
+  if (Math.floor(r.left() / (4 + FRAME)) < count || Math.floor((r.left() - count * (4 + FRAME)) / 4) < draws)
+    r.fail(at, `${count} animations and the runs of ${draws} draws do not fit in the ${r.left()} bytes left`);
+  for (let i = 0; i < count; ++i) {
+    const framesAt = r.pos;
+    const frames = r.u32('an animation');
+    if (frames === 0) r.fail(framesAt, `animation ${i} has no frames`);
+    if (frames > limits.maxAnimationFrames) r.fail(framesAt, `more than ${limits.maxAnimationFrames} frames in an animation`);
+    if (Math.floor(r.left() / FRAME) < frames) r.fail(framesAt, `${frames} frames do not fit in the ${r.left()} bytes left`);
+    const anim = { frames: [] };
+    for (let k = 0; k < frames; ++k) {
+      const frameAt = r.pos;
+      const image = r.u32('an animation frame');
+      if (image >= out.images.length) r.fail(frameAt, `frame names image ${image} of ${out.images.length}`);
+      const rect = ['frame x', 'frame y', 'frame width', 'frame height'].map((w) => r.size(w, limits.maxImageSide));
+      if (rect[2] <= 0 || rect[3] <= 0) r.fail(frameAt + 12, 'an empty frame rect');
+      if (k && (rect[2] !== anim.frames[0].rect[2] || rect[3] !== anim.frames[0].rect[3])) r.fail(frameAt + 12, `frame ${k} is not the size of frame 0`);
+      anim.frames.push({ image, rect, duration: r.size('frame duration', INT32_MAX) });
+    }
+    out.animations.push(anim);
+  }
+  for (let d = 0; d < draws; ++d) {
+    const runsAt = r.pos;
+    const runs = r.u32("a draw's animated runs");
+    if (Math.floor(r.left() / RUN) < runs || r.left() - runs * RUN < (draws - d - 1) * 4)
+      r.fail(runsAt, `${runs} animated runs of draw ${d} do not fit in the ${r.left()} bytes left`);
+    const vertices = out.draws[d].vertices.length / VERTEX_FLOATS;
+    for (let k = 0; k < runs; ++k) {
+      const runAt = r.pos;
+      const firstVertex = r.u32('an animated run');
+      const vertexCount = r.u32('an animated run');
+      const animation = r.u32('an animated run');
+      if (vertexCount === 0 || firstVertex + vertexCount > vertices)
+        r.fail(runAt, `run of vertices ${firstVertex} + ${vertexCount} is not inside draw ${d}'s ${vertices}`);
+      if (animation >= out.animations.length) r.fail(runAt + 8, `run names animation ${animation} of ${out.animations.length}`);
+      out.animated.push({ draw: d, firstVertex, vertexCount, animation });
+    }
+  }
+}
+
+const POINT_FIELD_OFFSETS = { element: 0, levels: 8, first_level: 16, blend_draw: 24 };
+
+function readBinaryInsertionPoints(r, out) {
+  const at = r.pos;
+  const count = r.u32('the insertion point count');
+  if (count === 0) r.fail(at, 'flags bit 4 (insertion points) is set but the insertion point count is 0');
+  if (count > limits.maxInsertionPoints) r.fail(at, `more than ${limits.maxInsertionPoints} insertion points`);
+  if (Math.floor(r.left() / 32) < count) r.fail(at, `${count} insertion points do not fit in the ${r.left()} bytes left`);
+  for (let k = 0; k < count; ++k) {
+    const pointAt = r.pos;
+    const element = r.u64('an insertion point');
+    const levels = r.i64('an insertion point');
+    const firstLevel = r.i64('an insertion point');
+    const blendDraw = r.u32('an insertion point');
+    if (r.u32('an insertion point') !== 0) r.fail(pointAt + 28, 'insertion point reserved field is not 0');
+    if (element > 0x7fffffffffffffffn) r.fail(pointAt, `insertion point element ${element} is past the scene's elements`);
+    // Values past 2^53 are far outside every range checked below, so the
+    // rounding of Number() changes no verdict (the message may round).
+    out.insertionPoints.push({ element: Number(element), levels: Number(levels), firstLevel: Number(firstLevel), blendDraw });
+    const problem = insertionPointProblem(out, k);
+    if (problem) r.fail(pointAt + POINT_FIELD_OFFSETS[problem[0]], `insertion point ${k}: ${problem[1]}`);
+  }
+  const problem = insertionLevelsProblem(out);
+  if (problem) r.fail(at, problem);
+}
+
+/**
+ * The binary form (docs/mesh-format.md; src/io/mesh_binary_reader.cpp),
+ * checked as the C++ reader checks it, every count against the bytes left
+ * before allocating; the same object as parseMeshesJson. Errors:
+ * "NAME: byte N: what".
+ */
+export function parseMeshesBinary(data, { name = 'meshes', baseUrl } = {}) {
+  const bytes = data instanceof ArrayBuffer ? new Uint8Array(data) : new Uint8Array(data.buffer, data.byteOffset, data.byteLength);
+  const r = new ByteReader(bytes, name);
+  const out = { viewport: null, depthTest: false, filter: 'nearest', images: [], draws: [], stats: {}, animations: [], animated: [], insertionPoints: [] };
+  const { flags, images, draws } = readBinaryHeader(r, out);
+  for (let i = 0; i < images; ++i) out.images.push(readBinaryImage(r, Boolean(flags & 2), baseUrl));
+  // Bit 1 is set exactly when some image has a key or a fill (the writer's rule).
+  if (flags & 2 && !out.images.some((img) => img.trans !== undefined || img.fill !== undefined))
+    r.fail(12, 'flags bit 1 (colour keys) is set but no image has a colour key or fill');
+  const totals = { vertices: 0, indices: 0 };
+  for (let i = 0; i < draws; ++i) out.draws.push(readBinaryDraw(r, images, totals));
+  if (flags & 8) readBinaryAnimations(r, out);
+  checkDepthLevels(name, out);
+  if (flags & 16) readBinaryInsertionPoints(r, out);
+  if (r.left()) r.fail(r.pos, `${r.left()} bytes after the ${flags & 16 ? 'insertion points' : flags & 8 ? 'animations' : 'last draw'}`);
+  return out;
 }

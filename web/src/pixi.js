@@ -48,6 +48,29 @@ export class DepthCulledLayer extends RenderContainer {
     this.label = options.label ?? 'DepthCulledLayer';
     this.stats = { draws: 0, triangles: 0 };
     this._renderers = new Map(); // per GL context (one Pixi renderer usually)
+    this.assembler = null;
+    this.movingSprites = null;
+    this.frameStats = null;
+  }
+
+  /**
+   * Moving sprites drawn with the layer every frame, depth-culled at the
+   * meshes' insertion points (`optimize --insert-at`): `assembler` a
+   * FrameAssembler (depthcull.createFrameAssembler(), src/frames.js) whose
+   * images name textures by their index in `textures` (Pixi Textures or
+   * TextureSources of the whole images, premultiplied as Pixi uploads
+   * them). Then set `layer.movingSprites` each frame: one sprite list per
+   * insertion point (assemble()'s input; with meshes without points, one
+   * list drawn on top). Sprite colours go to the shader as floats: white
+   * and opaque ones draw exactly what Pixi sprites draw.
+   */
+  setMovingSprites(assembler, textures) {
+    if (!assembler || typeof assembler.assemble !== 'function') throw new DepthcullError('DepthCulledLayer.setMovingSprites: expected a FrameAssembler');
+    if (!Array.isArray(textures)) throw new DepthcullError('DepthCulledLayer.setMovingSprites: expected an array of textures');
+    assembler.setStaticMeshes(this.meshes);
+    this.assembler = assembler;
+    this.frameSources = textures.map((t) => (t ? t.source ?? t : null));
+    this.movingSprites = [];
   }
 
   /** Loads a meshes file and its images through Pixi's Assets, nearest (or the file's filter). */
@@ -87,7 +110,13 @@ export class DepthCulledLayer extends RenderContainer {
     const u = renderer.globalUniforms.globalUniformData;
     const m = u.projectionMatrix.clone().append(u.worldTransformMatrix).append(this.groupTransform);
     const matrix = new Float32Array([m.a, m.b, 0, m.c, m.d, 0, m.tx, m.ty, 1]);
-    this.stats = r.draw({ matrix });
+    let frame;
+    if (this.assembler && this.movingSprites) {
+      frame = this.assembler.assemble(this.movingSprites, this.meshes.viewport);
+      this.frameStats = frame.stats;
+    }
+    const frameTextures = frame ? this.frameSources.map((s) => (s ? renderer.texture.getGlSource(s).texture : null)) : undefined;
+    this.stats = r.draw({ matrix, frame, frameTextures });
   }
 
   destroy(options) {

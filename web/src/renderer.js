@@ -11,6 +11,7 @@
 import { DepthcullError } from './index.js';
 
 const VERTEX_FLOATS = 9;
+const BLEND_NAMES = ['alpha', 'add', 'multiply', 'opaque'];
 
 const VERTEX = `#version 300 es
 precision highp float;
@@ -271,50 +272,115 @@ export class MeshRenderer {
     return blend === 'multiply' ? 1 : 0;
   }
 
+  // The frame's vertex and index buffers (a VAO of their own: 9 floats a
+  // vertex), grown to the largest frame so far and then only overwritten.
+  #uploadFrame(frame) {
+    const gl = this.gl;
+    if (!this.frameVao) {
+      this.frameVao = gl.createVertexArray();
+      this.frameVbo = gl.createBuffer();
+      this.frameIbo = gl.createBuffer();
+      this.frameCapacity = [0, 0];
+      gl.bindVertexArray(this.frameVao);
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.frameVbo);
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.frameIbo);
+      const stride = VERTEX_FLOATS * 4;
+      gl.enableVertexAttribArray(0);
+      gl.vertexAttribPointer(0, 3, gl.FLOAT, false, stride, 0);
+      gl.enableVertexAttribArray(1);
+      gl.vertexAttribPointer(1, 2, gl.FLOAT, false, stride, 12);
+      gl.enableVertexAttribArray(2);
+      gl.vertexAttribPointer(2, 4, gl.FLOAT, false, stride, 20);
+    }
+    gl.bindVertexArray(this.frameVao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.frameVbo);
+    const cap = this.frameCapacity;
+    if (frame.vertices.byteLength > cap[0]) gl.bufferData(gl.ARRAY_BUFFER, (cap[0] = frame.vertices.byteLength * 2), gl.STREAM_DRAW);
+    if (frame.indices.byteLength > cap[1]) gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, (cap[1] = frame.indices.byteLength * 2), gl.STREAM_DRAW);
+    if (frame.vertices.length) gl.bufferSubData(gl.ARRAY_BUFFER, 0, frame.vertices);
+    if (frame.indices.length) gl.bufferSubData(gl.ELEMENT_ARRAY_BUFFER, 0, frame.indices);
+  }
+
   /**
    * Draws the meshes into the bound framebuffer. `matrix`: a column-major
    * mat3 (Float32Array(9)) from world pixels to clip space, or `camera`
    * {x, y, width, height} (cameraMatrix). `clearDepth` (default true) clears
    * the depth buffer to 0 first. Returns this frame's {draws, triangles}.
+   *
+   * `frame`: moving sprites (FrameAssembler.assemble's result, src/frames.js)
+   * drawn with the static meshes as runtime::Renderer::draw_frame draws
+   * them: the frame's opaque draws first (its sprites lie in front of the
+   * static levels below their points and behind those above: the depth test
+   * sorts it), then the static opaque pass, then the static blend draws with
+   * each insertion point's blend draws before the static draw it names.
+   * Its draws name `frameTextures` (default the meshes' textures).
+   * Without static meshes (setMeshes not called) only the frame is drawn.
    */
-  draw({ matrix, camera, clearDepth = true } = {}) {
+  draw({ matrix, camera, clearDepth = true, frame, frameTextures } = {}) {
     const gl = this.gl;
-    const m = matrix ?? cameraMatrix(camera ?? this.meshes.viewport);
+    const m = matrix ?? cameraMatrix(camera ?? this.meshes?.viewport);
     const stats = { draws: 0, triangles: 0 };
     const saved = this.#save();
+    const useDepth = this.depthTest || (frame ? frame.depthTest && frame.opaqueDraws > 0 : false);
+    const texturesOfFrame = frameTextures ?? this.textures;
+    let lastMode = -1;
+    const drawOne = (texture, pass, blend, first, count) => {
+      if (count === 0) return;
+      const mode = pass === 'opaque' ? (blend === 'opaque' ? 2 : 0) : this.#blend(blend);
+      if (mode !== lastMode) gl.uniform1i(this.uMode, (lastMode = mode));
+      gl.bindTexture(gl.TEXTURE_2D, texture ?? null);
+      gl.drawElements(gl.TRIANGLES, count, gl.UNSIGNED_INT, first * 4);
+      stats.draws += 1;
+      stats.triangles += count / 3;
+    };
+    const frameDraws = (from, to) => {
+      if (from >= to) return;
+      gl.bindVertexArray(this.frameVao);
+      const d = frame.draws;
+      for (let k = from; k < to; ++k) {
+        const w = 5 * k;
+        drawOne(texturesOfFrame[d[w]], d[w + 1] === 0 ? 'opaque' : 'blend', BLEND_NAMES[d[w + 2]], d[w + 3], d[w + 4]);
+      }
+      gl.bindVertexArray(this.vao);
+    };
+    let nextStatic = 0; // the static draws' blend pass cursor
+    const staticBlendUntil = (end) => {
+      for (; nextStatic < Math.min(end, this.draws.length); ++nextStatic) {
+        const d = this.draws[nextStatic];
+        if (d.pass === 'blend') drawOne(this.textures[d.image], 'blend', d.blend, d.first, d.count);
+      }
+    };
     try {
       gl.useProgram(this.program);
-      gl.bindVertexArray(this.vao);
       gl.uniformMatrix3fv(this.uMatrix, false, m);
       gl.uniform1i(this.uTexture, 0);
       gl.uniform1i(this.uPremultiply, this.premultipliedAlpha ? 1 : 0);
       gl.bindSampler(0, null);
       gl.disable(gl.CULL_FACE); // mirrored elements have the other winding
+      if (frame) this.#uploadFrame(frame);
+      gl.bindVertexArray(this.vao);
       if (clearDepth) {
         gl.depthMask(true);
         gl.clearDepth(0);
         gl.clear(gl.DEPTH_BUFFER_BIT);
       }
-      for (const pass of ['opaque', 'blend']) {
-        if (this.depthTest) {
-          gl.enable(gl.DEPTH_TEST);
-          gl.depthFunc(gl.GREATER);
-        } else {
-          gl.disable(gl.DEPTH_TEST);
-        }
-        gl.depthMask(pass === 'opaque');
-        if (pass === 'opaque') gl.disable(gl.BLEND);
-        let lastMode = -1;
-        for (const d of this.draws) {
-          if (d.pass !== pass || d.count === 0) continue;
-          const mode = pass === 'opaque' ? (d.blend === 'opaque' ? 2 : 0) : this.#blend(d.blend);
-          if (mode !== lastMode) gl.uniform1i(this.uMode, (lastMode = mode));
-          gl.bindTexture(gl.TEXTURE_2D, this.textures[d.image] ?? null);
-          gl.drawElements(gl.TRIANGLES, d.count, gl.UNSIGNED_INT, d.first * 4);
-          stats.draws += 1;
-          stats.triangles += d.count / 3;
-        }
+      if (useDepth) {
+        gl.enable(gl.DEPTH_TEST);
+        gl.depthFunc(gl.GREATER);
+      } else {
+        gl.disable(gl.DEPTH_TEST);
       }
+      gl.depthMask(true);
+      gl.disable(gl.BLEND);
+      if (frame) frameDraws(0, frame.opaqueDraws);
+      for (const d of this.draws) if (d.pass === 'opaque') drawOne(this.textures[d.image], 'opaque', d.blend, d.first, d.count);
+      gl.depthMask(false);
+      if (frame)
+        for (let p = 0; p < frame.pointCount; ++p) {
+          staticBlendUntil(frame.points[3 * p]);
+          frameDraws(frame.points[3 * p + 1], frame.points[3 * p + 2]);
+        }
+      staticBlendUntil(this.draws.length);
     } finally {
       this.#restore(saved);
     }
@@ -328,5 +394,10 @@ export class MeshRenderer {
     gl.deleteVertexArray(this.vao);
     gl.deleteBuffer(this.vbo);
     gl.deleteBuffer(this.ibo);
+    if (this.frameVao) {
+      gl.deleteVertexArray(this.frameVao);
+      gl.deleteBuffer(this.frameVbo);
+      gl.deleteBuffer(this.frameIbo);
+    }
   }
 }

@@ -15,6 +15,9 @@ import { parseMeshes, parseMeshesJson } from '../src/meshes.js';
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const cli = process.env.DEPTHCULL_CLI ?? join(root, 'build', 'depthcull');
 
+// Depth level 0 of depth_bits 10 (D = 256) draws at 1/D and 2/D.
+const Z = 2 / 256;
+
 // The smallest valid file, changed by each case.
 function valid() {
   return {
@@ -22,7 +25,7 @@ function valid() {
     depth_test: true,
     filter: 'nearest',
     images: [{ id: 'a', path: 'a.png', width: 2, height: 2 }],
-    draws: [{ image: 'a', pass: 'blend', blend: 'alpha', vertices: [0, 0, 0.5, 0, 0, 1, 1, 1, 1, 2, 0, 0.5, 1, 0, 1, 1, 1, 1, 0, 2, 0.5, 0, 1, 1, 1, 1, 1], indices: [0, 1, 2] }],
+    draws: [{ image: 'a', pass: 'blend', blend: 'alpha', vertices: [0, 0, Z, 0, 0, 1, 1, 1, 1, 2, 0, Z, 1, 0, 1, 1, 1, 1, 0, 2, Z, 0, 1, 1, 1, 1, 1], indices: [0, 1, 2] }],
     stats: { elements: 1, draw_calls: 1, triangles: 1, depth_levels: 1, depth_bits: 10, graph_edges: 0, seconds: 0 },
   };
 }
@@ -55,6 +58,14 @@ const cases = [
   ['index out of range', (d) => (d.draws[0].indices[2] = 3), 'bad.meshes.json: draws[0].indices[2]: must be an integer in 0..2'],
   ['not triangles', (d) => d.draws[0].indices.push(0), 'bad.meshes.json: draws[0].indices: has 4 indices, not a multiple of 3 (triangles)'],
   ['negative seconds', (d) => (d.stats.seconds = -1), 'bad.meshes.json: stats.seconds: must not be negative'],
+  ['depth levels below the draws', (d) => (d.stats.depth_levels = 0), 'bad.meshes.json: stats depth_levels 0 is lower than the 1 levels its draws\' z values use'],
+  ['depth levels past the mapping', (d) => (d.stats.depth_levels = 200), 'bad.meshes.json: stats depth_levels 200 is more than the depth mapping resolves (128 levels for depth_bits 10; kMaxDepthLevels)'],
+  ['insertion point not an object', (d) => (d.insertion_points = [1]), 'bad.meshes.json: insertion_points[0]: must be an object'],
+  ['insertion point past the elements', (d) => (d.insertion_points = [{ element: 2, levels: 1, first_level: 1, blend_draw: 1 }]), "bad.meshes.json: insertion_points[0].element: element 2 is past the scene's 1 elements (stats elements)"],
+  ['insertion point levels outside', (d) => (d.insertion_points = [{ element: 1, levels: 2, first_level: 1, blend_draw: 1 }]), 'bad.meshes.json: insertion_points[0].first_level: levels 1 + 2 are not inside the 2 depth levels of stats depth_levels'],
+  ['insertion point on a static level', (d) => (d.insertion_points = [{ element: 0, levels: 1, first_level: 0, blend_draw: 0 }]), 'bad.meshes.json: insertion_points: draw 0 vertex 0 has depth level 0, reserved by insertion point 0'],
+  ['insertion point blend draw', (d) => (d.insertion_points = [{ element: 1, levels: 1, first_level: 1, blend_draw: 2 }]), 'bad.meshes.json: insertion_points[0].blend_draw: blend_draw 2 is past the 1 draws'],
+  ['insertion point missing key', (d) => (d.insertion_points = [{ element: 1, levels: 1, first_level: 1 }]), 'bad.meshes.json: insertion_points[0]: missing "blend_draw"'],
   ['animated draw', (d) => (d.animated = [{ draw: 1, first_vertex: 0, vertex_count: 1, animation: 0 }]), 'bad.meshes.json: animated[0].draw: must be an integer in 0..0'],
 ];
 
@@ -63,6 +74,7 @@ for (const [label, change, expected] of cases) {
     let text = change;
     if (typeof change === 'function') {
       const d = valid();
+      if (label.startsWith('insertion point')) d.stats.depth_levels = 2;
       change(d);
       text = JSON.stringify(d);
     }
@@ -72,10 +84,6 @@ for (const [label, change, expected] of cases) {
   });
 }
 
-test('binary form: not read yet, said in one line', () => {
-  const bytes = new TextEncoder().encode('DCMESH\0\0....');
-  assert.throws(() => parseMeshes(bytes, { name: 'x.bin' }), { name: 'DepthcullError', message: /^x\.bin: the binary meshes form is not read in JavaScript yet/ });
-});
 
 test('the bundled example as the CLI writes it: draws and stats read back', { skip: !existsSync(cli) && `no CLI at ${cli}` }, () => {
   const dir = mkdtempSync(join(tmpdir(), 'dc-meshes-'));

@@ -5,6 +5,7 @@ import * as PIXI from 'pixi.js';
 import { DepthCulledLayer } from '../../src/pixi.js';
 import { parseMeshes, loadMeshes } from '../../src/meshes.js';
 import { MeshRenderer } from '../../src/renderer.js';
+import { loadDepthcull } from '../../src/index.js';
 
 const TEXEL_EDGE_TOLERANCE = 1 / 65536; // render::kTexelEdgeTolerance
 
@@ -82,8 +83,31 @@ function texelMaps(scene, sources) {
   });
 }
 
-function onTexelEdge(t) {
-  return Math.abs(t - Math.round(t)) <= TEXEL_EDGE_TOLERANCE;
+// One float32 step at |x|: both Pixi and the layer hand the GPU float32
+// screen positions, rounded differently (Pixi's quad corners, the layer's
+// polygon vertices), so texture coordinates interpolated at a pixel centre
+// may differ by about that much, divided by the element's scale.
+function ulp32(x) {
+  const e = Math.floor(Math.log2(Math.max(Math.abs(x), 2 ** -126)));
+  return 2 ** (e - 23);
+}
+
+// Within kTexelEdgeTolerance of a texel edge, or within the float32
+// position rounding (in texels) at a screen position past 256 pixels:
+// examples/meadow.json's pixel (542, 69) has its centre 3.0e-5 texels from
+// a "moons" texel edge (u = 19.0000297; scale 1.2), under one float32 step
+// at x = 542 (6.1e-5 px = 5.1e-5 texels): either side is a right answer.
+// An image file's RGBA8 texels, not premultiplied (what the analysis reads).
+async function decodedPixels(url) {
+  const bitmap = await createImageBitmap(await (await fetch(url)).blob(), { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
+  const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+  const ctx = canvas.getContext('2d');
+  ctx.drawImage(bitmap, 0, 0);
+  return ctx.getImageData(0, 0, bitmap.width, bitmap.height);
+}
+
+function onTexelEdge(t, tol = TEXEL_EDGE_TOLERANCE) {
+  return Math.abs(t - Math.round(t)) <= tol;
 }
 
 function compare(scene, sources, a, b, width, height) {
@@ -95,14 +119,16 @@ function compare(scene, sources, a, b, width, height) {
       const i = ((height - 1 - row) * width + x) * 4; // readPixels rows are bottom-up
       if (a[i] === b[i] && a[i + 1] === b[i + 1] && a[i + 2] === b[i + 2] && a[i + 3] === b[i + 3]) continue;
       ++differ;
-      const sx = scene.viewport.x + x + 0.5, sy = scene.viewport.y + row + 0.5;
+      const sx = (scene.viewport.x ?? 0) + x + 0.5, sy = (scene.viewport.y ?? 0) + row + 0.5; // x, y are optional in scene JSON
       let explained = false;
       for (const m of maps) {
         const px = sx - m.tx, py = sy - m.ty;
         const u = m.rect[0] + (m.d * px - m.c * py) / m.det, v = m.rect[1] + (-m.b * px + m.a * py) / m.det;
         const tol = TEXEL_EDGE_TOLERANCE;
         if (u < m.rect[0] - tol || v < m.rect[1] - tol || u > m.rect[0] + m.rect[2] + tol || v > m.rect[1] + m.rect[3] + tol) continue;
-        if (onTexelEdge(u) || onTexelEdge(v)) {
+        const rounding = ulp32(Math.max(Math.abs(sx), Math.abs(sy))) / Math.sqrt(Math.abs(m.det));
+        const edge = Math.max(TEXEL_EDGE_TOLERANCE, rounding);
+        if (onTexelEdge(u, edge) || onTexelEdge(v, edge)) {
           explained = true;
           break;
         }
@@ -171,6 +197,155 @@ window.depthcullTest = {
     const stats = layer.stats;
     app.destroy(true, { children: true });
     return { ...result, width, height, elements: scene.elements.length, stats, glRenderer };
+  },
+
+  // Moving sprites for `frames` frames: the scene as plain Pixi sprites with
+  // `count` plain Pixi sprites moving on top, against the layer drawing the
+  // same sprites through its FrameAssembler (on top of the meshes: the
+  // levels above them), frame by frame. The sprites show the pictures of
+  // the scene's first plain-image elements, at whole-pixel positions that
+  // change every frame (several overlapping).
+  //
+  // With `atElement` (no meshesUrl): the meshes are reconstructed in the
+  // wasm with an insertion point before that element (reconstructScene,
+  // as optimize --insert-at), the sprites go there, and the plain app draws
+  // them between the elements before it and those after it.
+  async identityMoving({ sceneUrl, meshesUrl, frames = 60, count = 24, atElement }) {
+    const scene = await (await fetch(sceneUrl)).json();
+    const depthcull = await loadDepthcull();
+    let meshes;
+    if (atElement === undefined) meshes = await loadMeshes(meshesUrl);
+    else {
+      const ids = scene.images.map((i) => i.id);
+      const images = [];
+      for (const img of scene.images) {
+        const { width, height, data } = await decodedPixels(new URL(img.path, sceneUrl).href); // getters: no spread
+        images.push({ id: img.id, width, height, data });
+      }
+      const elements = scene.elements.map((e) => ({ ...e, image: ids.indexOf(e.image) }));
+      meshes = depthcull.reconstructScene({ viewport: scene.viewport, images, elements, insertionPoints: [{ element: atElement, levels: count }] });
+    }
+    const { width, height } = meshes.viewport;
+    const app = new PIXI.Application();
+    await app.init({ width, height, preference: 'webgl', antialias: false, resolution: 1, background: 0x000000, preserveDrawingBuffer: true, autoStart: false });
+    document.body.appendChild(app.canvas);
+    const sources = await sceneSources(scene, sceneUrl);
+    const world = new PIXI.Container();
+    world.position.set(-meshes.viewport.x, -meshes.viewport.y);
+    const { back, front } = decorations(width, height);
+    app.stage.addChild(back, world, front);
+
+    // Up to 6 distinct pictures (image, rect) of plain images, their
+    // pixels decoded without premultiplication for the analysis.
+    const assembler = depthcull.createFrameAssembler();
+    const pictures = [];
+    const textures = [];
+    const seen = new Set();
+    for (const e of scene.elements) {
+      const img = scene.images.find((i) => i.id === e.image);
+      if (!img || img.fill || img.trans || pictures.length >= 6) continue;
+      const source = sources.get(e.image);
+      const rect = elementRect(e, source);
+      const key = `${e.image}:${rect}`;
+      if (seen.has(key) || rect[2] < 4 || rect[3] < 4) continue;
+      seen.add(key);
+      const pixels = await decodedPixels(new URL(img.path, sceneUrl).href);
+      let texture = textures.indexOf(source);
+      if (texture < 0) texture = textures.push(source) - 1;
+      const id = assembler.addImage(pixels, { texture, rect: { x: rect[0], y: rect[1], width: rect[2], height: rect[3] }, name: img.path });
+      pictures.push({ id, source, rect });
+    }
+    if (!pictures.length) throw new Error('no plain-image elements to move');
+    const place = (k, f) => {
+      const p = pictures[k % pictures.length];
+      // Whole pixels, a different path per sprite, crossing each other.
+      const x = meshes.viewport.x + ((k * 97 + f * (3 + (k % 5))) % Math.max(1, width - p.rect[2]));
+      const y = meshes.viewport.y + ((k * 61 + f * (2 + (k % 3))) % Math.max(1, height - p.rect[3]));
+      return { p, x, y };
+    };
+
+    const plain = plainSprites(scene, sources);
+    const moving = new PIXI.Container();
+    const pixiSprites = [];
+    for (let k = 0; k < count; ++k) {
+      const { p } = place(k, 0);
+      const s = new PIXI.Sprite(new PIXI.Texture({ source: p.source, frame: new PIXI.Rectangle(...p.rect) }));
+      pixiSprites.push(s);
+      moving.addChild(s);
+    }
+    const layer = new DepthCulledLayer(meshes, meshes.images.map((img) => sources.get(img.id)));
+    layer.setMovingSprites(assembler, textures);
+    const sprites = Array.from({ length: count }, () => ({ image: 0, x: 0, y: 0 }));
+    let result = { differ: 0, offEdges: 0, examples: [] };
+    let draws = 0, triangles = 0, opaqueSprites = 0;
+    for (let f = 0; f < frames; ++f) {
+      for (let k = 0; k < count; ++k) {
+        const { p, x, y } = place(k, f);
+        pixiSprites[k].position.set(x, y);
+        Object.assign(sprites[k], { image: p.id, x, y });
+      }
+      if (atElement === undefined) world.addChild(plain, moving);
+      else {
+        plain.addChildAt(moving, atElement);
+        world.addChild(plain);
+      }
+      app.renderer.render(app.stage);
+      const a = readPixels(app);
+      world.removeChildren();
+      if (atElement !== undefined) plain.removeChild(moving);
+      layer.movingSprites = atElement === undefined ? sprites : [sprites];
+      world.addChild(layer);
+      app.renderer.render(app.stage);
+      const b = readPixels(app);
+      world.removeChildren();
+      const r = compare(scene, sources, a, b, width, height);
+      result = { differ: Math.max(result.differ, r.differ), offEdges: result.offEdges + r.offEdges, examples: result.examples.concat(r.examples.map((x) => `frame ${f}: ${x}`)).slice(0, 5) };
+      draws = Math.max(draws, layer.stats.draws);
+      triangles = Math.max(triangles, layer.stats.triangles);
+      opaqueSprites = layer.frameStats.opaqueDraws;
+    }
+    const glRenderer = rendererString(app.renderer.gl);
+    assembler.free();
+    app.destroy(true, { children: true });
+    return { ...result, width, height, elements: scene.elements.length, sprites: count, pictures: pictures.length, frames, stats: { draws, triangles, frameOpaqueDraws: opaqueSprites }, glRenderer };
+  },
+
+  // Times the analysis of an atlas page in the browser (what `depthcull
+  // atlas` does per frame): the page decoded, every frame's rect analysed
+  // with the defaults; the median of 5 runs, after one to warm up.
+  async analyzeAtlas({ pngUrl, jsonUrl }) {
+    const t0 = performance.now();
+    const depthcull = await loadDepthcull();
+    const loadMs = performance.now() - t0;
+    const wasmBytes = (await (await fetch(new URL('../../dist/depthcull.wasm', import.meta.url))).arrayBuffer()).byteLength;
+    const atlas = await (await fetch(jsonUrl)).json();
+    const bitmap = await createImageBitmap(await (await fetch(pngUrl)).blob(), { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
+    const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+    const ctx = canvas.getContext('2d');
+    ctx.drawImage(bitmap, 0, 0);
+    const image = ctx.getImageData(0, 0, bitmap.width, bitmap.height);
+    // A rotated frame lies turned in the page: its w and h swap there.
+    const frames = Object.values(atlas.frames).map((f) => (f.rotated ? { x: f.frame.x, y: f.frame.y, w: f.frame.h, h: f.frame.w } : f.frame));
+    const run = () => {
+      let vertices = 0;
+      for (const f of frames) {
+        const a = depthcull.analyzeImage(image, { rect: { x: f.x, y: f.y, width: f.w, height: f.h } });
+        for (const p of a.boundary) vertices += p.length;
+      }
+      return vertices;
+    };
+    const vertices = run();
+    const times = [];
+    for (let k = 0; k < 5; ++k) {
+      const t = performance.now();
+      run();
+      times.push(performance.now() - t);
+    }
+    times.sort((x, y) => x - y);
+    const whole = performance.now();
+    depthcull.analyzeImage(image);
+    const wholeMs = performance.now() - whole;
+    return { width: image.width, height: image.height, frames: frames.length, vertices, ms: times[2], wholeMs, loadMs, wasmBytes };
   },
 
   // The error a bad meshes file gives, as the caller sees it.
