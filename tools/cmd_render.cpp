@@ -56,7 +56,7 @@ void write_heatmap(const pipeline::PreparedScene& prepared, const SceneMeshes& d
     const SceneMeshes other_meshes = args.mode == render::Mode::overpaint ? meshes_for(other_mode, prepared, args) : drawn;
     const double od_other = render::analyze_overdraw(other_meshes, &other).overdraw();
     const double od_ideal = render::ideal_overdraw(prepared.scene, image_views(prepared), &ideal).overdraw();
-    Image picture = render::overdraw_heatmap({{title("overpaint", od_over), &over},
+    Image picture = report::overdraw_heatmap({{title("overpaint", od_over), &over},
                                               {title(render::mode_name(other_mode), od_other), &other},
                                               {title("ideal", od_ideal), &ideal}});
     outputs.stage(args.heatmap, io::encode_png(picture.view()));
