@@ -403,30 +403,28 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
         out.overpaint_ms = predict_ms(P, frame_features(overpaint_meshes(scene)));
     }
     // The frame predicted for a contestant (INFINITY if it cannot be built).
-    auto evaluate = [&](const Contestant& c, std::vector<ImageAnalysis>* storage, std::vector<const ImageAnalysis*>* pointers) {
-        std::map<Variant, std::size_t> index;
-        storage->clear();
-        for (std::size_t i = 0; i < n; ++i)
-            if (usable(i) && !index.count(c.variants[i])) {
-                index.emplace(c.variants[i], storage->size());
-                storage->push_back(make_variant(candidates[std::size_t(key_of(i))], c.variants[i]));
-            }
-        pointers->assign(n, nullptr); // after storage is complete: it never moves again
-        for (std::size_t i = 0; i < n; ++i)
-            if (usable(i)) (*pointers)[i] = &(*storage)[index.at(c.variants[i])];
+    auto evaluate = [&](const Contestant& c, SceneAnalysis* analysis) {
+        std::map<Variant, std::uint32_t> index;
+        analysis->images.clear();
+        analysis->of_element.assign(n, UINT32_MAX); // past images: of() gives nullptr
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!usable(i)) continue;
+            auto [it, fresh] = index.emplace(c.variants[i], std::uint32_t(analysis->images.size()));
+            if (fresh) analysis->images.push_back(make_variant(candidates[std::size_t(key_of(i))], c.variants[i]));
+            analysis->of_element[i] = it->second;
+        }
         ReconstructOptions o = options;
         o.opaque_polygons = c.opaque_pass;
         SceneMeshes m;
-        if (reconstruct_scene(scene, *pointers, o, &m) != ReconstructStatus::ok) return double(INFINITY);
+        if (reconstruct_scene(scene, analysis->per_element(), o, &m) != ReconstructStatus::ok) return double(INFINITY);
         return predict_ms(P, frame_features(m));
     };
     double best_ms = INFINITY;
     std::size_t best = 0;
     {
-        std::vector<ImageAnalysis> storage;
-        std::vector<const ImageAnalysis*> pointers;
+        SceneAnalysis scratch;
         for (std::size_t ci = 0; ci < contestants.size(); ++ci) {
-            const double ms = evaluate(contestants[ci], &storage, &pointers);
+            const double ms = evaluate(contestants[ci], &scratch);
             if (ms < best_ms) best_ms = ms, best = ci; // first wins ties: deterministic
         }
     }
@@ -450,8 +448,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
         for (std::size_t k = 0; k < keys; ++k) order[k] = k;
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return uses[a] > uses[b]; });
         constexpr std::size_t kMaxKeysTried = 12; // bounds the time: each try rasterizes the frame
-        std::vector<ImageAnalysis> storage;
-        std::vector<const ImageAnalysis*> pointers;
+        SceneAnalysis scratch;
         for (std::size_t r = 0; r < std::min(kMaxKeysTried, keys) && uses[order[r]] > 0; ++r) {
             const int k = int(order[r]);
             if (win.opaque_pass) {
@@ -465,7 +462,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
                             if (hider[h] == std::int64_t(i)) t.variants[h].dropped = false;
                     }
                 if (changed) {
-                    const double ms = evaluate(t, &storage, &pointers);
+                    const double ms = evaluate(t, &scratch);
                     if (ms < best_ms) {
                         best_ms = ms, win = t;
                         for (std::size_t i = 0; i < n; ++i) out.elements_reverted += usable(i) && key_of(i) == k && !win.variants[i].dropped;
@@ -478,19 +475,19 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
                 for (std::size_t i = 0; i < n; ++i)
                     if (usable(i) && key_of(i) == k && t.variants[i].boundary >= 0) t.variants[i].boundary = -1, changed = true;
                 if (changed) {
-                    const double ms = evaluate(t, &storage, &pointers);
+                    const double ms = evaluate(t, &scratch);
                     if (ms < best_ms) best_ms = ms, win = t, out.key_choice[std::size_t(k)] = -1;
                 }
             }
         }
     }
-    out.predicted_ms = evaluate(win, &out.storage, &out.element_analysis);
+    out.predicted_ms = evaluate(win, &out.analysis);
     out.opaque_pass = win.opaque_pass;
     out.fallback = win.name;
     for (std::size_t i = 0; i < n; ++i) {
         out.elements_dropped += win.variants[i].dropped;
         out.elements_opaque += usable(i) && win.opaque_pass && !win.variants[i].dropped && win.variants[i].opaque != Opaque::none &&
-                               !out.element_analysis[i]->opaque.empty();
+                               !out.analysis.of(i)->opaque.empty();
     }
     (void)dropped;
     return out;
