@@ -93,8 +93,6 @@ Image overdraw_heatmap(const std::vector<HeatmapPanel>& panels);
 
 // ---- HTML
 
-std::string base64(std::string_view bytes);
-std::string html_escape(std::string_view text);
 // data:image/png;base64,... of an image (encoded by io::encode_png).
 std::string png_data_uri(ImageView image);
 

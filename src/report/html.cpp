@@ -9,6 +9,7 @@
 #include "depthcull/io.h"
 #include "depthcull/report.h"
 #include "report/canvas.h"
+#include "report/html_text.h"
 
 namespace depthcull::report {
 

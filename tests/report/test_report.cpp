@@ -6,6 +6,7 @@
 #include "depthcull/analyze.h"
 #include "depthcull/report.h"
 #include "report/canvas.h" // internal: the font is tested here
+#include "report/html_text.h"
 
 namespace report = depthcull::report;
 using depthcull::Image;
