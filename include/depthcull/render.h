@@ -26,13 +26,6 @@ struct Error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-// ---- Analyzers (CPU only): in the core now (depthcull/overdraw.h, beside
-// reconstruction); these names stay for the renderer's callers.
-using depthcull::OverdrawMap;
-using depthcull::OverdrawStats;
-using depthcull::analyze_overdraw;
-using depthcull::ideal_overdraw;
-
 // ---- Comparing frames
 
 struct ImageDiff {

@@ -1,13 +1,13 @@
 // Comparing frames: exact counts on tiny hand-built frames (no GL).
 #include <gtest/gtest.h>
 
+#include "depthcull/overdraw.h"
 #include "depthcull/render.h"
 #include "render_scenes.h"
 
 namespace depthcull {
 namespace {
 
-using render::OverdrawMap;
 
 TEST(CompareImages, CountsPixelsAndLargestChannelDifference) {
     Image a = test::ascii_image({"#+", ".#"}), b = a;
