@@ -342,8 +342,8 @@ void run_bench(BenchArgs& args) {
             for (auto& mode : r.m.modes) mode.frame = {};
             for (auto& mode : r.rt.modes) mode.frame = {};
         } else {
-            render::OverdrawMap ideal;
-            render::ideal_overdraw(prepared.scene, image_views(prepared), &ideal);
+            OverdrawMap ideal;
+            ideal_overdraw(prepared.scene, image_views(prepared), &ideal);
             r.covered = covered_share(ideal);
         }
         results.push_back(std::move(r));

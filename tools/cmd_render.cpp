@@ -50,13 +50,13 @@ SceneMeshes meshes_for(render::Mode mode, const pipeline::PreparedScene& prepare
 // Overpaint | the mode drawn (optimized when that is overpaint) | ideal,
 // all counted by the CPU analyzer, which needs no GL.
 void write_heatmap(const pipeline::PreparedScene& prepared, const SceneMeshes& drawn, const RenderArgs& args, RunOutputs& outputs) {
-    render::OverdrawMap over, other, ideal;
-    const double od_over = render::analyze_overdraw(overpaint_meshes(prepared.scene), &over).overdraw();
+    OverdrawMap over, other, ideal;
+    const double od_over = analyze_overdraw(overpaint_meshes(prepared.scene), &over).overdraw();
     render::Mode other_mode = args.mode == render::Mode::overpaint ? render::Mode::optimized : args.mode;
     const SceneMeshes other_meshes = args.mode == render::Mode::overpaint ? meshes_for(other_mode, prepared, args) : drawn;
-    const double od_other = render::analyze_overdraw(other_meshes, &other).overdraw();
-    const double od_ideal = render::ideal_overdraw(prepared.scene, image_views(prepared), &ideal).overdraw();
-    Image picture = render::overdraw_heatmap({{title("overpaint", od_over), &over},
+    const double od_other = analyze_overdraw(other_meshes, &other).overdraw();
+    const double od_ideal = ideal_overdraw(prepared.scene, image_views(prepared), &ideal).overdraw();
+    Image picture = report::overdraw_heatmap({{title("overpaint", od_over), &over},
                                               {title(render::mode_name(other_mode), od_other), &other},
                                               {title("ideal", od_ideal), &ideal}});
     outputs.stage(args.heatmap, io::encode_png(picture.view()));
@@ -87,8 +87,8 @@ void run_render(RenderArgs& args) {
     if (!args.output.empty()) outputs.stage(args.output, io::encode_png(frame.view()));
 
     const double pixels = double(prepared.scene.viewport.width) * double(prepared.scene.viewport.height);
-    render::OverdrawMap ideal_map;
-    const double ideal = render::ideal_overdraw(prepared.scene, image_views(prepared), &ideal_map).overdraw();
+    OverdrawMap ideal_map;
+    const double ideal = ideal_overdraw(prepared.scene, image_views(prepared), &ideal_map).overdraw();
     const double od = double(counts.samples_passed) / pixels;
     std::fprintf(stderr,
                  "depthcull: %s: %s: %" PRId64 " draw calls, %" PRId64 " triangles, overdraw %.3f (ideal %.3f, %.2fx; fragments shaded "

@@ -57,7 +57,7 @@ std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& in) {
     return renderer;
 }
 
-double covered_share(const render::OverdrawMap& ideal) {
+double covered_share(const OverdrawMap& ideal) {
     if (ideal.counts.empty()) return 0;
     std::size_t covered = 0;
     for (std::uint32_t c : ideal.counts) covered += c > 0;
@@ -149,15 +149,15 @@ report::SceneReport scene_report(const std::string& path, const pipeline::Prepar
     }
     // Heatmaps by the CPU analyzers (they match GL_SAMPLES_PASSED exactly).
     const std::vector<ImageView> views = image_views(prepared);
-    render::OverdrawMap ideal;
-    const double od_ideal = render::ideal_overdraw(scene, views, &ideal).overdraw();
+    OverdrawMap ideal;
+    const double od_ideal = ideal_overdraw(scene, views, &ideal).overdraw();
     r.covered = covered_share(ideal);
     for (render::Mode mode : {render::Mode::overpaint, render::Mode::optimized}) {
         SceneMeshes meshes;
         if (render::build_meshes(mode, scene, prepared.analysis, reconstruct_options(input), &meshes) != ReconstructStatus::ok)
             continue;
-        render::OverdrawMap map;
-        const double od = render::analyze_overdraw(meshes, &map).overdraw();
+        OverdrawMap map;
+        const double od = analyze_overdraw(meshes, &map).overdraw();
         r.heatmaps.push_back({render::mode_name(mode), map.width, map.height, std::move(map.counts), od});
     }
     r.heatmaps.push_back({"ideal", ideal.width, ideal.height, std::move(ideal.counts), od_ideal});

@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "depthcull/io.h"
+#include "depthcull/overdraw.h"
 #include "depthcull/pipeline.h"
 #include "depthcull/render.h"
 
@@ -46,7 +47,7 @@ namespace depthcull::cli {
 // Share of viewport pixels where some element shows a non-transparent
 // texel (the ideal map's non-zero pixels): overdraw is fragments over all
 // viewport pixels, so this says how much of that denominator is empty.
-double covered_share(const render::OverdrawMap& ideal);
+double covered_share(const OverdrawMap& ideal);
 
 // One scene's section of the HTML report from what bench measured (one of
 // rt / m, with frames kept): Table 2 rows, frames, heatmaps (CPU

@@ -106,10 +106,10 @@ struct TargetCandidates {
 };
 
 struct TargetChoice {
-    // Per element, what reconstruct_scene should take (into `storage`);
-    // nullptr where the input had none.
-    std::vector<const ImageAnalysis*> element_analysis;
-    std::vector<ImageAnalysis> storage;    // never resized after the pointers are taken
+    // What reconstruct_scene should take: each chosen analysis once, and
+    // per element an index into them (analysis.of(i) is nullptr where the
+    // input had none). Indices, not pointers, so a copy stands alone.
+    SceneAnalysis analysis;
     bool opaque_pass = true;               // ReconstructOptions::opaque_polygons
     // Per key: the chosen candidate (-1: the element's whole rect).
     std::vector<int> key_choice;

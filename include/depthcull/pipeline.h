@@ -166,7 +166,7 @@ struct TargetPlan {
     int min_opaque_area = 0;               // MIN_OPAQUE_AREA from the profile
     std::deque<ImageAnalysis> candidates;  // per distinct rect and budget (choice's pointers point here)
     TargetChoice choice;
-    SceneAnalysis analysis;                // choice.element_analysis as a value
+    SceneAnalysis analysis;                // choice.analysis (a copy)
     int analyzed = 0, cache_hits = 0;
     // Reconstruction options with the choice applied (opaque_polygons).
     ReconstructOptions reconstruct;

@@ -4,7 +4,8 @@
 // ideal_overdraw) need no GL and live in the core (depthcull/overdraw.h).
 // The GL renderer draws a SceneMeshes headlessly (EGL, no window) and measures
 // draw calls, triangles, fragments passing the depth test (GL_SAMPLES_PASSED)
-// and time per frame.
+// and time per frame. Pictures of overdraw counts (heatmaps) are drawn by
+// depthcull::report (report::overdraw_heatmap).
 #pragma once
 
 #include <array>
@@ -26,13 +27,6 @@ namespace depthcull::render {
 struct Error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
-
-// ---- Analyzers (CPU only): in the core now (depthcull/overdraw.h, beside
-// reconstruction); these names stay for the renderer's callers.
-using depthcull::OverdrawMap;
-using depthcull::OverdrawStats;
-using depthcull::analyze_overdraw;
-using depthcull::ideal_overdraw;
 
 // ---- Comparing frames
 
@@ -65,17 +59,6 @@ struct DiffCauses {
 inline constexpr double kEdgeTolerance = 1.0 / 64;
 DiffCauses classify_differences(ImageView a, const SceneMeshes& meshes_a, ImageView b, const SceneMeshes& meshes_b,
                                 const Scene* scene = nullptr, double tolerance = kEdgeTolerance);
-
-// ---- Pictures
-
-struct HeatmapPanel {
-    std::string title;  // drawn above the panel (A-Z, 0-9, a few signs)
-    const OverdrawMap* map = nullptr;
-};
-// Panels side by side, each pixel coloured by its count on one ramp shared
-// by all panels (0 black, 1 blue ... hot = many), with a legend of every
-// count up to the largest and each panel's overdraw in its title.
-Image overdraw_heatmap(const std::vector<HeatmapPanel>& panels);
 
 // ---- The GL renderer
 

@@ -19,6 +19,7 @@
 
 #include "depthcull/analyze.h"
 #include "depthcull/image.h"
+#include "depthcull/overdraw.h"
 
 namespace depthcull::report {
 
@@ -80,10 +81,18 @@ Image heat_image(int width, int height, const std::vector<std::uint32_t>& counts
 // The label of bucket i: "0", "1", ..., "8 or more".
 std::string heat_label(int bucket);
 
+struct HeatmapPanel {
+    std::string title;  // drawn above the panel
+    const OverdrawMap* map = nullptr;
+};
+// `depthcull render --heatmap`: panels side by side, each pixel coloured by
+// heat_colour (the same buckets as the report), each title above its panel,
+// and a legend of the buckets below. Panels without a map (or whose counts
+// do not match its size) are left out.
+Image overdraw_heatmap(const std::vector<HeatmapPanel>& panels);
+
 // ---- HTML
 
-std::string base64(std::string_view bytes);
-std::string html_escape(std::string_view text);
 // data:image/png;base64,... of an image (encoded by io::encode_png).
 std::string png_data_uri(ImageView image);
 

@@ -15,6 +15,10 @@
 //    rasterized on the CPU) against meshes only, the paper's defaults and
 //    plainer fallbacks; the lowest prediction wins, so the output is never
 //    predicted slower than meshes only.
+// 5. For the images used most, the winner is tried again with their
+//    opaque polygons given up, then their plain rect (fall_back).
+//
+// choose_for_target runs the steps in order; Chooser holds what they share.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -150,24 +154,82 @@ struct Contestant {
     bool opaque_pass = true;
 };
 
-} // namespace
+// The state the steps share: the inputs, what each element's placement
+// gives the model, and what each step decided. One function per step.
+struct Chooser {
+    const Scene& scene;
+    const std::vector<TargetCandidates>& candidates;
+    const std::vector<int>& element_key;
+    const CostProfile& P;
+    const ReconstructOptions& options;
+    std::size_t n = 0, keys = 0;
+    double T = 0, Pp = 0, Fb = 0, Fo = 0, Fr = 0;
 
-TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandidates>& candidates,
-                               const std::vector<int>& element_key, const CostProfile& P, const ReconstructOptions& options) {
-    const std::size_t n = scene.elements.size();
-    const std::size_t keys = candidates.size();
-    const double T = P.triangle_us * 1e3, Pp = P.triangle_perimeter_ns_per_pixel, Fb = P.fragment_blend_ns,
-                 Fo = P.fragment_opaque_ns, Fr = P.fragment_rejected_ns;
-    auto key_of = [&](std::size_t i) { return i < element_key.size() ? element_key[i] : -1; };
-    auto usable = [&](std::size_t i) {
+    // Element placement.
+    std::vector<double> det, stretch;
+    std::vector<std::uint8_t> skirt, choosable;
+    // 1.
+    std::vector<std::vector<Geometry>> boundary_geo;
+    std::vector<Geometry> rect_geo;
+    std::vector<std::vector<std::uint8_t>> boundary_ok;
+    std::vector<int> choice;
+    std::vector<Variant> variants;
+    std::vector<ScreenBox> box;
+    std::vector<std::vector<Polygon>> drawn;
+    // 2.
+    ElementGraph graph;
+    std::vector<std::vector<Polygon>> occluder; // screen polygons of the opaque polygons drawn
+    std::vector<std::uint8_t> whole_rect;
+    bool opaque_pass = false;
+    // 3.
+    std::vector<std::int64_t> hider; // the element whose opaque polygon hides it
+
+    Chooser(const Scene& s, const std::vector<TargetCandidates>& c, const std::vector<int>& k, const CostProfile& p,
+            const ReconstructOptions& o)
+        : scene(s), candidates(c), element_key(k), P(p), options(o), n(s.elements.size()), keys(c.size()), T(p.triangle_us * 1e3),
+          Pp(p.triangle_perimeter_ns_per_pixel), Fb(p.fragment_blend_ns), Fo(p.fragment_opaque_ns), Fr(p.fragment_rejected_ns) {}
+
+    int key_of(std::size_t i) const { return i < element_key.size() ? element_key[i] : -1; }
+    bool usable(std::size_t i) const {
         const int k = key_of(i);
         return k >= 0 && std::size_t(k) < keys && !candidates[std::size_t(k)].analyses.empty() &&
                candidates[std::size_t(k)].analyses.back() != nullptr;
-    };
+    }
+    double blend_cost(std::size_t i, const Geometry& g, bool with_skirt) const {
+        const double s = std::sqrt(det[i]);
+        double ns = T * g.triangles + Pp * g.perimeter * s + Fb * g.area * det[i];
+        if (with_skirt && skirt[i]) ns += T * 2 * g.edges + Pp * 4 * g.outline * s; // two slivers per edge
+        return ns;
+    }
+    std::vector<Polygon> chosen_boundary(std::size_t i) const {
+        const std::size_t k = std::size_t(key_of(i));
+        const TargetCandidates& c = candidates[k];
+        if (choice[k] < 0 || !boundary_ok[k][std::size_t(choice[k])]) return {rect_polygon_of(c.analyses.back()->rect)};
+        return c.analyses[std::size_t(choice[k])]->boundary;
+    }
+    // Screen geometry of what element i draws.
+    Polygon to_screen(std::size_t i, const Polygon& p) const {
+        const Element& e = scene.elements[i];
+        Polygon out;
+        out.reserve(p.size());
+        for (const Vec2& v : p) out.push_back(apply(e.transform, {v.x - e.rect.x, v.y - e.rect.y}));
+        return out;
+    }
 
-    // Element placement.
-    std::vector<double> det(n, 0), stretch(n, 0);
-    std::vector<std::uint8_t> skirt(n, 0), choosable(n, 0);
+    void place_elements();
+    void choose_boundaries();          // 1
+    void choose_opaque();              // 2
+    void drop_hidden();                // 3
+    std::vector<Contestant> contestants() const; // 4
+    double evaluate(const Contestant& c, SceneAnalysis* analysis) const;
+    void fall_back(Contestant& win, double& best_ms, TargetChoice& out) const; // 5
+};
+
+void Chooser::place_elements() {
+    det.assign(n, 0);
+    stretch.assign(n, 0);
+    skirt.assign(n, 0);
+    choosable.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
         const Element& e = scene.elements[i];
         const auto& m = e.transform;
@@ -177,11 +239,13 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
         skirt[i] = options.texel_margin > 0 && !detail::snaps_exactly(m);
         choosable[i] = usable(i) && (e.blend == Blend::alpha || e.blend == Blend::add) && e.color[3] > 0.0f;
     }
+}
 
-    // 1. Boundaries per key.
-    std::vector<std::vector<Geometry>> boundary_geo(keys);
-    std::vector<Geometry> rect_geo(keys);
-    std::vector<std::vector<std::uint8_t>> boundary_ok(keys);
+// 1. Boundaries per key.
+void Chooser::choose_boundaries() {
+    boundary_geo.assign(keys, {});
+    rect_geo.assign(keys, {});
+    boundary_ok.assign(keys, {});
     for (std::size_t k = 0; k < keys; ++k) {
         const TargetCandidates& c = candidates[k];
         if (c.analyses.empty() || !c.analyses.back()) continue;
@@ -193,13 +257,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
             boundary_ok[k].push_back(a && inside_rect(a->boundary, r) && !a->boundary.empty());
         }
     }
-    auto blend_cost = [&](std::size_t i, const Geometry& g, bool with_skirt) {
-        const double s = std::sqrt(det[i]);
-        double ns = T * g.triangles + Pp * g.perimeter * s + Fb * g.area * det[i];
-        if (with_skirt && skirt[i]) ns += T * 2 * g.edges + Pp * 4 * g.outline * s; // two slivers per edge
-        return ns;
-    };
-    std::vector<int> choice(keys, -1);
+    choice.assign(keys, -1);
     {
         std::vector<std::vector<double>> sum(keys);
         std::vector<double> rect_sum(keys, 0);
@@ -221,27 +279,13 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
             if (rect_sum[k] < best) choice[k] = -1;
         }
     }
-    auto chosen_boundary = [&](std::size_t i) -> std::vector<Polygon> {
-        const std::size_t k = std::size_t(key_of(i));
-        const TargetCandidates& c = candidates[k];
-        if (choice[k] < 0 || !boundary_ok[k][std::size_t(choice[k])]) return {rect_polygon_of(c.analyses.back()->rect)};
-        return c.analyses[std::size_t(choice[k])]->boundary;
-    };
 
-    std::vector<Variant> variants(n);
+    variants.assign(n, Variant{});
     for (std::size_t i = 0; i < n; ++i)
         if (usable(i)) variants[i] = {key_of(i), choice[std::size_t(key_of(i))], Opaque::all, false};
 
-    // Screen geometry of what each element draws.
-    auto to_screen = [&](std::size_t i, const Polygon& p) {
-        const Element& e = scene.elements[i];
-        Polygon out;
-        out.reserve(p.size());
-        for (const Vec2& v : p) out.push_back(apply(e.transform, {v.x - e.rect.x, v.y - e.rect.y}));
-        return out;
-    };
-    std::vector<ScreenBox> box(n);
-    std::vector<std::vector<Polygon>> drawn(n);
+    box.assign(n, ScreenBox{});
+    drawn.assign(n, {});
     for (std::size_t i = 0; i < n; ++i) {
         if (!usable(i)) continue;
         for (const Polygon& p : chosen_boundary(i)) {
@@ -251,7 +295,9 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
                 box[i].y1 = std::max(box[i].y1, v.y);
         }
     }
+}
 
+void Chooser::choose_opaque() {
     // 2. Opaque polygons per element, over the element graph.
     std::vector<ImageAnalysis> plain(n);
     std::vector<const ImageAnalysis*> plain_ptr(n, nullptr);
@@ -261,9 +307,9 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
             plain[i].boundary = chosen_boundary(i);
             plain_ptr[i] = &plain[i];
         }
-    const ElementGraph graph = build_element_graph(scene, plain_ptr, GraphMode::polygons, options.graph_pair_budget);
-    std::vector<std::vector<Polygon>> occluder(n); // screen polygons of the opaque polygons drawn
-    std::vector<std::uint8_t> whole_rect(n, 0);
+    graph = build_element_graph(scene, plain_ptr, GraphMode::polygons, options.graph_pair_budget);
+    occluder.assign(n, {});
+    whole_rect.assign(n, 0);
     double opaque_gain = 0;
     std::int64_t opaque_count = 0;
     for (std::size_t j = 0; j < n; ++j) {
@@ -323,14 +369,15 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
         ++opaque_count;
     }
     const double depth_ns = P.clear_depth_ns_per_pixel * double(scene.viewport.width) * double(scene.viewport.height);
-    const bool opaque_pass = opaque_count > 0 && opaque_gain > depth_ns;
+    opaque_pass = opaque_count > 0 && opaque_gain > depth_ns;
+}
 
+void Chooser::drop_hidden() {
     // 3. Elements hidden by one opaque polygon in front.
     std::vector<std::vector<std::uint32_t>> front(n);
     for (std::size_t j = 0; j < n; ++j)
         for (const std::uint32_t* b = graph.behind_begin(j); b != graph.behind_end(j); ++b) front[*b].push_back(std::uint32_t(j));
-    std::int64_t dropped = 0;
-    std::vector<std::int64_t> hider(n, -1); // the element whose opaque polygon hides it
+    hider.assign(n, -1);
     if (opaque_pass)
         for (std::size_t i = 0; i < n; ++i) {
             if (!choosable[i] || drawn[i].empty()) continue;
@@ -369,72 +416,54 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
                 if (hidden) {
                     variants[i].dropped = true;
                     hider[i] = std::int64_t(j);
-                    ++dropped;
                     break;
                 }
             }
         }
+}
 
+std::vector<Contestant> Chooser::contestants() const {
     // 4. Contestants, predicted on the whole frame.
-    std::vector<Contestant> contestants;
-    contestants.push_back({"", variants, opaque_pass});
+    std::vector<Contestant> out;
+    out.push_back({"", variants, opaque_pass});
     {
         Contestant c{"no dropped elements", variants, opaque_pass};
         for (Variant& v : c.variants) v.dropped = false;
-        contestants.push_back(c);
+        out.push_back(c);
         Contestant d{"no opaque polygons", c.variants, false};
         for (Variant& v : d.variants) v.opaque = Opaque::none;
-        contestants.push_back(d);
+        out.push_back(d);
         Contestant r{"rects (meshes only)", d.variants, false};
         for (Variant& v : r.variants) v.boundary = -1;
-        contestants.push_back(r);
+        out.push_back(r);
         Contestant paper{"every opaque polygon at the vertex cap", {}, true};
         for (std::size_t i = 0; i < n; ++i)
             paper.variants.push_back(usable(i) ? Variant{key_of(i), int(candidates[std::size_t(key_of(i))].analyses.size()) - 1, Opaque::all, false}
                                                : Variant{});
-        contestants.push_back(paper);
+        out.push_back(paper);
     }
+    return out;
+}
 
-    TargetChoice out;
-    out.key_choice = choice;
-    {
-        SceneMeshes m;
-        if (rectangle_meshes(scene, options, &m) == ReconstructStatus::ok) out.meshes_only_ms = predict_ms(P, frame_features(m));
-        out.overpaint_ms = predict_ms(P, frame_features(overpaint_meshes(scene)));
+// The frame predicted for a contestant (INFINITY if it cannot be built).
+double Chooser::evaluate(const Contestant& c, SceneAnalysis* analysis) const {
+    std::map<Variant, std::uint32_t> index;
+    analysis->images.clear();
+    analysis->of_element.assign(n, UINT32_MAX); // past images: of() gives nullptr
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!usable(i)) continue;
+        auto [it, fresh] = index.emplace(c.variants[i], std::uint32_t(analysis->images.size()));
+        if (fresh) analysis->images.push_back(make_variant(candidates[std::size_t(key_of(i))], c.variants[i]));
+        analysis->of_element[i] = it->second;
     }
-    // The frame predicted for a contestant (INFINITY if it cannot be built).
-    auto evaluate = [&](const Contestant& c, std::vector<ImageAnalysis>* storage, std::vector<const ImageAnalysis*>* pointers) {
-        std::map<Variant, std::size_t> index;
-        storage->clear();
-        for (std::size_t i = 0; i < n; ++i)
-            if (usable(i) && !index.count(c.variants[i])) {
-                index.emplace(c.variants[i], storage->size());
-                storage->push_back(make_variant(candidates[std::size_t(key_of(i))], c.variants[i]));
-            }
-        pointers->assign(n, nullptr); // after storage is complete: it never moves again
-        for (std::size_t i = 0; i < n; ++i)
-            if (usable(i)) (*pointers)[i] = &(*storage)[index.at(c.variants[i])];
-        ReconstructOptions o = options;
-        o.opaque_polygons = c.opaque_pass;
-        SceneMeshes m;
-        if (reconstruct_scene(scene, *pointers, o, &m) != ReconstructStatus::ok) return double(INFINITY);
-        return predict_ms(P, frame_features(m));
-    };
-    double best_ms = INFINITY;
-    std::size_t best = 0;
-    {
-        std::vector<ImageAnalysis> storage;
-        std::vector<const ImageAnalysis*> pointers;
-        for (std::size_t ci = 0; ci < contestants.size(); ++ci) {
-            const double ms = evaluate(contestants[ci], &storage, &pointers);
-            if (ms < best_ms) best_ms = ms, best = ci; // first wins ties: deterministic
-        }
-    }
-    Contestant win = contestants[best];
-    if (best == 3) std::fill(out.key_choice.begin(), out.key_choice.end(), -1); // rects everywhere
-    if (best == 4)
-        for (std::size_t k = 0; k < keys; ++k) out.key_choice[k] = int(candidates[k].analyses.size()) - 1;
+    ReconstructOptions o = options;
+    o.opaque_polygons = c.opaque_pass;
+    SceneMeshes m;
+    if (reconstruct_scene(scene, analysis->per_element(), o, &m) != ReconstructStatus::ok) return double(INFINITY);
+    return predict_ms(P, frame_features(m));
+}
 
+void Chooser::fall_back(Contestant& win, double& best_ms, TargetChoice& out) const {
     // 5. Per element fallback, image by image: the local estimates of 1
     // and 2 miss what the whole frame shows (blocks the rasterizer shades
     // whole, fragments behind several occluders), so for the images used
@@ -450,8 +479,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
         for (std::size_t k = 0; k < keys; ++k) order[k] = k;
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return uses[a] > uses[b]; });
         constexpr std::size_t kMaxKeysTried = 12; // bounds the time: each try rasterizes the frame
-        std::vector<ImageAnalysis> storage;
-        std::vector<const ImageAnalysis*> pointers;
+        SceneAnalysis scratch;
         for (std::size_t r = 0; r < std::min(kMaxKeysTried, keys) && uses[order[r]] > 0; ++r) {
             const int k = int(order[r]);
             if (win.opaque_pass) {
@@ -465,7 +493,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
                             if (hider[h] == std::int64_t(i)) t.variants[h].dropped = false;
                     }
                 if (changed) {
-                    const double ms = evaluate(t, &storage, &pointers);
+                    const double ms = evaluate(t, &scratch);
                     if (ms < best_ms) {
                         best_ms = ms, win = t;
                         for (std::size_t i = 0; i < n; ++i) out.elements_reverted += usable(i) && key_of(i) == k && !win.variants[i].dropped;
@@ -478,21 +506,55 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
                 for (std::size_t i = 0; i < n; ++i)
                     if (usable(i) && key_of(i) == k && t.variants[i].boundary >= 0) t.variants[i].boundary = -1, changed = true;
                 if (changed) {
-                    const double ms = evaluate(t, &storage, &pointers);
+                    const double ms = evaluate(t, &scratch);
                     if (ms < best_ms) best_ms = ms, win = t, out.key_choice[std::size_t(k)] = -1;
                 }
             }
         }
     }
-    out.predicted_ms = evaluate(win, &out.storage, &out.element_analysis);
+}
+
+} // namespace
+
+TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandidates>& candidates,
+                               const std::vector<int>& element_key, const CostProfile& P, const ReconstructOptions& options) {
+    Chooser c(scene, candidates, element_key, P, options);
+    c.place_elements();
+    c.choose_boundaries();
+    c.choose_opaque();
+    c.drop_hidden();
+    const std::vector<Contestant> contestants = c.contestants();
+
+    TargetChoice out;
+    out.key_choice = c.choice;
+    {
+        SceneMeshes m;
+        if (rectangle_meshes(scene, options, &m) == ReconstructStatus::ok) out.meshes_only_ms = predict_ms(P, frame_features(m));
+        out.overpaint_ms = predict_ms(P, frame_features(overpaint_meshes(scene)));
+    }
+    double best_ms = INFINITY;
+    std::size_t best = 0;
+    {
+        SceneAnalysis scratch;
+        for (std::size_t ci = 0; ci < contestants.size(); ++ci) {
+            const double ms = c.evaluate(contestants[ci], &scratch);
+            if (ms < best_ms) best_ms = ms, best = ci; // first wins ties: deterministic
+        }
+    }
+    Contestant win = contestants[best];
+    if (best == 3) std::fill(out.key_choice.begin(), out.key_choice.end(), -1); // rects everywhere
+    if (best == 4)
+        for (std::size_t k = 0; k < c.keys; ++k) out.key_choice[k] = int(candidates[k].analyses.size()) - 1;
+
+    c.fall_back(win, best_ms, out); // 5.
+    out.predicted_ms = c.evaluate(win, &out.analysis);
     out.opaque_pass = win.opaque_pass;
     out.fallback = win.name;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < c.n; ++i) {
         out.elements_dropped += win.variants[i].dropped;
-        out.elements_opaque += usable(i) && win.opaque_pass && !win.variants[i].dropped && win.variants[i].opaque != Opaque::none &&
-                               !out.element_analysis[i]->opaque.empty();
+        out.elements_opaque += c.usable(i) && win.opaque_pass && !win.variants[i].dropped && win.variants[i].opaque != Opaque::none &&
+                               !out.analysis.of(i)->opaque.empty();
     }
-    (void)dropped;
     return out;
 }
 

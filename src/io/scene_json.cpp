@@ -178,6 +178,100 @@ Viewport bounding_viewport(const Scene& scene) {
     return vp;
 }
 
+// The "images" array, in order: ids, paths (or atlases, or fills) and sizes.
+void parse_images(const json& images, const std::string& path, const fs::path& base, const LoadOptions& options, Scene& scene,
+                  std::map<std::string, int>& ids, std::vector<ImageEntry>& entries) {
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        Context c{path, "image " + std::to_string(i) + ": "};
+        const json& v = images[i];
+        if (!v.is_object()) c.fail("must be an object");
+        SceneImage img;
+        img.id = string_field(c, v, "id");
+        if (!ids.emplace(img.id, int(i)).second) c.fail("duplicate image id \"" + img.id + "\"");
+        if (v.contains("atlas")) {
+            entries[i].is_atlas = true;
+            entries[i].atlas = load_texturepacker(resolve(base, string_field(c, v, "atlas")));
+            img.path = entries[i].atlas.image_path;
+        } else if (v.contains("fill")) {
+            img.has_fill = true;
+            img.fill = parse_colour_key(string_field(c, v, "fill"), path + ": image " + std::to_string(i));
+        } else {
+            img.path = resolve(base, string_field(c, v, "path"));
+        }
+        if (v.contains("trans")) {
+            img.has_trans = true;
+            img.trans = parse_colour_key(string_field(c, v, "trans"), path + ": image " + std::to_string(i));
+        }
+        try {
+            if (img.has_fill) img.width = img.height = kFillImageSide;
+            else image_size(img.path, &img.width, &img.height, options.image_files);
+        } catch (const Error& e) {
+            c.fail(e.what());
+        }
+        scene.images.push_back(std::move(img));
+    }
+}
+
+// A multipack atlas's other pages: images "<id>#<page>" after the listed ones.
+void add_atlas_pages(const Context& ctx, std::size_t listed, const LoadOptions& options, Scene& scene, std::map<std::string, int>& ids,
+                     std::vector<ImageEntry>& entries) {
+    for (std::size_t i = 0; i < listed; ++i) {
+        ImageEntry& entry = entries[i];
+        if (!entry.is_atlas) continue;
+        std::vector<std::array<int, 2>> sizes{{scene.images[i].width, scene.images[i].height}};
+        if (entry.atlas.pages.size() >= 2) entry.page_images.push_back(int(i));
+        for (std::size_t k = 1; k < entry.atlas.pages.size(); ++k) {
+            SceneImage img;
+            img.id = scene.images[i].id + "#" + std::to_string(k);
+            if (!ids.emplace(img.id, int(scene.images.size())).second)
+                ctx.fail("image id \"" + img.id + "\" (page " + std::to_string(k) + " of atlas \"" + scene.images[i].id + "\") is taken");
+            img.path = entry.atlas.pages[k].image_path;
+            image_size(img.path, &img.width, &img.height, options.image_files);
+            sizes.push_back({img.width, img.height});
+            entry.page_images.push_back(int(scene.images.size()));
+            scene.images.push_back(std::move(img));
+        }
+        // Frames against the pages' real sizes (the headers just read);
+        // what the atlas reader assumed is warned (or refused, --strict).
+        check_atlas_pages(entry.atlas, sizes);
+        if (entry.atlas.scale != 1)
+            entry.atlas.warnings.push_back(entry.atlas.path + ": meta.scale " + number_text(entry.atlas.scale) +
+                                           ": frames placed at their texel size, as Phaser places them (PixiJS draws them " +
+                                           (entry.atlas.scale > 0 ? number_text(1 / entry.atlas.scale) + "x" : "at another size") + ")");
+        report_warnings(entry.atlas.warnings, options);
+    }
+}
+
+// "animations": frames of one size, each an image rect and a duration.
+void parse_animations(const Context& ctx, const json& animations, const std::string& path, const std::map<std::string, int>& ids,
+                      Scene& scene) {
+    if (!animations.is_array() || animations.size() > kMaxElements) ctx.fail("\"animations\" must be an array");
+    for (std::size_t i = 0; i < animations.size(); ++i) {
+        Context c{path, "animation " + std::to_string(i) + ": "};
+        const json& a = animations[i];
+        if (!a.is_object() || !a.contains("frames") || !a["frames"].is_array() || a["frames"].empty() || a["frames"].size() > 65536)
+            c.fail("must be an object with a non-empty \"frames\" array");
+        Animation animation;
+        for (const json& f : a["frames"]) {
+            if (!f.is_object()) c.fail("frame must be an object");
+            const std::string& id = string_field(c, f, "image");
+            auto it = ids.find(id);
+            if (it == ids.end()) c.fail("unknown image id \"" + id + "\"");
+            const SceneImage& img = scene.images[std::size_t(it->second)];
+            if (!f.contains("rect") || !f["rect"].is_array() || f["rect"].size() != 4) c.fail("frame \"rect\" must be [x, y, w, h]");
+            const json& r = f["rect"];
+            Rect rect{integer(c, r[0], "rect"), integer(c, r[1], "rect"), integer(c, r[2], "rect"), integer(c, r[3], "rect")};
+            if (rect.empty() || !ImageView{nullptr, img.width, img.height, 0}.contains(rect)) c.fail("frame rect is outside image \"" + id + "\"");
+            if (!animation.frames.empty() && (rect.w != animation.frames[0].rect.w || rect.h != animation.frames[0].rect.h))
+                c.fail("frames differ in size");
+            int duration = f.contains("duration") ? integer(c, f["duration"], "duration") : 0;
+            if (duration < 0) c.fail("negative duration");
+            animation.frames.push_back({it->second, rect, duration});
+        }
+        scene.animations.push_back(std::move(animation));
+    }
+}
+
 } // namespace
 
 Scene scene_json_from_text(std::string_view text, const std::string& path, const LoadOptions& options) {
@@ -209,90 +303,9 @@ Scene scene_json_from_text(std::string_view text, const std::string& path, const
 
     std::map<std::string, int> ids;
     std::vector<ImageEntry> entries(images.size());
-    for (std::size_t i = 0; i < images.size(); ++i) {
-        Context c{path, "image " + std::to_string(i) + ": "};
-        const json& v = images[i];
-        if (!v.is_object()) c.fail("must be an object");
-        SceneImage img;
-        img.id = string_field(c, v, "id");
-        if (!ids.emplace(img.id, int(i)).second) c.fail("duplicate image id \"" + img.id + "\"");
-        if (v.contains("atlas")) {
-            entries[i].is_atlas = true;
-            entries[i].atlas = load_texturepacker(resolve(base, string_field(c, v, "atlas")));
-            img.path = entries[i].atlas.image_path;
-        } else if (v.contains("fill")) {
-            img.has_fill = true;
-            img.fill = parse_colour_key(string_field(c, v, "fill"), path + ": image " + std::to_string(i));
-        } else {
-            img.path = resolve(base, string_field(c, v, "path"));
-        }
-        if (v.contains("trans")) {
-            img.has_trans = true;
-            img.trans = parse_colour_key(string_field(c, v, "trans"), path + ": image " + std::to_string(i));
-        }
-        try {
-            if (img.has_fill) img.width = img.height = kFillImageSide;
-            else image_size(img.path, &img.width, &img.height, options.image_files);
-        } catch (const Error& e) {
-            c.fail(e.what());
-        }
-        scene.images.push_back(std::move(img));
-    }
-    // A multipack atlas's other pages: images "<id>#<page>" after the listed ones.
-    for (std::size_t i = 0; i < images.size(); ++i) {
-        ImageEntry& entry = entries[i];
-        if (!entry.is_atlas) continue;
-        std::vector<std::array<int, 2>> sizes{{scene.images[i].width, scene.images[i].height}};
-        if (entry.atlas.pages.size() >= 2) entry.page_images.push_back(int(i));
-        for (std::size_t k = 1; k < entry.atlas.pages.size(); ++k) {
-            SceneImage img;
-            img.id = scene.images[i].id + "#" + std::to_string(k);
-            if (!ids.emplace(img.id, int(scene.images.size())).second)
-                ctx.fail("image id \"" + img.id + "\" (page " + std::to_string(k) + " of atlas \"" + scene.images[i].id + "\") is taken");
-            img.path = entry.atlas.pages[k].image_path;
-            image_size(img.path, &img.width, &img.height, options.image_files);
-            sizes.push_back({img.width, img.height});
-            entry.page_images.push_back(int(scene.images.size()));
-            scene.images.push_back(std::move(img));
-        }
-        // Frames against the pages' real sizes (the headers just read);
-        // what the atlas reader assumed is warned (or refused, --strict).
-        check_atlas_pages(entry.atlas, sizes);
-        if (entry.atlas.scale != 1)
-            entry.atlas.warnings.push_back(entry.atlas.path + ": meta.scale " + number_text(entry.atlas.scale) +
-                                           ": frames placed at their texel size, as Phaser places them (PixiJS draws them " +
-                                           (entry.atlas.scale > 0 ? number_text(1 / entry.atlas.scale) + "x" : "at another size") + ")");
-        report_warnings(entry.atlas.warnings, options);
-    }
-    // Animations: frames of one size, each an image rect and a duration.
-    if (doc.contains("animations")) {
-        const json& animations = doc["animations"];
-        if (!animations.is_array() || animations.size() > kMaxElements) ctx.fail("\"animations\" must be an array");
-        for (std::size_t i = 0; i < animations.size(); ++i) {
-            Context c{path, "animation " + std::to_string(i) + ": "};
-            const json& a = animations[i];
-            if (!a.is_object() || !a.contains("frames") || !a["frames"].is_array() || a["frames"].empty() || a["frames"].size() > 65536)
-                c.fail("must be an object with a non-empty \"frames\" array");
-            Animation animation;
-            for (const json& f : a["frames"]) {
-                if (!f.is_object()) c.fail("frame must be an object");
-                const std::string& id = string_field(c, f, "image");
-                auto it = ids.find(id);
-                if (it == ids.end()) c.fail("unknown image id \"" + id + "\"");
-                const SceneImage& img = scene.images[std::size_t(it->second)];
-                if (!f.contains("rect") || !f["rect"].is_array() || f["rect"].size() != 4) c.fail("frame \"rect\" must be [x, y, w, h]");
-                const json& r = f["rect"];
-                Rect rect{integer(c, r[0], "rect"), integer(c, r[1], "rect"), integer(c, r[2], "rect"), integer(c, r[3], "rect")};
-                if (rect.empty() || !ImageView{nullptr, img.width, img.height, 0}.contains(rect)) c.fail("frame rect is outside image \"" + id + "\"");
-                if (!animation.frames.empty() && (rect.w != animation.frames[0].rect.w || rect.h != animation.frames[0].rect.h))
-                    c.fail("frames differ in size");
-                int duration = f.contains("duration") ? integer(c, f["duration"], "duration") : 0;
-                if (duration < 0) c.fail("negative duration");
-                animation.frames.push_back({it->second, rect, duration});
-            }
-            scene.animations.push_back(std::move(animation));
-        }
-    }
+    parse_images(images, path, base, options, scene, ids, entries);
+    add_atlas_pages(ctx, images.size(), options, scene, ids, entries);
+    if (doc.contains("animations")) parse_animations(ctx, doc["animations"], path, ids, scene);
     scene.elements.reserve(elements.size());
     for (std::size_t i = 0; i < elements.size(); ++i) {
         Context c{path, "element " + std::to_string(i) + ": "};

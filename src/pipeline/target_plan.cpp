@@ -5,7 +5,6 @@
 // depends on the thread count.
 #include <algorithm>
 #include <cstdint>
-#include <map>
 
 #include "depthcull/pipeline.h"
 
@@ -63,16 +62,7 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
         }
     }
     plan.choice = choose_for_target(scene, candidates, element_key, profile, reconstruct);
-    // The choice as a value: each chosen analysis copied once.
-    std::map<const ImageAnalysis*, std::uint32_t> index;
-    plan.analysis.of_element.assign(scene.elements.size(), UINT32_MAX);
-    for (std::size_t i = 0; i < plan.choice.element_analysis.size() && i < scene.elements.size(); ++i) {
-        const ImageAnalysis* a = plan.choice.element_analysis[i];
-        if (!a) continue;
-        auto [it, fresh] = index.emplace(a, std::uint32_t(plan.analysis.images.size()));
-        if (fresh) plan.analysis.images.push_back(*a);
-        plan.analysis.of_element[i] = it->second;
-    }
+    plan.analysis = plan.choice.analysis; // a value already: indices into its own images
     plan.reconstruct = reconstruct;
     plan.reconstruct.opaque_polygons = reconstruct.opaque_polygons && plan.choice.opaque_pass;
     return plan;

@@ -9,14 +9,11 @@
 #include "depthcull/io.h"
 #include "depthcull/report.h"
 #include "report/canvas.h"
+#include "report/html_text.h"
 
 namespace depthcull::report {
 
 namespace {
-
-// Black for nothing, then cold to hot; the last bucket holds every larger count.
-constexpr Rgba kHeat[kHeatBuckets] = {{0, 0, 0, 255},     {20, 20, 150, 255}, {0, 110, 255, 255}, {0, 200, 200, 255}, {0, 190, 0, 255},
-                                      {230, 230, 0, 255}, {255, 140, 0, 255}, {225, 0, 0, 255},   {255, 0, 200, 255}};
 
 std::string fmt(const char* format, double v) {
     char buf[64];
@@ -136,25 +133,6 @@ Image difference_image(ImageView a, ImageView b, std::int64_t* pixels_differ) {
                 o[3] = 255;
             }
         }
-    return out;
-}
-
-Rgba heat_colour(std::uint32_t count) { return kHeat[std::min<std::uint32_t>(count, kHeatBuckets - 1)]; }
-
-std::string heat_label(int bucket) {
-    return bucket >= kHeatBuckets - 1 ? std::to_string(kHeatBuckets - 1) + " or more" : std::to_string(bucket);
-}
-
-Image heat_image(int width, int height, const std::vector<std::uint32_t>& counts) {
-    Image out;
-    if (width <= 0 || height <= 0 || counts.size() != std::size_t(width) * std::size_t(height)) return out;
-    out.width = width;
-    out.height = height;
-    out.rgba.resize(counts.size() * 4);
-    for (std::size_t i = 0; i < counts.size(); ++i) {
-        const Rgba c = heat_colour(counts[i]);
-        out.rgba[i * 4] = c.r, out.rgba[i * 4 + 1] = c.g, out.rgba[i * 4 + 2] = c.b, out.rgba[i * 4 + 3] = 255;
-    }
     return out;
 }
 

@@ -12,6 +12,7 @@
 #include "depthcull/io.h"
 #include "depthcull/report.h"
 #include "report/canvas.h"
+#include "report/html_text.h"
 #include "depthcull/scene.h"
 
 namespace depthcull::report {
@@ -110,33 +111,60 @@ std::vector<std::string> preview_caption(const PreviewFigures& f, Rect rect, con
     return lines;
 }
 
-Preview make_preview(ImageView image, Rect rect, const std::vector<const ImageAnalysis*>& analyses, const PreviewOptions& options) {
-    Preview out;
-    out.figures = preview_figures(analyses);
+namespace {
+
+// Where everything goes: the scale, the sprite's size on screen, the
+// caption and the picture's size (shared by the PNG and the SVG).
+struct Layout {
+    Rect rect;
+    int magnification = 1, shrink_by = 1;
+    double scale = 1;
+    int sprite_w = 0, sprite_h = 0;
+    std::vector<std::string> caption;
+    int swatch = 0, line_h = 0, width = 0, height = 0, caption_y = 0;
+    bool grid = false;
+};
+
+Layout layout_preview(ImageView image, Rect rect, const PreviewFigures& figures, const PreviewOptions& options) {
+    Layout l;
     if (rect.empty() || !image.contains(rect)) rect = image.bounds();
+    l.rect = rect;
     const int long_side = std::max(rect.w, rect.h);
     // Whole factors keep texels square and the grid regular; pages larger
     // than ~4x the size are shown a texel per pixel, very large ones shrunk.
-    int magnification = std::clamp(options.size / std::max(1, long_side), 1, std::max(1, options.max_magnification));
-    int shrink_by = 1;
+    l.magnification = std::clamp(options.size / std::max(1, long_side), 1, std::max(1, options.max_magnification));
     constexpr int kMaxSide = 4096;
-    if (long_side > kMaxSide) shrink_by = (long_side + kMaxSide - 1) / kMaxSide;
-    const double scale = shrink_by > 1 ? 1.0 / shrink_by : double(magnification);
-    out.magnification = shrink_by > 1 ? -shrink_by : magnification;
-    const int sprite_w = int(std::ceil(rect.w * scale)), sprite_h = int(std::ceil(rect.h * scale));
+    if (long_side > kMaxSide) l.shrink_by = (long_side + kMaxSide - 1) / kMaxSide;
+    l.scale = l.shrink_by > 1 ? 1.0 / l.shrink_by : double(l.magnification);
+    l.sprite_w = int(std::ceil(rect.w * l.scale));
+    l.sprite_h = int(std::ceil(rect.h * l.scale));
 
     std::string title = options.title;
-    title += shrink_by > 1 ? "  (1:" + std::to_string(shrink_by) + ")" : "  (x" + std::to_string(magnification) + ")";
-    const std::vector<std::string> caption = preview_caption(out.figures, rect, title);
-    const int swatch = kGlyphHeight * kCaptionScale; // colour key before lines 2-4
+    title += l.shrink_by > 1 ? "  (1:" + std::to_string(l.shrink_by) + ")" : "  (x" + std::to_string(l.magnification) + ")";
+    l.caption = preview_caption(figures, rect, title);
+    l.swatch = kGlyphHeight * kCaptionScale; // colour key before lines 2-4
     int caption_w = 0;
-    for (std::size_t i = 0; i < caption.size(); ++i)
-        caption_w = std::max(caption_w, text_width(caption[i], kCaptionScale) + (i > 0 ? swatch + 8 : 0));
-    const int line_h = kLineAdvance * kCaptionScale + 2;
-    const int width = std::max(sprite_w, caption_w) + 2 * kMargin;
-    const int caption_y = kMargin + sprite_h + kMargin;
-    const int height = caption_y + int(caption.size()) * line_h + kMargin;
+    for (std::size_t i = 0; i < l.caption.size(); ++i)
+        caption_w = std::max(caption_w, text_width(l.caption[i], kCaptionScale) + (i > 0 ? l.swatch + 8 : 0));
+    l.line_h = kLineAdvance * kCaptionScale + 2;
+    l.width = std::max(l.sprite_w, caption_w) + 2 * kMargin;
+    l.caption_y = kMargin + l.sprite_h + kMargin;
+    l.height = l.caption_y + int(l.caption.size()) * l.line_h + kMargin;
+    l.grid = l.shrink_by == 1 && l.magnification >= options.min_grid_magnification;
+    return l;
+}
 
+// The colour keys of caption lines 1-3 (boundary, opaque, triangles).
+constexpr Rgba kKeys[] = {kBoundary, kOpaqueEdge, kTriangle};
+
+Image draw_preview_png(ImageView image, const Layout& l, const std::vector<const ImageAnalysis*>& analyses,
+                       const std::vector<std::array<Vec2, 3>>& triangles) {
+    const Rect rect = l.rect;
+    const int magnification = l.magnification, sprite_w = l.sprite_w, sprite_h = l.sprite_h, width = l.width, height = l.height;
+    const int swatch = l.swatch, line_h = l.line_h, caption_y = l.caption_y;
+    const double scale = l.scale;
+    const bool grid = l.grid;
+    const std::vector<std::string>& caption = l.caption;
     Canvas canvas(width, height, kPaper);
     auto at = [&](Vec2 p) { return Vec2{kMargin + (p.x - rect.x) * scale, kMargin + (p.y - rect.y) * scale}; };
 
@@ -148,14 +176,12 @@ Preview make_preview(ImageView image, Rect rect, const std::vector<const ImageAn
             const std::uint8_t* t = image.texel(tx, ty);
             canvas.blend(kMargin + i, kMargin + j, {t[0], t[1], t[2], t[3]});
         }
-    const bool grid = shrink_by == 1 && magnification >= options.min_grid_magnification;
     if (grid) {
         for (int i = 0; i <= rect.w; ++i)
             canvas.fill_rect(kMargin + i * magnification, kMargin, 1, sprite_h, kGrid);
         for (int j = 0; j <= rect.h; ++j)
             canvas.fill_rect(kMargin, kMargin + j * magnification, sprite_w, 1, kGrid);
     }
-    const auto triangles = triangles_of(analyses);
     for (const auto& t : triangles)
         for (int k = 0; k < 3; ++k) canvas.line(at(t[std::size_t(k)]), at(t[std::size_t((k + 1) % 3)]), kTriangle, 1.0);
     for (const ImageAnalysis* a : analyses) {
@@ -178,19 +204,26 @@ Preview make_preview(ImageView image, Rect rect, const std::vector<const ImageAn
                 for (const Vec2& v : s) canvas.fill_rect(int(std::lround(v.x)) - 2, int(std::lround(v.y)) - 2, 5, 5, kBoundary);
         }
     }
-    const Rgba keys[] = {kBoundary, kOpaqueEdge, kTriangle};
     for (std::size_t i = 0; i < caption.size(); ++i) {
         const int y = caption_y + int(i) * line_h;
         int x = kMargin;
         if (i > 0 && i <= 3) {
-            canvas.fill_rect(x, y, swatch, swatch, keys[i - 1]);
+            canvas.fill_rect(x, y, swatch, swatch, kKeys[i - 1]);
             x += swatch + 8;
         }
         canvas.text(x, y, caption[i], kInk, kCaptionScale);
     }
-    out.png = canvas.take();
+    return canvas.take();
+}
 
-    // The SVG: same layout, vector polygons over the embedded texels.
+std::string draw_preview_svg(ImageView image, const Layout& l, const std::vector<const ImageAnalysis*>& analyses,
+                             const std::vector<std::array<Vec2, 3>>& triangles) {
+    const Rect rect = l.rect;
+    const int sprite_w = l.sprite_w, sprite_h = l.sprite_h, width = l.width, height = l.height;
+    const int swatch = l.swatch, line_h = l.line_h, caption_y = l.caption_y;
+    const double scale = l.scale;
+    const bool grid = l.grid;
+    const std::vector<std::string>& caption = l.caption;
     std::string svg;
     svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(width) + "\" height=\"" + std::to_string(height) +
            "\" viewBox=\"0 0 " + std::to_string(width) + " " + std::to_string(height) + "\">\n";
@@ -230,14 +263,26 @@ Preview make_preview(ImageView image, Rect rect, const std::vector<const ImageAn
         int x = kMargin;
         if (i > 0 && i <= 3) {
             svg += "<rect x=\"" + std::to_string(x) + "\" y=\"" + std::to_string(y) + "\" width=\"" + std::to_string(swatch) + "\" height=\"" +
-                   std::to_string(swatch) + "\" fill=\"" + hex(keys[i - 1]) + "\"/>\n";
+                   std::to_string(swatch) + "\" fill=\"" + hex(kKeys[i - 1]) + "\"/>\n";
             x += swatch + 8;
         }
         svg += "<text x=\"" + std::to_string(x) + "\" y=\"" + std::to_string(y + swatch - 2) +
                "\" font-family=\"monospace\" font-size=\"15\" fill=\"" + hex(kInk) + "\">" + html_escape(caption[i]) + "</text>\n";
     }
     svg += "</svg>\n";
-    out.svg = std::move(svg);
+    return svg;
+}
+
+} // namespace
+
+Preview make_preview(ImageView image, Rect rect, const std::vector<const ImageAnalysis*>& analyses, const PreviewOptions& options) {
+    Preview out;
+    out.figures = preview_figures(analyses);
+    const Layout l = layout_preview(image, rect, out.figures, options);
+    out.magnification = l.shrink_by > 1 ? -l.shrink_by : l.magnification;
+    const auto triangles = triangles_of(analyses);
+    out.png = draw_preview_png(image, l, analyses, triangles);
+    out.svg = draw_preview_svg(image, l, analyses, triangles);
     return out;
 }
 

@@ -1,6 +1,7 @@
 // The cost model (issue 14): the Table 2 fit, profiles, features and the
 // --target choice's determinism and guarantees.
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -197,6 +198,59 @@ TEST(Calibrate, QuickCalibrationWritesACompleteFiniteProfile) {
     // And it is usable as a target.
     const std::string meshes = temp("cal-meshes.json");
     EXPECT_EQ(std::system((cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --target " + out + " -o " + meshes).c_str()), 0);
+}
+
+// A TargetChoice is a value (issue 22): its analyses are held by index, so
+// a copy works after the original is gone (before, the copy's pointers
+// pointed into the original's storage: a use after free under ASan).
+TEST(Target, ACopiedChoiceStandsAlone) {
+    Scene scene;
+    scene.viewport = {0, 0, 64, 64};
+    scene.images = {{"back", "back.png", 32, 32}, {"front", "front.png", 16, 16}};
+    const Polygon back_poly{{2, 2}, {30, 2}, {30, 30}, {2, 30}}, front_rect{{0, 0}, {16, 0}, {16, 16}, {0, 16}};
+    std::vector<ImageAnalysis> analyses(2);
+    analyses[0].rect = {0, 0, 32, 32};
+    analyses[0].boundary = {back_poly};
+    analyses[0].stats.nontransparent_texels = 28 * 28;
+    analyses[1].rect = {0, 0, 16, 16};
+    analyses[1].boundary = {front_rect};
+    analyses[1].opaque = {front_rect};
+    analyses[1].stats.nontransparent_texels = analyses[1].stats.opaque_texels = analyses[1].stats.opaque_covered_texels = 256;
+    auto element = [](int image, int size, double x, double y) {
+        Element e;
+        e.image = image;
+        e.rect = {0, 0, size, size};
+        e.transform = {1, 0, 0, 1, x, y};
+        return e;
+    };
+    scene.elements = {element(0, 32, 4, 4), element(1, 16, 10, 10), element(0, 32, 30, 30), element(1, 16, 40, 8)};
+    std::vector<TargetCandidates> candidates(2);
+    for (std::size_t k = 0; k < 2; ++k) candidates[k] = {{&analyses[k]}, {16}};
+    CostProfile profile;
+    ASSERT_TRUE(builtin_profile("llvmpipe", &profile));
+    const std::vector<int> keys{0, 1, 0, 1};
+
+    auto choice = std::make_unique<TargetChoice>(choose_for_target(scene, candidates, keys, profile, {}));
+    SceneMeshes expected;
+    ReconstructOptions options;
+    options.opaque_polygons = choice->opaque_pass;
+    ASSERT_EQ(reconstruct_scene(scene, choice->analysis, options, &expected), ReconstructStatus::ok);
+    const TargetChoice copy = *choice;
+    choice.reset(); // the original is gone
+
+    ASSERT_EQ(copy.analysis.of_element.size(), scene.elements.size());
+    for (std::size_t i = 0; i < scene.elements.size(); ++i) {
+        const ImageAnalysis* a = copy.analysis.of(i);
+        ASSERT_NE(a, nullptr) << i;
+        EXPECT_TRUE(a >= copy.analysis.images.data() && a < copy.analysis.images.data() + copy.analysis.images.size()) << i;
+    }
+    SceneMeshes again;
+    ASSERT_EQ(reconstruct_scene(scene, copy.analysis, options, &again), ReconstructStatus::ok);
+    ASSERT_EQ(again.draws.size(), expected.draws.size());
+    for (std::size_t d = 0; d < again.draws.size(); ++d) {
+        EXPECT_EQ(again.draws[d].vertices, expected.draws[d].vertices);
+        EXPECT_EQ(again.draws[d].indices, expected.draws[d].indices);
+    }
 }
 
 TEST(Target, ChoicesAreDeterministicForAProfile) {

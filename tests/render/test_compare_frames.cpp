@@ -1,13 +1,13 @@
-// Comparing frames and heatmaps: exact counts on tiny hand-built frames (no GL).
+// Comparing frames: exact counts on tiny hand-built frames (no GL).
 #include <gtest/gtest.h>
 
+#include "depthcull/overdraw.h"
 #include "depthcull/render.h"
 #include "render_scenes.h"
 
 namespace depthcull {
 namespace {
 
-using render::OverdrawMap;
 
 TEST(CompareImages, CountsPixelsAndLargestChannelDifference) {
     Image a = test::ascii_image({"#+", ".#"}), b = a;
@@ -18,18 +18,6 @@ TEST(CompareImages, CountsPixelsAndLargestChannelDifference) {
     EXPECT_EQ(d.max_channel_diff, 7);
     EXPECT_TRUE(d.same_size);
     EXPECT_FALSE(render::compare_images(a.view(), test::ascii_image({"#"}).view()).same_size);
-}
-
-TEST(Heatmap, PanelsSideBySideAndDeterministic) {
-    auto rs = test::mixed_scene();
-    OverdrawMap over, opt;
-    render::analyze_overdraw(overpaint_meshes(rs.scene), &over);
-    render::analyze_overdraw(test::hand_optimized(rs), &opt);
-    Image a = render::overdraw_heatmap({{"overpaint", &over}, {"optimized", &opt}});
-    Image b = render::overdraw_heatmap({{"overpaint", &over}, {"optimized", &opt}});
-    EXPECT_GE(a.width, 2 * 64);
-    EXPECT_GT(a.height, 48);
-    EXPECT_EQ(a.rgba, b.rgba);
 }
 
 } // namespace

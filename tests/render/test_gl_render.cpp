@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <random>
 
+#include "depthcull/overdraw.h"
 #include "depthcull/render.h"
 #include "render_scenes.h"
 
@@ -85,7 +86,7 @@ TEST(GlRender, SamplesPassedMatchesTheCpuAnalyzer) {
     for (const SceneMeshes& m : {overpaint_meshes(rs.scene, 0, true), test::hand_optimized(rs)}) {
         render::FrameCounts counts;
         draw(*r, m, &counts, element_maps(rs.scene));
-        auto cpu = render::analyze_overdraw(m);
+        auto cpu = analyze_overdraw(m);
         EXPECT_EQ(counts.samples_passed, cpu.shaded) << (m.depth_test ? "optimized" : "overpaint");
         EXPECT_EQ(counts.draw_calls, std::int64_t(m.draws.size()));
     }
@@ -113,7 +114,7 @@ TEST(GlRender, FillRuleMatchesTheCpuAnalyzerOnAwkwardTriangles) {
         m.draws.push_back(d);
         render::FrameCounts counts;
         draw(*r, m, &counts, element_maps(rs.scene));
-        EXPECT_EQ(counts.samples_passed, render::analyze_overdraw(m).shaded) << "grid 1/" << grid;
+        EXPECT_EQ(counts.samples_passed, analyze_overdraw(m).shaded) << "grid 1/" << grid;
     }
 }
 

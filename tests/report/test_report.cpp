@@ -1,9 +1,12 @@
 // depthcull::report: the font, previews, pictures and the HTML report.
+#include <cstring>
+
 #include <gtest/gtest.h>
 
 #include "depthcull/analyze.h"
 #include "depthcull/report.h"
 #include "report/canvas.h" // internal: the font is tested here
+#include "report/html_text.h"
 
 namespace report = depthcull::report;
 using depthcull::Image;
@@ -97,6 +100,42 @@ TEST(Report, HeatLegendLastBucketSaysOrMore) {
     // Counts past the last bucket share its colour.
     const report::Rgba a = report::heat_colour(report::kHeatBuckets - 1), b = report::heat_colour(1000);
     EXPECT_TRUE(a.r == b.r && a.g == b.g && a.b == b.b);
+}
+
+// `render --heatmap` draws on the report's buckets (one set of heat
+// colours): panels side by side, each pixel heat_colour of its count, the
+// same picture for the same counts.
+TEST(Report, OverdrawHeatmapPanelsUseTheReportsBuckets) {
+    depthcull::OverdrawMap a{3, 2, {0, 1, 2, 3, 8, 40}}, b{2, 1, {5, 9}};
+    const Image h = report::overdraw_heatmap({{"overpaint  od 2.0", &a}, {"optimized", &b}, {"no map", nullptr}});
+    EXPECT_EQ(report::overdraw_heatmap({{"overpaint  od 2.0", &a}, {"optimized", &b}}).rgba, h.rgba);
+    ASSERT_GT(h.width, 0);
+    // The first panel's pixels, below its title (margin 8, title 14 + 6).
+    const int x0 = 8, y0 = 8 + 14 + 6;
+    for (int j = 0; j < a.height; ++j)
+        for (int i = 0; i < a.width; ++i) {
+            const report::Rgba c = report::heat_colour(a.counts[std::size_t(j * a.width + i)]);
+            const std::uint8_t* p = pixel(h, x0 + i, y0 + j);
+            EXPECT_TRUE(p[0] == c.r && p[1] == c.g && p[2] == c.b && p[3] == 255) << i << "," << j;
+        }
+    // Counts past the last bucket take its colour: 8 and 40 look the same.
+    EXPECT_EQ(0, std::memcmp(pixel(h, x0 + 1, y0 + 1), pixel(h, x0 + 2, y0 + 1), 4));
+    // The second panel starts after the first's title (wider than its map).
+    const int x1 = x0 + report::text_width("overpaint  od 2.0", 2) + 8;
+    const report::Rgba c9 = report::heat_colour(9);
+    EXPECT_EQ(pixel(h, x1 + 1, y0)[0], c9.r);
+    EXPECT_EQ(pixel(h, x1 + 1, y0)[2], c9.b);
+    // The legend holds every bucket's colour.
+    for (int bucket = 0; bucket < report::kHeatBuckets; ++bucket) {
+        const report::Rgba c = report::heat_colour(std::uint32_t(bucket));
+        bool found = false;
+        for (int y = y0 + a.height; y < h.height && !found; ++y)
+            for (int x = 0; x < h.width && !found; ++x) {
+                const std::uint8_t* p = pixel(h, x, y);
+                found = p[0] == c.r && p[1] == c.g && p[2] == c.b;
+            }
+        EXPECT_TRUE(found) << "bucket " << bucket;
+    }
 }
 
 TEST(Report, DifferenceImageMarksDifferingPixels) {
