@@ -72,6 +72,12 @@ CostTerms predict_terms(const CostProfile& p, const FrameFeatures& f);
 // is of the same order as what ipad1 gives.
 int min_opaque_area(const CostProfile& p);
 
+// ReconstructOptions::clip_hidden for a profile (issue 25): enabled, with
+// the profile's rejected-fragment, triangle and perimeter costs (ns), so an
+// element is cut where the rejected fragments saved beat the triangles and
+// edges added. On a renderer that rejects for free (ipad1) nothing pays.
+ClipHiddenOptions clip_hidden_options(const CostProfile& p);
+
 // ---- Least squares (the Table 2 fit, calibration)
 
 // Solves min |X b - y|^2 (rows of X are observations); false when X'X is

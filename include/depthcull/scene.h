@@ -246,6 +246,27 @@ enum class SortMethod {
 // vertex snapping error (ReconstructOptions::texel_margin).
 inline constexpr double kTexelMargin = 1.0 / 32;
 
+// Issue 25: clipping hidden parts. Where opaque polygons of elements in
+// front (drawn in the opaque pass, at a nearer depth level) cover part of
+// an element's blend-pass polygons or of a whole-rect opaque tile, that
+// part is cut away on the CPU (Clipper 6, exact integers), so neither its
+// blended nor its rejected fragments are drawn. Per element, only when
+// saved fragments x fragment_cost beat the added triangles x
+// triangle_cost plus the added summed triangle perimeter (screen pixels)
+// x perimeter_cost (units of the caller's choice; the cost model fills
+// them from a profile: clip_hidden_options in depthcull/cost.h). The cut
+// runs `margin` screen pixels inside the occluder, so GL's vertex snapping
+// never uncovers a pixel (src/scene/clip_hidden.cpp). Only elements whose
+// transform GL snaps exactly (power-of-two scales, quarter turns, flips,
+// 1/256-pixel moves) are clipped. Without Clipper (wasm builds) it does nothing.
+struct ClipHiddenOptions {
+    bool enabled = false;
+    double fragment_cost = 1;
+    double triangle_cost = 0;
+    double perimeter_cost = 0;
+    double margin = 1.0 / 16;
+};
+
 struct ReconstructOptions {
     GraphMode graph = GraphMode::polygons;
     SortMethod sort = SortMethod::batch;
@@ -293,6 +314,7 @@ struct ReconstructOptions {
     // a point stay behind its sprites, those after it in front, and no
     // blend draw spans a point. Ascending `element`, each <= elements.
     std::vector<InsertionPoint> insertion_points;
+    ClipHiddenOptions clip_hidden; // off by default (issue 25)
 };
 
 enum class ReconstructStatus {

@@ -5,6 +5,8 @@
 // depends on the thread count.
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 #include <map>
 
 #include "depthcull/pipeline.h"
@@ -22,7 +24,13 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     for (int b : {4, 6, 8})
         if (b < cap) plan.budgets.push_back(b);
     plan.budgets.push_back(cap);
-    plan.min_opaque_area = min_opaque_area(profile);
+    // Issue 25: with hidden parts clipped, fragments under an opaque
+    // polygon cost nothing rather than a rejection, so polygons pay sooner.
+    const char* clip = std::getenv("DEPTHCULL_CLIP_HIDDEN");
+    const bool clip_hidden = !(clip && std::string(clip) == "0") && clip_hidden_options(profile).enabled;
+    CostProfile priced = profile;
+    if (clip_hidden) priced.fragment_rejected_ns = 0;
+    plan.min_opaque_area = min_opaque_area(priced);
     analyze.opaque.min_area = plan.min_opaque_area;
 
     // Keys: the prepared scene's distinct analyses.
@@ -62,7 +70,12 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
             candidates[k].max_vertices.push_back(plan.budgets[b]);
         }
     }
-    plan.choice = choose_for_target(scene, candidates, element_key, profile, reconstruct);
+    // Issue 25: hidden parts cut where the profile says it pays (the
+    // choice predicts its frames with the cut); DEPTHCULL_CLIP_HIDDEN=0
+    // turns it off (to measure what it gains).
+    ReconstructOptions chosen = reconstruct;
+    if (clip_hidden) chosen.clip_hidden = clip_hidden_options(profile);
+    plan.choice = choose_for_target(scene, candidates, element_key, profile, chosen);
     // The choice as a value: each chosen analysis copied once.
     std::map<const ImageAnalysis*, std::uint32_t> index;
     plan.analysis.of_element.assign(scene.elements.size(), UINT32_MAX);
@@ -73,7 +86,7 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
         if (fresh) plan.analysis.images.push_back(*a);
         plan.analysis.of_element[i] = it->second;
     }
-    plan.reconstruct = reconstruct;
+    plan.reconstruct = chosen;
     plan.reconstruct.opaque_polygons = reconstruct.opaque_polygons && plan.choice.opaque_pass;
     return plan;
 }

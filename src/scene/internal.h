@@ -77,6 +77,19 @@ struct TexelMesh {
     std::vector<std::uint32_t> indices;
 };
 
+// Issue 25 (clip_hidden.cpp): what an element draws instead of its
+// polygons once the parts hidden behind opaque polygons in front are cut
+// away: pieces in texel space of its image, each with its triangles.
+struct ClippedPart {
+    std::vector<Polygon> pieces;
+    std::vector<std::vector<std::uint32_t>> triangles;
+};
+struct ClippedParts {
+    std::unordered_map<std::uint32_t, ClippedPart> blend;  // blend-pass polygons (or rect) cut
+    std::unordered_map<std::uint32_t, ClippedPart> opaque; // whole-rect opaque tiles cut
+    std::int64_t elements = 0;
+};
+
 // Appends elements' polygons to draws (paper 2.3.3 AddPolygon), caching
 // the triangulation of each analysis polygon: elements sharing an image
 // rect share the texel-space triangulation, and an affine transform keeps
@@ -103,6 +116,8 @@ public:
         always_skirt_ = always_skirt;
     }
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
+    // Elements named here draw their cut pieces instead (clip_hidden_parts).
+    void set_clipped(const ClippedParts* clipped) { clipped_ = clipped; }
 
     // ReconstructOptions::coverage_margin: a skirt around `polygons` (of
     // `element`, texel space) when the margin is positive. Returns, per
@@ -129,6 +144,7 @@ private:
     bool spans_;
     TexelMesh* capture_ = nullptr;
     bool always_skirt_ = false;
+    const ClippedParts* clipped_ = nullptr;
     std::vector<std::uint32_t> fan_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };
@@ -142,5 +158,14 @@ void append_opaque_draws(const Scene& scene, const std::vector<std::uint32_t>& e
                          std::vector<Draw>& draws);
 
 void finish_stats(SceneMeshes& out);
+
+// ReconstructOptions::clip_hidden: per element, its blend-pass polygons
+// and whole-rect opaque tile with the parts under opaque polygons of
+// nearer elements cut away, where that pays (clip_hidden.cpp). Empty
+// without Clipper or when disabled.
+ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, const ElementShapes& shapes,
+                               const std::vector<std::int64_t>& levels, const ElementGraph& graph,
+                               const std::vector<std::int32_t>& keys, const MeshBuilder& builder,
+                               const ClipHiddenOptions& options);
 
 } // namespace depthcull::detail
