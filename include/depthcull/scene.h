@@ -265,6 +265,9 @@ struct ClipHiddenOptions {
     double triangle_cost = 0;
     double perimeter_cost = 0;
     double margin = 1.0 / 16;
+    // For choose_for_target (depthcull/cost.h): price what opaque
+    // polygons hide as clipped away (free) rather than rejected.
+    bool plan_occluders = false;
 };
 
 struct ReconstructOptions {

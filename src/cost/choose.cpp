@@ -160,7 +160,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
                  Fo = P.fragment_opaque_ns;
     // Issue 25: with hidden parts clipped, what an opaque polygon hides is
     // not drawn at all instead of rejected (a bound: the cut may not pay).
-    const double Fr = options.clip_hidden.enabled ? 0.0 : P.fragment_rejected_ns;
+    const double Fr = options.clip_hidden.enabled && options.clip_hidden.plan_occluders ? 0.0 : P.fragment_rejected_ns;
     auto key_of = [&](std::size_t i) { return i < element_key.size() ? element_key[i] : -1; };
     auto usable = [&](std::size_t i) {
         const int k = key_of(i);

@@ -13,8 +13,13 @@
 
 namespace depthcull::pipeline {
 
-TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
-                       const ReconstructOptions& reconstruct) {
+namespace {
+
+// One plan; `clip` (issue 25): hidden parts are clipped, and when
+// `occluders` the choice and MIN_OPAQUE_AREA price what opaque polygons
+// hide as clipped away (free) rather than rejected.
+TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
+                     const ReconstructOptions& reconstruct, bool clip, bool occluders) {
     TargetPlan plan;
     plan.profile = profile;
     const Scene& scene = prepared.scene;
@@ -24,12 +29,8 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     for (int b : {4, 6, 8})
         if (b < cap) plan.budgets.push_back(b);
     plan.budgets.push_back(cap);
-    // Issue 25: with hidden parts clipped, fragments under an opaque
-    // polygon cost nothing rather than a rejection, so polygons pay sooner.
-    const char* clip = std::getenv("DEPTHCULL_CLIP_HIDDEN");
-    const bool clip_hidden = !(clip && std::string(clip) == "0") && clip_hidden_options(profile).enabled;
     CostProfile priced = profile;
-    if (clip_hidden) priced.fragment_rejected_ns = 0;
+    if (occluders) priced.fragment_rejected_ns = 0;
     plan.min_opaque_area = min_opaque_area(priced);
     analyze.opaque.min_area = plan.min_opaque_area;
 
@@ -70,11 +71,9 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
             candidates[k].max_vertices.push_back(plan.budgets[b]);
         }
     }
-    // Issue 25: hidden parts cut where the profile says it pays (the
-    // choice predicts its frames with the cut); DEPTHCULL_CLIP_HIDDEN=0
-    // turns it off (to measure what it gains).
     ReconstructOptions chosen = reconstruct;
-    if (clip_hidden) chosen.clip_hidden = clip_hidden_options(profile);
+    if (clip) chosen.clip_hidden = clip_hidden_options(profile);
+    chosen.clip_hidden.plan_occluders = occluders;
     plan.choice = choose_for_target(scene, candidates, element_key, profile, chosen);
     // The choice as a value: each chosen analysis copied once.
     std::map<const ImageAnalysis*, std::uint32_t> index;
@@ -87,7 +86,32 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
         plan.analysis.of_element[i] = it->second;
     }
     plan.reconstruct = chosen;
+    plan.reconstruct.clip_hidden.plan_occluders = false;
     plan.reconstruct.opaque_polygons = reconstruct.opaque_polygons && plan.choice.opaque_pass;
+    return plan;
+}
+
+} // namespace
+
+TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
+                       const ReconstructOptions& reconstruct) {
+    // Issue 25: hidden parts clipped where the profile says it pays;
+    // DEPTHCULL_CLIP_HIDDEN=0 turns it off (to measure what it gains).
+    const char* env = std::getenv("DEPTHCULL_CLIP_HIDDEN");
+    const bool clip = !(env && std::string(env) == "0") && clip_hidden_options(profile).enabled;
+    TargetPlan plan = plan_once(prepared, options, profile, reconstruct, clip, false);
+    if (!clip) return plan;
+    // Planned for clipping too (more opaque polygons, priced as hiding for
+    // free): kept only when the whole frame is predicted faster, as the
+    // local estimates miss whether each cut pays.
+    TargetPlan planned = plan_once(prepared, options, profile, reconstruct, true, true);
+    if (planned.choice.predicted_ms < plan.choice.predicted_ms) {
+        planned.analyzed += plan.analyzed;
+        planned.cache_hits += plan.cache_hits;
+        return planned;
+    }
+    plan.analyzed += planned.analyzed;
+    plan.cache_hits += planned.cache_hits;
     return plan;
 }
 
