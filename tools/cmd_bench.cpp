@@ -95,7 +95,7 @@ void predict_modes(const pipeline::PreparedScene& prepared, const render::Measur
     reconstruct.coverage_margin = 0;
     for (render::Mode mode : modes) {
         SceneMeshes meshes;
-        if (render::build_meshes(mode, prepared.scene, prepared.analysis, reconstruct, &meshes) != ReconstructStatus::ok) {
+        if (render::build_meshes(mode, prepared.scene, prepared.analysis, reconstruct, &meshes, true) != ReconstructStatus::ok) {
             out.push_back(0);
             r->features.emplace_back();
             r->terms.emplace_back();

@@ -318,6 +318,13 @@ struct ReconstructOptions {
     // blend draw spans a point. Ascending `element`, each <= elements.
     std::vector<InsertionPoint> insertion_points;
     ClipHiddenOptions clip_hidden; // off by default (issue 25)
+    // Issue 25: whole-rect opaque tiles at one depth level that lie on
+    // screen as their rects lie in the image (a backdrop cut into tiles)
+    // are drawn as one quad per block (src/scene/opaque_merge.cpp): fewer
+    // triangles and edges, the same pixels. Only for plain renderers: not
+    // with element_spans or coverage_margin (their rect test would cut the
+    // quad). Off by default; --target turns it on.
+    bool merge_opaque = false;
 };
 
 enum class ReconstructStatus {

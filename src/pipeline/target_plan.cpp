@@ -99,12 +99,17 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     // DEPTHCULL_CLIP_HIDDEN=0 turns it off (to measure what it gains).
     const char* env = std::getenv("DEPTHCULL_CLIP_HIDDEN");
     const bool clip = !(env && std::string(env) == "0") && clip_hidden_options(profile).enabled;
-    TargetPlan plan = plan_once(prepared, options, profile, reconstruct, clip, false);
+    // Opaque merging (issue 25) only takes triangles and edges away:
+    // always on with a target; DEPTHCULL_MERGE_OPAQUE=0 turns it off.
+    const char* merge_env = std::getenv("DEPTHCULL_MERGE_OPAQUE");
+    ReconstructOptions base = reconstruct;
+    base.merge_opaque = !(merge_env && std::string(merge_env) == "0");
+    TargetPlan plan = plan_once(prepared, options, profile, base, clip, false);
     if (!clip) return plan;
     // Planned for clipping too (more opaque polygons, priced as hiding for
     // free): kept only when the whole frame is predicted faster, as the
     // local estimates miss whether each cut pays.
-    TargetPlan planned = plan_once(prepared, options, profile, reconstruct, true, true);
+    TargetPlan planned = plan_once(prepared, options, profile, base, true, true);
     if (planned.choice.predicted_ms < plan.choice.predicted_ms) {
         planned.analyzed += plan.analyzed;
         planned.cache_hits += plan.cache_hits;

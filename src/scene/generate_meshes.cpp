@@ -70,6 +70,14 @@ void MeshBuilder::add_boundary(Draw& d, std::uint32_t element, Shape shape, cons
 void MeshBuilder::add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z) {
     static const std::vector<std::uint32_t> quad{0, 1, 2, 0, 2, 3};
     if (shape == Shape::rect) {
+        if (merged_ && !capture_ && element < merged_->absorbed.size()) {
+            if (merged_->absorbed[element]) return;
+            auto it = merged_->quads.find(element);
+            if (it != merged_->quads.end()) {
+                add_polygon(d, element, it->second, quad, z);
+                return;
+            }
+        }
         if (clipped_ && !capture_) {
             auto it = clipped_->opaque.find(element);
             if (it != clipped_->opaque.end()) {
@@ -285,6 +293,11 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     if (options.clip_hidden.enabled && options.opaque_polygons) {
         clipped = clip_hidden_parts(scene, analyses, shapes, levels, graph, keys, builder, options.clip_hidden);
         builder.set_clipped(&clipped);
+    }
+    MergedTiles merged;
+    if (options.merge_opaque && options.opaque_polygons && !options.element_spans && !(options.coverage_margin > 0)) {
+        merged = merge_opaque_tiles(scene, shapes, levels, keys, &clipped);
+        builder.set_merged(&merged);
     }
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);

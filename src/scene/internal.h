@@ -90,6 +90,13 @@ struct ClippedParts {
     std::int64_t elements = 0;
 };
 
+// Issue 25 (opaque_merge.cpp): whole-rect opaque tiles drawn as one quad.
+struct MergedTiles {
+    std::unordered_map<std::uint32_t, Polygon> quads; // leader -> the union of its block's rects (texel space)
+    std::vector<std::uint8_t> absorbed;               // per element: drawn by its block's leader
+    std::int64_t merged = 0;                          // tiles in blocks of two or more
+};
+
 // Appends elements' polygons to draws (paper 2.3.3 AddPolygon), caching
 // the triangulation of each analysis polygon: elements sharing an image
 // rect share the texel-space triangulation, and an affine transform keeps
@@ -118,6 +125,8 @@ public:
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
     // Elements named here draw their cut pieces instead (clip_hidden_parts).
     void set_clipped(const ClippedParts* clipped) { clipped_ = clipped; }
+    // Tiles named here draw their block's quad, or nothing (merge_opaque_tiles).
+    void set_merged(const MergedTiles* merged) { merged_ = merged; }
 
     // ReconstructOptions::coverage_margin: a skirt around `polygons` (of
     // `element`, texel space) when the margin is positive. Returns, per
@@ -145,6 +154,7 @@ private:
     TexelMesh* capture_ = nullptr;
     bool always_skirt_ = false;
     const ClippedParts* clipped_ = nullptr;
+    const MergedTiles* merged_ = nullptr;
     std::vector<std::uint32_t> fan_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };
@@ -167,5 +177,11 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                                const std::vector<std::int64_t>& levels, const ElementGraph& graph,
                                const std::vector<std::int32_t>& keys, const MeshBuilder& builder,
                                const ClipHiddenOptions& options);
+
+// ReconstructOptions::merge_opaque: blocks of whole-rect opaque tiles at one
+// level whose rects lie on screen as in the image (opaque_merge.cpp).
+// Tiles cut by `clipped` (may be null) stay apart.
+MergedTiles merge_opaque_tiles(const Scene& scene, const ElementShapes& shapes, const std::vector<std::int64_t>& levels,
+                               const std::vector<std::int32_t>& keys, const ClippedParts* clipped);
 
 } // namespace depthcull::detail

@@ -265,6 +265,34 @@ RC_GTEST_PROP(PixelIdentity, HiddenPartsClippedBehindTurnedScaledFlippedSprites,
     assert_identical(render::GlApi::desktop, rs, &clip);
 }
 
+// Issue 25: opaque tiles of one sheet laid out as in it (scaled by a power
+// of two, flipped, moved by 1/256 pixels as a whole), some out of place,
+// under turned sprites, drawn merged into blocks.
+RC_GTEST_PROP(PixelIdentity, OpaqueTilesMergedIntoBlocks, ()) {
+    test::RenderScene rs = turned_scene_images();
+    Image sheet{16, 12, std::vector<std::uint8_t>(16 * 12 * 4, 255)};
+    for (std::size_t t = 0; t < 16 * 12; ++t)
+        for (std::size_t c = 0; c < 3; ++c) sheet.rgba[4 * t + c] = std::uint8_t((t * 37 + c * 101) % 256);
+    const int image = rs.add_image(sheet, {0, 0, 16, 12});
+    const double scale = *rc::gen::element(0.5, 1.0, 2.0, 4.0);
+    const double fx = *rc::gen::element(1.0, -1.0), fy = *rc::gen::element(1.0, -1.0);
+    const double ox = *rc::gen::inRange(0, 20480) / 256.0, oy = *rc::gen::inRange(0, 15360) / 256.0;
+    for (int ty = 0; ty < 3; ++ty)
+        for (int tx = 0; tx < 4; ++tx) {
+            const double a = fx * scale, d = fy * scale;
+            const double shift = *rc::gen::inRange(0, 5) == 0 ? *rc::gen::inRange(1, 512) / 256.0 : 0.0;
+            Element& e = rs.add(image, {a, 0, 0, d, ox + a * tx * 4 + shift, oy + d * ty * 4}, *rc::gen::element(Blend::opaque, Blend::alpha));
+            e.rect = {tx * 4, ty * 4, 4, 4};
+        }
+    const int count = *rc::gen::inRange(0, 10);
+    for (int i = 0; i < count; ++i)
+        add_turned(rs, test::rotation(*rc::gen::inRange(0, 36000) / 100.0, *rc::gen::inRange(0, 100000) / 1000.0,
+                                      *rc::gen::inRange(0, 90000) / 1000.0, *rc::gen::inRange(300, 3001) / 1000.0));
+    ReconstructOptions merge;
+    merge.merge_opaque = true;
+    assert_identical(render::GlApi::desktop, rs, &merge);
+}
+
 INSTANTIATE_TEST_SUITE_P(Targets, PixelIdentity, testing::Values(render::GlApi::desktop, render::GlApi::gles),
                          [](const auto& info) { return info.param == render::GlApi::gles ? "es30" : "gl33"; });
 
