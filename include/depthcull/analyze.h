@@ -194,8 +194,9 @@ std::int64_t count_opaque_violations(ImageView image, Rect rect, const std::vect
 
 // Opaque texels of rect whose square lies inside an opaque polygon.
 std::int64_t count_covered_opaque_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons);
-// Opaque texels of rect whose centre lies inside or on an opaque polygon:
-// the pixels the opaque pass draws at 1:1 (issue 25).
+// Opaque texels of rect whose centre lies strictly inside an opaque polygon:
+// the pixels the opaque pass draws at 1:1 (issue 25; it pulls polygons in
+// by the texel margin, so a centre on an edge is not drawn).
 std::int64_t count_centre_covered_opaque_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons);
 
 } // namespace depthcull

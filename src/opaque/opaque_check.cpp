@@ -151,8 +151,9 @@ std::int64_t count_opaque_violations(ImageView image, Rect rect, const std::vect
 
 std::int64_t count_centre_covered_opaque_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons) {
     if (rect.empty() || !image.contains(rect)) return 0;
-    // Inside or on a convex polygon: no edge has the centre strictly on its
-    // outer side (exact: 1/256 texel integers, either orientation). Opaque
+    // Strictly inside a convex polygon: every edge has the centre on its
+    // inner side (exact: 1/256 texel integers, either orientation; a centre
+    // on an edge is not drawn once the opaque pass pulls polygons in). Opaque
     // texels only (the guarantee makes them all opaque; a broken polygon
     // must not score).
     std::vector<std::uint8_t> hit(std::size_t(rect.w) * std::size_t(rect.h), 0);
@@ -177,7 +178,7 @@ std::int64_t count_centre_covered_opaque_texels(ImageView image, Rect rect, cons
                 for (std::size_t i = 0; i < p.size() && in; ++i) {
                     const HalfPoint& a = p[i];
                     const HalfPoint& b = p[(i + 1) % p.size()];
-                    in = sign * ((b.x - a.x) * (cy - a.y) - (b.y - a.y) * (cx - a.x)) >= 0;
+                    in = sign * ((b.x - a.x) * (cy - a.y) - (b.y - a.y) * (cx - a.x)) > 0;
                 }
                 if (in) hit[std::size_t(y - rect.y) * std::size_t(rect.w) + std::size_t(x - rect.x)] = 1;
             }

@@ -181,7 +181,7 @@ struct SearchCounters {
 
 std::vector<HalfPolygon> paper_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
 std::vector<HalfPolygon> fast_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
-// Texels whose centre lies inside or on one of the convex polygons
+// Texels whose centre lies strictly inside one of the convex polygons
 // (vertices in units of 1/scale texel, scale even), each counted once: how
 // many of a sprite's pixels the opaque pass draws at 1:1 (issue 25).
 i64 centre_covered_texels(const std::vector<HalfPolygon>& polygons, i64 scale = 2);

@@ -123,9 +123,11 @@ void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale)
 }
 
 i64 centre_covered_texels(const std::vector<HalfPolygon>& polygons, i64 scale) {
-    // Row r's centres lie at y = scale r + scale / 2; a convex polygon cut
-    // there spans [min, max] of its crossings num / den, and texel x has its
-    // centre in it iff scale x + scale / 2 lies in it: exact integers.
+    // Row r's centres lie at y = scale r + scale / 2; a convex polygon's
+    // interior meets that line only strictly between its lowest and highest
+    // y, where it spans the open range between its crossings num / den, and
+    // texel x has its centre in it iff scale x + scale / 2 lies strictly
+    // inside: exact integers.
     const i64 half = scale / 2;
     i64 y0 = std::numeric_limits<i64>::max(), y1 = std::numeric_limits<i64>::min();
     for (const HalfPolygon& p : polygons)
@@ -138,9 +140,12 @@ i64 centre_covered_texels(const std::vector<HalfPolygon>& polygons, i64 scale) {
         spans.clear();
         for (const HalfPolygon& p : polygons) {
             i64 lo = std::numeric_limits<i64>::max(), hi = std::numeric_limits<i64>::min();
+            i64 top = std::numeric_limits<i64>::max(), bottom = std::numeric_limits<i64>::min();
+            for (const HalfPoint& v : p) top = std::min(top, v.y), bottom = std::max(bottom, v.y);
+            if (y <= top || y >= bottom) continue;
             auto cross = [&](i64 num, i64 den) {
-                lo = std::min(lo, ceil_div(num - den * half, scale * den));
-                hi = std::max(hi, floor_div(num - den * half, scale * den));
+                lo = std::min(lo, floor_div(num - den * half, scale * den) + 1);
+                hi = std::max(hi, ceil_div(num - den * half, scale * den) - 1);
             };
             for (std::size_t k = 0, n = p.size(); k < n; ++k) {
                 const HalfPoint a = p[k], b = p[(k + 1) % n];
