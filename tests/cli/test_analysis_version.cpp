@@ -16,7 +16,7 @@ using namespace depthcull;
 namespace {
 
 constexpr int kGoldenVersion = 4;
-constexpr std::uint64_t kGoldenDigest = 6007381523877079633ull;
+constexpr std::uint64_t kGoldenDigest = 9519946284819868573ull;
 
 std::uint64_t fnv(std::uint64_t h, const void* p, std::size_t n) {
     for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<const unsigned char*>(p)[i]) * 0x100000001b3ull;
