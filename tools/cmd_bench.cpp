@@ -88,6 +88,7 @@ struct SceneResult {
     std::vector<FrameFeatures> features; // --target: what the model read off each mode's meshes
     std::vector<CostTerms> terms;      // --target: the prediction by term
     std::string target;                // the profile's name
+    double limit_ms = 0;               // --target: the ideal frame's predicted ms (limit_ms, issue 25)
 };
 
 // The model's prediction for each mode drawn (the meshes measure_runtime draws).
@@ -98,7 +99,7 @@ void predict_modes(const pipeline::PreparedScene& prepared, const render::Measur
     reconstruct.coverage_margin = 0;
     for (render::Mode mode : modes) {
         SceneMeshes meshes;
-        if (render::build_meshes(mode, prepared.scene, prepared.analysis, reconstruct, &meshes) != ReconstructStatus::ok) {
+        if (render::build_meshes(mode, prepared.scene, prepared.analysis, reconstruct, &meshes, true) != ReconstructStatus::ok) {
             out.push_back(0);
             r->features.emplace_back();
             r->terms.emplace_back();
@@ -108,6 +109,7 @@ void predict_modes(const pipeline::PreparedScene& prepared, const render::Measur
         r->terms.push_back(predict_terms(profile, r->features.back()));
         out.push_back(predict_ms(profile, r->features.back()));
     }
+    r->limit_ms = limit_ms(profile, prepared.scene, prepared.views());
 }
 
 double median_of(std::vector<double> v) {
@@ -123,7 +125,7 @@ std::string runtime_table(const std::vector<SceneResult>& results) {
     char line[512];
     const bool predicted = !results.empty() && !results.front().predicted.empty();
     std::snprintf(line, sizeof line, "%-24s %-10s %7s %8s %7s %7s %7s %8s %7s %9s %9s %7s %7s%s\n", "Scene", "Mode", "Obj", "Tri", "raster",
-                  "OD", "ideal", "OD/ideal", "covered", "ms", "cpu ms", "diffpx", "offedge", predicted ? "   pred ms   error" : "");
+                  "OD", "ideal", "OD/ideal", "covered", "ms", "cpu ms", "diffpx", "offedge", predicted ? "   pred ms   error  /limit /overpaint" : "");
     out += line;
     for (const SceneResult& r : results) {
         const double pixels = double(r.rt.width) * double(r.rt.height);
@@ -137,7 +139,9 @@ std::string runtime_table(const std::vector<SceneResult>& results) {
                           m.off_texel_edges);
             out += line;
             if (mi < r.predicted.size()) {
-                std::snprintf(line, sizeof line, " %9.3f %6.1f%%", r.predicted[mi], m.cpu_ms > 0 ? 100 * (r.predicted[mi] - m.cpu_ms) / m.cpu_ms : 0.0);
+                const double over = r.rt.modes[0].mode == render::Mode::overpaint ? r.rt.modes[0].cpu_ms : 0; // first when drawn
+                std::snprintf(line, sizeof line, " %9.3f %6.1f%% %7.3f %10.3f", r.predicted[mi], m.cpu_ms > 0 ? 100 * (r.predicted[mi] - m.cpu_ms) / m.cpu_ms : 0.0,
+                              r.limit_ms > 0 ? m.cpu_ms / r.limit_ms : 0.0, over > 0 ? m.cpu_ms / over : 0.0);
                 out += line;
             }
             out += "\n";
@@ -166,6 +170,8 @@ json runtime_json(const SceneResult& r) {
             const CostTerms& t = r.terms[mi];
             modes.push_back({{"mode", render::mode_name(m.mode)},
                              {"predicted_ms", r.predicted[mi]},
+                             {"cpu_over_limit", r.limit_ms > 0 ? m.cpu_ms / r.limit_ms : 0.0},
+                             {"cpu_over_overpaint", r.rt.modes[0].mode == render::Mode::overpaint && r.rt.modes[0].cpu_ms > 0 ? m.cpu_ms / r.rt.modes[0].cpu_ms : 0.0},
                              {"predicted_terms_ms",
                               {{"frame", t.frame}, {"clears", t.clears}, {"draws", t.draws}, {"triangles", t.triangles},
                                {"opaque", t.opaque}, {"blend", t.blend}, {"rejected", t.rejected}}},
@@ -200,6 +206,7 @@ json runtime_json(const SceneResult& r) {
             {"elements", r.elements},
             {"covered", r.covered},
             {"ideal_overdraw", r.rt.ideal_overdraw},
+            {"limit_ms", r.limit_ms},
             {"modes", modes}};
 }
 

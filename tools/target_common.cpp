@@ -41,6 +41,8 @@ std::unique_ptr<pipeline::TargetPlan> apply_render_target(const std::string& pat
     ReconstructOptions reconstruct = reconstruct_options(in);
     auto plan = apply_target(in.target, path, prepared, prepare, &reconstruct, quiet);
     in.opaque = reconstruct.opaque_polygons;
+    in.reconstruct.clip_hidden = reconstruct.clip_hidden;
+    in.reconstruct.merge_opaque = reconstruct.merge_opaque;
     return plan;
 }
 #endif

@@ -26,7 +26,7 @@ inline constexpr int kMinBoundaryVertices = 4;
 // Bumped whenever a change to the analysis (src/boundary, src/opaque) can
 // change its output, so the on-disk cache never serves results of an older
 // algorithm. tests/cli/test_analysis_version.cpp fails until it is bumped.
-inline constexpr int kAnalysisVersion = 3;
+inline constexpr int kAnalysisVersion = 4;
 
 // Paper 2.1. MAX_BOUNDARY_VERTICES = 10.
 struct BoundaryOptions {
@@ -194,5 +194,9 @@ std::int64_t count_opaque_violations(ImageView image, Rect rect, const std::vect
 
 // Opaque texels of rect whose square lies inside an opaque polygon.
 std::int64_t count_covered_opaque_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons);
+// Opaque texels of rect whose centre lies strictly inside an opaque polygon:
+// the pixels the opaque pass draws at 1:1 (issue 25; it pulls polygons in
+// by the texel margin, so a centre on an edge is not drawn).
+std::int64_t count_centre_covered_opaque_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons);
 
 } // namespace depthcull

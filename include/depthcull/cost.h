@@ -72,6 +72,24 @@ CostTerms predict_terms(const CostProfile& p, const FrameFeatures& f);
 // is of the same order as what ipad1 gives.
 int min_opaque_area(const CostProfile& p);
 
+// ReconstructOptions::clip_hidden for a profile (issue 25): enabled, with
+// the profile's rejected-fragment, triangle and perimeter costs (ns), so an
+// element is cut where the rejected fragments saved beat the triangles and
+// edges added. On a renderer that rejects for free (ipad1) nothing pays.
+ClipHiddenOptions clip_hidden_options(const CostProfile& p);
+
+// Issue 25 point 1: the limit. The features of the ideal frame: exactly
+// ideal_overdraw's fragments (depthcull/overdraw.h), in one pass (blended,
+// no depth buffer), one draw per texture, nothing rejected, and the fewest
+// triangles: two per element that shows a fragment (its rect, clipped to
+// the viewport for the perimeter). predict_ms of it is the frame time no
+// reconstruction of the scene can beat on that renderer, by the model.
+// images[i] holds Scene::images[i]'s texels.
+FrameFeatures limit_features(const Scene& scene, const std::vector<ImageView>& images);
+inline double limit_ms(const CostProfile& p, const Scene& scene, const std::vector<ImageView>& images) {
+    return predict_ms(p, limit_features(scene, images));
+}
+
 // ---- Least squares (the Table 2 fit, calibration)
 
 // Solves min |X b - y|^2 (rows of X are observations); false when X'X is

@@ -45,6 +45,9 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map = nul
 // transparent, down to and including the first that is fully opaque there
 // (texel alpha 255 with Blend::alpha and colour alpha 1, or Blend::opaque).
 // images[i] holds Scene::images[i]'s texels. rasterized == shaded.
-OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map = nullptr);
+// `shows`, when given, gets per element 1 when it has a fragment there
+// (what the ideal frame draws: the limit of depthcull/cost.h).
+OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map = nullptr,
+                             std::vector<std::uint8_t>* shows = nullptr);
 
 } // namespace depthcull

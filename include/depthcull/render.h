@@ -189,9 +189,12 @@ const char* mode_name(Mode mode); // "overpaint", "meshes", "optimized"
 
 // The meshes a mode draws. analysis: the scene's, as reconstruct_scene
 // takes them (only `optimized` reads them). options.coverage_margin
-// applies to every mode (overpaint too).
+// applies to every mode (overpaint too). for_runtime: meshes for
+// depthcull::runtime, which needs element spans only to animate (the
+// GlRenderer samples through them): without them the optimized meshes may
+// merge opaque tiles (ReconstructOptions::merge_opaque).
 ReconstructStatus build_meshes(Mode mode, const Scene& scene, const SceneAnalysis& analysis, const ReconstructOptions& options,
-                               SceneMeshes* out);
+                               SceneMeshes* out, bool for_runtime = false);
 
 // The margin frames are compared with (ReconstructOptions::
 // coverage_margin): 8x llvmpipe's 1/512 pixel snapping error and far above

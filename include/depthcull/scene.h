@@ -246,6 +246,30 @@ enum class SortMethod {
 // vertex snapping error (ReconstructOptions::texel_margin).
 inline constexpr double kTexelMargin = 1.0 / 32;
 
+// Issue 25: clipping hidden parts. Where opaque polygons of elements in
+// front (drawn in the opaque pass, at a nearer depth level) cover part of
+// an element's blend-pass polygons or of a whole-rect opaque tile, that
+// part is cut away on the CPU (Clipper 6, exact integers), so neither its
+// blended nor its rejected fragments are drawn. Per element, only when
+// saved fragments x fragment_cost beat the added triangles x
+// triangle_cost plus the added summed triangle perimeter (screen pixels)
+// x perimeter_cost (units of the caller's choice; the cost model fills
+// them from a profile: clip_hidden_options in depthcull/cost.h). The cut
+// runs `margin` screen pixels inside the occluder, so GL's vertex snapping
+// never uncovers a pixel (src/scene/clip_hidden.cpp). Only elements whose
+// transform GL snaps exactly (power-of-two scales, quarter turns, flips,
+// 1/256-pixel moves) are clipped. Without Clipper (wasm builds) it does nothing.
+struct ClipHiddenOptions {
+    bool enabled = false;
+    double fragment_cost = 1;
+    double triangle_cost = 0;
+    double perimeter_cost = 0;
+    double margin = 1.0 / 16;
+    // For choose_for_target (depthcull/cost.h): price what opaque
+    // polygons hide as clipped away (free) rather than rejected.
+    bool plan_occluders = false;
+};
+
 struct ReconstructOptions {
     GraphMode graph = GraphMode::polygons;
     SortMethod sort = SortMethod::batch;
@@ -293,6 +317,14 @@ struct ReconstructOptions {
     // a point stay behind its sprites, those after it in front, and no
     // blend draw spans a point. Ascending `element`, each <= elements.
     std::vector<InsertionPoint> insertion_points;
+    ClipHiddenOptions clip_hidden; // off by default (issue 25)
+    // Issue 25: whole-rect opaque tiles at one depth level that lie on
+    // screen as their rects lie in the image (a backdrop cut into tiles)
+    // are drawn as one quad per block (src/scene/opaque_merge.cpp): fewer
+    // triangles and edges, the same pixels. Only for plain renderers: not
+    // with element_spans or coverage_margin (their rect test would cut the
+    // quad). Off by default; --target turns it on.
+    bool merge_opaque = false;
 };
 
 enum class ReconstructStatus {

@@ -184,10 +184,12 @@ struct Chooser {
     // 3.
     std::vector<std::int64_t> hider; // the element whose opaque polygon hides it
 
+    // Issue 25: with hidden parts clipped, what an opaque polygon hides is
+    // not drawn at all instead of rejected (a bound: the cut may not pay).
     Chooser(const Scene& s, const std::vector<TargetCandidates>& c, const std::vector<int>& k, const CostProfile& p,
             const ReconstructOptions& o)
         : scene(s), candidates(c), element_key(k), P(p), options(o), n(s.elements.size()), keys(c.size()), T(p.triangle_us * 1e3),
-          Pp(p.triangle_perimeter_ns_per_pixel), Fb(p.fragment_blend_ns), Fo(p.fragment_opaque_ns), Fr(p.fragment_rejected_ns) {}
+          Pp(p.triangle_perimeter_ns_per_pixel), Fb(p.fragment_blend_ns), Fo(p.fragment_opaque_ns), Fr(o.clip_hidden.enabled && o.clip_hidden.plan_occluders ? 0.0 : p.fragment_rejected_ns) {}
 
     int key_of(std::size_t i) const { return i < element_key.size() ? element_key[i] : -1; }
     bool usable(std::size_t i) const {

@@ -489,9 +489,14 @@ std::vector<HalfPolygon> fast_opaque_polygons(const Mask& safe, const OpaqueOpti
     const SafeGrid grid(safe);
     GrownPolygons grown = grow_opaque_polygons(grid, options, counters);
     // Ties go to the grown polygons: fewer vertices are not the point, but
-    // the replay is only a guard.
+    // the replay is only a guard. The grown polygons must match the paper's
+    // in texel squares covered and in texel centres covered (the pixels the
+    // opaque pass draws at 1:1; issue 25: by squares alone the grown ones
+    // won on sprites where they drew under 0.9x of the paper's pixels).
     Sequence paper = PaperReplay(grid, options.min_area, counters).run(options);
-    return paper.covered > grown.covered ? std::move(paper.polygons) : std::move(grown.polygons);
+    const bool grown_wins = grown.covered >= paper.covered &&
+                            centre_covered_texels(grown.polygons) >= centre_covered_texels(paper.polygons);
+    return grown_wins ? std::move(grown.polygons) : std::move(paper.polygons);
 }
 
 } // namespace depthcull::opaque_detail

@@ -149,6 +149,47 @@ std::int64_t count_opaque_violations(ImageView image, Rect rect, const std::vect
     return std::unique(violated.begin(), violated.end()) - violated.begin();
 }
 
+std::int64_t count_centre_covered_opaque_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons) {
+    if (rect.empty() || !image.contains(rect)) return 0;
+    // Strictly inside a convex polygon: every edge has the centre on its
+    // inner side (exact: 1/256 texel integers, either orientation; a centre
+    // on an edge is not drawn once the opaque pass pulls polygons in). Opaque
+    // texels only (the guarantee makes them all opaque; a broken polygon
+    // must not score).
+    std::vector<std::uint8_t> hit(std::size_t(rect.w) * std::size_t(rect.h), 0);
+    for (const auto& polygon : polygons) {
+        const HalfPolygon p = to_fixed(polygon);
+        if (p.size() < 3) continue;
+        i64 twice = 0, x0 = p[0].x, x1 = p[0].x, y0 = p[0].y, y1 = p[0].y;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const HalfPoint& a = p[i];
+            const HalfPoint& b = p[(i + 1) % p.size()];
+            twice += a.x * b.y - b.x * a.y;
+            x0 = std::min(x0, a.x), x1 = std::max(x1, a.x), y0 = std::min(y0, a.y), y1 = std::max(y1, a.y);
+        }
+        if (twice == 0) continue;
+        const i64 sign = twice > 0 ? 1 : -1;
+        const i64 tx0 = std::max<i64>(rect.x, floor_div(x0, kScale) - 1), tx1 = std::min<i64>(rect.x + rect.w - 1, ceil_div(x1, kScale));
+        const i64 ty0 = std::max<i64>(rect.y, floor_div(y0, kScale) - 1), ty1 = std::min<i64>(rect.y + rect.h - 1, ceil_div(y1, kScale));
+        for (i64 y = ty0; y <= ty1; ++y)
+            for (i64 x = tx0; x <= tx1; ++x) {
+                const i64 cx = kScale * x + kScale / 2, cy = kScale * y + kScale / 2;
+                bool in = true;
+                for (std::size_t i = 0; i < p.size() && in; ++i) {
+                    const HalfPoint& a = p[i];
+                    const HalfPoint& b = p[(i + 1) % p.size()];
+                    in = sign * ((b.x - a.x) * (cy - a.y) - (b.y - a.y) * (cx - a.x)) > 0;
+                }
+                if (in) hit[std::size_t(y - rect.y) * std::size_t(rect.w) + std::size_t(x - rect.x)] = 1;
+            }
+    }
+    std::int64_t n = 0;
+    for (int y = rect.y; y < rect.y + rect.h; ++y)
+        for (int x = rect.x; x < rect.x + rect.w; ++x)
+            n += hit[std::size_t(y - rect.y) * std::size_t(rect.w) + std::size_t(x - rect.x)] && is_opaque(image.alpha(x, y));
+    return n;
+}
+
 std::int64_t count_covered_opaque_texels(ImageView image, Rect rect, const std::vector<Polygon>& polygons) {
     if (rect.empty() || !image.contains(rect)) return 0;
     std::vector<HalfPolygon> fixed;

@@ -181,6 +181,10 @@ struct SearchCounters {
 
 std::vector<HalfPolygon> paper_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
 std::vector<HalfPolygon> fast_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
+// Texels whose centre lies strictly inside one of the convex polygons
+// (vertices in units of 1/scale texel, scale even), each counted once: how
+// many of a sprite's pixels the opaque pass draws at 1:1 (issue 25).
+i64 centre_covered_texels(const std::vector<HalfPolygon>& polygons, i64 scale = 2);
 // The paper's sequence as fast_opaque_polygons replays it: the same polygons
 // as paper_opaque_polygons when neither runs out of its budget.
 std::vector<HalfPolygon> replay_paper_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);

@@ -122,6 +122,52 @@ void covered_columns(const HalfPolygon& p, int row, i64& lo, i64& hi, i64 scale)
         }
 }
 
+i64 centre_covered_texels(const std::vector<HalfPolygon>& polygons, i64 scale) {
+    // Row r's centres lie at y = scale r + scale / 2; a convex polygon's
+    // interior meets that line only strictly between its lowest and highest
+    // y, where it spans the open range between its crossings num / den, and
+    // texel x has its centre in it iff scale x + scale / 2 lies strictly
+    // inside: exact integers.
+    const i64 half = scale / 2;
+    i64 y0 = std::numeric_limits<i64>::max(), y1 = std::numeric_limits<i64>::min();
+    for (const HalfPolygon& p : polygons)
+        for (const HalfPoint& v : p) y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+    if (y0 > y1) return 0;
+    i64 count = 0;
+    std::vector<std::pair<i64, i64>> spans;
+    for (i64 row = floor_div(y0, scale); row <= ceil_div(y1, scale); ++row) {
+        const i64 y = scale * row + half;
+        spans.clear();
+        for (const HalfPolygon& p : polygons) {
+            i64 lo = std::numeric_limits<i64>::max(), hi = std::numeric_limits<i64>::min();
+            i64 top = std::numeric_limits<i64>::max(), bottom = std::numeric_limits<i64>::min();
+            for (const HalfPoint& v : p) top = std::min(top, v.y), bottom = std::max(bottom, v.y);
+            if (y <= top || y >= bottom) continue;
+            auto cross = [&](i64 num, i64 den) {
+                lo = std::min(lo, floor_div(num - den * half, scale * den) + 1);
+                hi = std::max(hi, ceil_div(num - den * half, scale * den) - 1);
+            };
+            for (std::size_t k = 0, n = p.size(); k < n; ++k) {
+                const HalfPoint a = p[k], b = p[(k + 1) % n];
+                if (a.y == y) cross(a.x, 1);
+                if (y <= std::min(a.y, b.y) || y >= std::max(a.y, b.y)) continue;
+                i64 num = a.x * (b.y - a.y) + (b.x - a.x) * (y - a.y), den = b.y - a.y;
+                if (den < 0) num = -num, den = -den;
+                cross(num, den);
+            }
+            if (lo <= hi) spans.push_back({lo, hi + 1});
+        }
+        std::sort(spans.begin(), spans.end());
+        i64 done = std::numeric_limits<i64>::min();
+        for (auto [lo, hi] : spans) {
+            const i64 from = std::max(lo, done);
+            if (hi > from) count += hi - from;
+            done = std::max(done, hi);
+        }
+    }
+    return count;
+}
+
 void band_columns(const HalfPolygon& p, i64 y0, i64 y1, i64 margin, i64& lo, i64& hi) {
     // The polygon's open interior within the open band spans the open x
     // range between the extremes of the polygon cut to the closed band

@@ -5,13 +5,20 @@
 // depends on the thread count.
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 
 #include "depthcull/pipeline.h"
 
 namespace depthcull::pipeline {
 
-TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
-                       const ReconstructOptions& reconstruct) {
+namespace {
+
+// One plan; `clip` (issue 25): hidden parts are clipped, and when
+// `occluders` the choice and MIN_OPAQUE_AREA price what opaque polygons
+// hide as clipped away (free) rather than rejected.
+TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
+                     const ReconstructOptions& reconstruct, bool clip, bool occluders) {
     TargetPlan plan;
     plan.profile = profile;
     const Scene& scene = prepared.scene;
@@ -21,7 +28,9 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     for (int b : {4, 6, 8})
         if (b < cap) plan.budgets.push_back(b);
     plan.budgets.push_back(cap);
-    plan.min_opaque_area = min_opaque_area(profile);
+    CostProfile priced = profile;
+    if (occluders) priced.fragment_rejected_ns = 0;
+    plan.min_opaque_area = min_opaque_area(priced);
     analyze.opaque.min_area = plan.min_opaque_area;
 
     // Keys: the prepared scene's distinct analyses.
@@ -61,10 +70,43 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
             candidates[k].max_vertices.push_back(plan.budgets[b]);
         }
     }
-    plan.choice = choose_for_target(scene, candidates, element_key, profile, reconstruct);
+    ReconstructOptions chosen = reconstruct;
+    if (clip) chosen.clip_hidden = clip_hidden_options(profile);
+    chosen.clip_hidden.plan_occluders = occluders;
+    plan.choice = choose_for_target(scene, candidates, element_key, profile, chosen);
     plan.analysis = plan.choice.analysis; // a value already: indices into its own images
-    plan.reconstruct = reconstruct;
+    plan.reconstruct = chosen;
+    plan.reconstruct.clip_hidden.plan_occluders = false;
     plan.reconstruct.opaque_polygons = reconstruct.opaque_polygons && plan.choice.opaque_pass;
+    return plan;
+}
+
+} // namespace
+
+TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
+                       const ReconstructOptions& reconstruct) {
+    // Issue 25: hidden parts clipped where the profile says it pays;
+    // DEPTHCULL_CLIP_HIDDEN=0 turns it off (to measure what it gains).
+    const char* env = std::getenv("DEPTHCULL_CLIP_HIDDEN");
+    const bool clip = !(env && std::string(env) == "0") && clip_hidden_options(profile).enabled;
+    // Opaque merging (issue 25) only takes triangles and edges away:
+    // always on with a target; DEPTHCULL_MERGE_OPAQUE=0 turns it off.
+    const char* merge_env = std::getenv("DEPTHCULL_MERGE_OPAQUE");
+    ReconstructOptions base = reconstruct;
+    base.merge_opaque = !(merge_env && std::string(merge_env) == "0");
+    TargetPlan plan = plan_once(prepared, options, profile, base, clip, false);
+    if (!clip) return plan;
+    // Planned for clipping too (more opaque polygons, priced as hiding for
+    // free): kept only when the whole frame is predicted faster, as the
+    // local estimates miss whether each cut pays.
+    TargetPlan planned = plan_once(prepared, options, profile, base, true, true);
+    if (planned.choice.predicted_ms < plan.choice.predicted_ms) {
+        planned.analyzed += plan.analyzed;
+        planned.cache_hits += plan.cache_hits;
+        return planned;
+    }
+    plan.analyzed += planned.analyzed;
+    plan.cache_hits += planned.cache_hits;
     return plan;
 }
 

@@ -18,10 +18,10 @@ const char* mode_name(Mode mode) {
 }
 
 ReconstructStatus build_meshes(Mode mode, const Scene& scene, const SceneAnalysis& analyses,
-                               const ReconstructOptions& options, SceneMeshes* out) {
+                               const ReconstructOptions& options, SceneMeshes* out, bool for_runtime) {
     // With element spans: GlRenderer samples each element through its own map.
     ReconstructOptions spanned = options;
-    spanned.element_spans = true;
+    spanned.element_spans = !for_runtime || !scene.animations.empty();
     switch (mode) {
     case Mode::overpaint:
         *out = overpaint_meshes(scene, options.coverage_margin, true);

@@ -92,7 +92,7 @@ RuntimeMeasurement measure_runtime(GlHost& host, const Scene& scene, const std::
         SceneMeshes meshes;
         ReconstructOptions reconstruct = options.reconstruct;
         reconstruct.coverage_margin = 0; // no rect test here: engine meshes
-        if (ReconstructStatus s = build_meshes(order[i], scene, analyses, reconstruct, &meshes); s != ReconstructStatus::ok)
+        if (ReconstructStatus s = build_meshes(order[i], scene, analyses, reconstruct, &meshes, true); s != ReconstructStatus::ok)
             throw Error(std::string(mode_name(order[i])) + " meshes: reconstruction failed");
         check(r->set_meshes(meshes), *r, "meshes");
         renderers.push_back(std::move(r));

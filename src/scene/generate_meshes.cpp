@@ -37,15 +37,23 @@ void MeshBuilder::add_polygon(Draw& d, std::uint32_t element, const Polygon& p, 
 void MeshBuilder::add_boundary(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z) {
     static const std::vector<std::uint32_t> quad{0, 1, 2, 0, 2, 3};
     const Blend blend = scene_.elements[element].blend;
+    const ClippedPart* cut = nullptr;
+    if (clipped_ && !capture_) {
+        auto it = clipped_->blend.find(element);
+        if (it != clipped_->blend.end()) cut = &it->second;
+    }
+    if (cut) // what is left after clip_hidden_parts; skirts around the original polygons as before
+        for (std::size_t k = 0; k < cut->pieces.size(); ++k) add_polygon(d, element, cut->pieces[k], cut->triangles[k], z);
     if (shape == Shape::rect) {
         const Polygon rect = rect_polygon(scene_.elements[element].rect);
-        add_polygon(d, element, rect, quad, z);
+        if (!cut) add_polygon(d, element, rect, quad, z);
         // Blend opaque rects draw the same quad in every mode: no skirt.
         if (margin_ > 0 && blend != Blend::opaque) add_skirts(d, element, {rect}, z);
         return;
     }
     if (shape != Shape::analysis) return;
     for (const Polygon& p : a->boundary) {
+        if (cut) break;
         auto it = triangulated_.find(&p);
         if (it == triangulated_.end()) it = triangulated_.emplace(&p, triangulate_polygon(p)).first;
         add_polygon(d, element, p, it->second, z);
@@ -62,6 +70,21 @@ void MeshBuilder::add_boundary(Draw& d, std::uint32_t element, Shape shape, cons
 void MeshBuilder::add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z) {
     static const std::vector<std::uint32_t> quad{0, 1, 2, 0, 2, 3};
     if (shape == Shape::rect) {
+        if (merged_ && !capture_ && element < merged_->absorbed.size()) {
+            if (merged_->absorbed[element]) return;
+            auto it = merged_->quads.find(element);
+            if (it != merged_->quads.end()) {
+                add_polygon(d, element, it->second, quad, z);
+                return;
+            }
+        }
+        if (clipped_ && !capture_) {
+            auto it = clipped_->opaque.find(element);
+            if (it != clipped_->opaque.end()) {
+                for (std::size_t k = 0; k < it->second.pieces.size(); ++k) add_polygon(d, element, it->second.pieces[k], it->second.triangles[k], z);
+                return;
+            }
+        }
         add_polygon(d, element, rect_polygon(scene_.elements[element].rect), quad, z);
         return;
     }
@@ -266,6 +289,16 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     result.depth_test = options.opaque_polygons;
     result.filter = scene.filter;
     MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin, options.element_spans);
+    ClippedParts clipped;
+    if (options.clip_hidden.enabled && options.opaque_polygons) {
+        clipped = clip_hidden_parts(scene, analyses, shapes, levels, graph, keys, builder, options.clip_hidden);
+        builder.set_clipped(&clipped);
+    }
+    MergedTiles merged;
+    if (options.merge_opaque && options.opaque_polygons && !options.element_spans && !(options.coverage_margin > 0)) {
+        merged = merge_opaque_tiles(scene, shapes, levels, keys, &clipped);
+        builder.set_merged(&merged);
+    }
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);
     append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);

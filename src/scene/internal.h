@@ -77,6 +77,26 @@ struct TexelMesh {
     std::vector<std::uint32_t> indices;
 };
 
+// Issue 25 (clip_hidden.cpp): what an element draws instead of its
+// polygons once the parts hidden behind opaque polygons in front are cut
+// away: pieces in texel space of its image, each with its triangles.
+struct ClippedPart {
+    std::vector<Polygon> pieces;
+    std::vector<std::vector<std::uint32_t>> triangles;
+};
+struct ClippedParts {
+    std::unordered_map<std::uint32_t, ClippedPart> blend;  // blend-pass polygons (or rect) cut
+    std::unordered_map<std::uint32_t, ClippedPart> opaque; // whole-rect opaque tiles cut
+    std::int64_t elements = 0;
+};
+
+// Issue 25 (opaque_merge.cpp): whole-rect opaque tiles drawn as one quad.
+struct MergedTiles {
+    std::unordered_map<std::uint32_t, Polygon> quads; // leader -> the union of its block's rects (texel space)
+    std::vector<std::uint8_t> absorbed;               // per element: drawn by its block's leader
+    std::int64_t merged = 0;                          // tiles in blocks of two or more
+};
+
 // Appends elements' polygons to draws (paper 2.3.3 AddPolygon), caching
 // the triangulation of each analysis polygon: elements sharing an image
 // rect share the texel-space triangulation, and an affine transform keeps
@@ -109,6 +129,10 @@ public:
     // the skirt is the polygon dilated (it holds the polygon itself).
     const std::vector<std::uint8_t>& dilated() const { return dilated_; }
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
+    // Elements named here draw their cut pieces instead (clip_hidden_parts).
+    void set_clipped(const ClippedParts* clipped) { clipped_ = clipped; }
+    // Tiles named here draw their block's quad, or nothing (merge_opaque_tiles).
+    void set_merged(const MergedTiles* merged) { merged_ = merged; }
 
     // ReconstructOptions::coverage_margin: a skirt around `polygons` (of
     // `element`, texel space) when the margin is positive. Returns, per
@@ -139,6 +163,8 @@ private:
     bool always_skirt_ = false;
     bool joined_ = false;
     std::vector<std::uint8_t> dilated_;
+    const ClippedParts* clipped_ = nullptr;
+    const MergedTiles* merged_ = nullptr;
     std::vector<std::uint32_t> fan_;
     std::unordered_map<const Polygon*, std::vector<std::uint32_t>> triangulated_;
 };
@@ -152,5 +178,20 @@ void append_opaque_draws(const Scene& scene, const std::vector<std::uint32_t>& e
                          std::vector<Draw>& draws);
 
 void finish_stats(SceneMeshes& out);
+
+// ReconstructOptions::clip_hidden: per element, its blend-pass polygons
+// and whole-rect opaque tile with the parts under opaque polygons of
+// nearer elements cut away, where that pays (clip_hidden.cpp). Empty
+// without Clipper or when disabled.
+ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, const ElementShapes& shapes,
+                               const std::vector<std::int64_t>& levels, const ElementGraph& graph,
+                               const std::vector<std::int32_t>& keys, const MeshBuilder& builder,
+                               const ClipHiddenOptions& options);
+
+// ReconstructOptions::merge_opaque: blocks of whole-rect opaque tiles at one
+// level whose rects lie on screen as in the image (opaque_merge.cpp).
+// Tiles cut by `clipped` (may be null) stay apart.
+MergedTiles merge_opaque_tiles(const Scene& scene, const ElementShapes& shapes, const std::vector<std::int64_t>& levels,
+                               const std::vector<std::int32_t>& keys, const ClippedParts* clipped);
 
 } // namespace depthcull::detail

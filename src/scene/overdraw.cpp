@@ -145,7 +145,9 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map) {
     return stats;
 }
 
-OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map) {
+OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map,
+                             std::vector<std::uint8_t>* shows) {
+    if (shows) shows->assign(scene.elements.size(), 0);
     const Viewport& vp = scene.viewport;
     const int width = std::max(vp.width, 0), height = std::max(vp.height, 0);
     OverdrawStats stats;
@@ -189,6 +191,7 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
                 const std::uint8_t alpha = e.blend == Blend::opaque ? 255 : image.alpha(tx, ty);
                 if (is_transparent(alpha)) continue;
                 if (map) ++counts[pixel];
+                if (shows) (*shows)[k] = 1;
                 ++stats.shaded;
                 ++stats.rasterized;
                 if (can_cover && is_opaque(alpha)) covered[pixel] = 1;

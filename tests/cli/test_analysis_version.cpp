@@ -15,7 +15,7 @@ using namespace depthcull;
 
 namespace {
 
-constexpr int kGoldenVersion = 3;
+constexpr int kGoldenVersion = 4;
 constexpr std::uint64_t kGoldenDigest = 9519946284819868573ull;
 
 std::uint64_t fnv(std::uint64_t h, const void* p, std::size_t n) {

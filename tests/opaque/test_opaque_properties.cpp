@@ -168,6 +168,33 @@ TEST(OpaqueArithmetic, CoveredColumnsMatchTheChecker) {
     }
 }
 
+TEST(OpaqueArithmetic, CentreCoverageMatchesTheChecker) {
+    // centre_covered_texels (what fast compares, issue 25) and
+    // count_centre_covered_opaque_texels agree on random triangles, two at
+    // a time (centres under both count once; centres on an edge do not count).
+    Image image;
+    image.width = image.height = 12;
+    image.rgba.assign(12 * 12 * 4, 255);
+    std::mt19937 rng(10);
+    int nonzero = 0;
+    for (int k = 0; k < 500; ++k) {
+        auto triangle = [&] {
+            return opaque_detail::HalfPolygon{{std::int64_t(rng() % 25), 0}, {24, std::int64_t(rng() % 25)}, {0, 24}};
+        };
+        const std::vector<opaque_detail::HalfPolygon> two{triangle(), triangle()};
+        std::vector<Polygon> polygons;
+        for (const auto& t : two) polygons.push_back(opaque_detail::to_polygon(t, {0, 0, 12, 12}));
+        const std::int64_t n = opaque_detail::centre_covered_texels(two);
+        nonzero += n > 0;
+        ASSERT_EQ(count_centre_covered_opaque_texels(image.view(), image.view().bounds(), polygons), n) << k;
+    }
+    EXPECT_GT(nonzero, 400);
+    // A square through the outer centres of a 4x4 image: the inner 4.
+    image.width = image.height = 4;
+    image.rgba.assign(4 * 4 * 4, 255);
+    EXPECT_EQ(count_centre_covered_opaque_texels(image.view(), image.view().bounds(), {{{0.5, 0.5}, {3.5, 0.5}, {3.5, 3.5}, {0.5, 3.5}}}), 4);
+}
+
 TEST(OpaqueArithmetic, ConvexValidMatchesTheChecker) {
     // The growth search accepts a polygon only through convex_valid; it must
     // agree with the analyzer on random convex polygons (hulls of random

@@ -1,0 +1,375 @@
+// Issue 25, point 3: clipping hidden parts (ReconstructOptions::clip_hidden).
+//
+// An element B behind the opaque polygons of elements in front (nearer
+// depth levels, drawn in the opaque pass) draws fragments there that the
+// depth test rejects. Here that part of B's blend-pass polygons (or of its
+// whole-rect opaque tile) is cut away on the CPU with Clipper 6, in exact
+// integers of 2^-32 screen pixel, so GL never rasterizes it.
+//
+// Why the look cannot change (pixel identity with overpaint):
+// - The cut region C' is each occluder's opaque polygon as GL gets it
+//   (pulled in by the texel margin, transformed, in floats) shrunk by
+//   `margin` (1/16 px), far more than GL's snapping (1/512 px per
+//   coordinate) and the float rounding of the clipped vertices (< 2^-11 px
+//   on screens under 8192 px): a pixel centre B still misses near a cut
+//   edge lies inside the occluder as GL draws it, where the occluder wins
+//   the depth test whatever B draws.
+// - A cut vertex on B's own outline is pushed 1/64 px outward (and put back
+//   onto the rect where the push left it): the piece then covers all of
+//   B's polygon along that edge despite rounding. Outside B's boundary
+//   polygons every texel is transparent (paper 2.1), so the extra sliver
+//   blends nothing; on the rect edge the clamp puts the vertex exactly on
+//   the rect's line, which only an element that GL snaps exactly keeps
+//   straight, so only those are clipped (tiles, unrotated sprites).
+// - B's original vertices are kept bit for bit, and its skirts are drawn
+//   around its original polygons as before.
+// - A result with a hole (an occluder inside B, touching no edge) is not
+//   used: ear clipping needs simple polygons.
+// Per element, the cut is kept only when the rejected fragments it saves
+// beat the triangles and perimeter it adds, at the caller's costs.
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "scene/internal.h"
+#include "scene/placement.h"
+
+#ifdef DEPTHCULL_HAVE_CLIPPER
+#include <polyclipping/clipper.hpp>
+#endif
+
+namespace depthcull::detail {
+
+#ifndef DEPTHCULL_HAVE_CLIPPER
+
+ClippedParts clip_hidden_parts(const Scene&, const std::vector<const ImageAnalysis*>&, const ElementShapes&,
+                               const std::vector<std::int64_t>&, const ElementGraph&, const std::vector<std::int32_t>&,
+                               const MeshBuilder&, const ClipHiddenOptions&) {
+    return {};
+}
+
+#else
+
+namespace {
+
+namespace cl = ClipperLib;
+
+constexpr double kScale = 4294967296.0; // 2^32 per screen pixel: every float coordinate above 2^-9 px is exact
+constexpr double kMaxCoordinate = 67108864.0; // 2^26 px: products stay inside Clipper's 128-bit range
+constexpr double kPush = 1.0 / 64;      // outward push of cut vertices on B's outline, screen px
+constexpr double kOnEdge = 1e-6;        // px: a cut vertex this close to an edge of B lies on it
+constexpr std::size_t kMaxOccluders = 64; // per element: nearest first in graph order; more are ignored
+
+// Screen position of texel point v of element e as GL gets it (float).
+Vec2 screen_of(const Element& e, Vec2 v) {
+    const Vec2 s = apply(e.transform, {v.x - e.rect.x, v.y - e.rect.y});
+    return {double(float(s.x)), double(float(s.y))};
+}
+
+bool to_path(const Polygon& screen, cl::Path& out) {
+    out.clear();
+    for (const Vec2& p : screen) {
+        if (!(std::abs(p.x) < kMaxCoordinate) || !(std::abs(p.y) < kMaxCoordinate)) return false;
+        out.push_back({cl::cInt(std::llround(p.x * kScale)), cl::cInt(std::llround(p.y * kScale))});
+    }
+    return true;
+}
+
+double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+    const Vec2 d = b - a;
+    const double len2 = d.x * d.x + d.y * d.y;
+    const double t = len2 > 0 ? std::clamp(((p.x - a.x) * d.x + (p.y - a.y) * d.y) / len2, 0.0, 1.0) : 0.0;
+    return std::hypot(a.x + t * d.x - p.x, a.y + t * d.y - p.y);
+}
+
+// Strictly inside polygon q (either orientation), by crossings; points
+// within kOnEdge of an edge count as not inside.
+bool strictly_inside(Vec2 p, const Polygon& q) {
+    bool in = false;
+    const std::size_t n = q.size();
+    for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+        if (distance_to_segment(p, q[j], q[i]) < kOnEdge) return false;
+        if ((q[i].y > p.y) != (q[j].y > p.y) && p.x < (q[j].x - q[i].x) * (p.y - q[i].y) / (q[j].y - q[i].y) + q[i].x) in = !in;
+    }
+    return in;
+}
+
+// The occluder polygon shrunk by `margin`, checked: every vertex at least
+// margin / 2 inside every edge of the convex original (else none: a
+// polygon that vanishes or a join that overshoots is not used).
+bool shrink(const Polygon& convex_screen, double margin, cl::Paths& out) {
+    cl::Path path;
+    if (convex_screen.size() < 3 || !to_path(convex_screen, path)) return false;
+    cl::ClipperOffset offset(2.0);
+    offset.AddPath(path, cl::jtMiter, cl::etClosedPolygon);
+    cl::Paths shrunk;
+    offset.Execute(shrunk, -margin * kScale);
+    const double sign = signed_area(convex_screen) > 0 ? 1.0 : -1.0;
+    const std::size_t n = convex_screen.size();
+    for (const cl::Path& s : shrunk) {
+        for (const cl::IntPoint& ip : s) {
+            const Vec2 p{double(ip.X) / kScale, double(ip.Y) / kScale};
+            for (std::size_t i = 0; i < n; ++i) {
+                const Vec2 a = convex_screen[i], b = convex_screen[(i + 1) % n];
+                const double len = std::hypot(b.x - a.x, b.y - a.y);
+                if (len == 0) continue;
+                // Positive signed area is clockwise with y down: the inside is to the right of a->b.
+                if (sign * orient(a, b, p) / len < margin / 2) return false;
+            }
+        }
+        out.push_back(s);
+    }
+    return !out.empty();
+}
+
+double triangle_perimeter(const std::vector<Vec2>& screen, const std::vector<std::uint32_t>& tris) {
+    double sum = 0;
+    for (std::size_t t = 0; t + 2 < tris.size(); t += 3)
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 a = screen[tris[t + std::size_t(k)]], b = screen[tris[t + std::size_t((k + 1) % 3)]];
+            sum += std::hypot(b.x - a.x, b.y - a.y);
+        }
+    return sum;
+}
+
+struct Region {
+    std::vector<Polygon> texel;  // B's polygons, texel space
+    std::vector<Polygon> screen; // the same as GL gets them
+};
+
+// Cuts `region` of element b at `cut`; true (and *out) when it pays.
+bool clip_region(const Scene& scene, std::uint32_t b, const Region& region, const cl::Paths& cut, const ClipHiddenOptions& options,
+                 ClippedPart* out) {
+    const Element& e = scene.elements[b];
+    cl::Paths subject;
+    std::map<std::pair<cl::cInt, cl::cInt>, Vec2> original;
+    double old_triangles = 0, old_perimeter = 0, old_area = 0;
+    for (std::size_t k = 0; k < region.texel.size(); ++k) {
+        cl::Path path;
+        if (!to_path(region.screen[k], path)) return false;
+        for (std::size_t i = 0; i < path.size(); ++i) original[{path[i].X, path[i].Y}] = region.texel[k][i];
+        const std::vector<std::uint32_t> tris = triangulate_polygon(region.texel[k]);
+        old_triangles += double(tris.size() / 3);
+        old_perimeter += triangle_perimeter(region.screen[k], tris);
+        old_area += std::abs(cl::Area(path));
+        subject.push_back(std::move(path));
+    }
+    // A cut inside B (touching no edge) leaves a hole, which ear clipping
+    // cannot take: B is then cut into vertical strips at whole-pixel x
+    // through each hole. Strip edges run exactly on x = k (floats and GL
+    // keep whole numbers; B snaps exactly), 0.5 px from every pixel
+    // centre, so the strips tile B with no pixel drawn twice or lost.
+    std::vector<cl::cInt> splits;
+    std::vector<cl::Path> contours;
+    double new_area = 0;
+    const cl::cInt far = cl::cInt(kMaxCoordinate * 2 * kScale);
+    for (int round = 0;; ++round) {
+        if (round == 8) return false;
+        contours.clear();
+        new_area = 0;
+        bool again = false;
+        for (std::size_t k = 0; k <= splits.size(); ++k) {
+            cl::Paths part = subject;
+            if (!splits.empty()) {
+                const cl::cInt lo = k == 0 ? -far : splits[k - 1], hi = k == splits.size() ? far : splits[k];
+                cl::Clipper strip;
+                strip.PreserveCollinear(true);
+                strip.AddPaths(subject, cl::ptSubject, true);
+                strip.AddPath(cl::Path{{lo, -far}, {hi, -far}, {hi, far}, {lo, far}}, cl::ptClip, true);
+                part.clear();
+                if (!strip.Execute(cl::ctIntersection, part, cl::pftNonZero, cl::pftNonZero)) return false;
+            }
+            cl::Clipper clipper;
+            clipper.StrictlySimple(true);
+            clipper.PreserveCollinear(true);
+            clipper.AddPaths(part, cl::ptSubject, true);
+            clipper.AddPaths(cut, cl::ptClip, true);
+            cl::PolyTree tree;
+            if (!clipper.Execute(cl::ctDifference, tree, cl::pftNonZero, cl::pftNonZero)) return false;
+            for (cl::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
+                if (node->IsOpen()) continue;
+                if (node->IsHole()) {
+                    cl::cInt lo = node->Contour[0].X, hi = lo;
+                    for (const cl::IntPoint& q : node->Contour) lo = std::min(lo, q.X), hi = std::max(hi, q.X);
+                    const double x = std::floor((double(lo) + double(hi)) / 2 / kScale);
+                    const cl::cInt at = cl::cInt(x * kScale);
+                    if (!(at > lo && at < hi)) {
+                        const cl::cInt at2 = cl::cInt((x + 1) * kScale);
+                        if (!(at2 > lo && at2 < hi)) return false;
+                        splits.push_back(at2);
+                    } else {
+                        splits.push_back(at);
+                    }
+                    again = true;
+                    continue;
+                }
+                contours.push_back(node->Contour);
+                new_area += std::abs(cl::Area(node->Contour));
+            }
+        }
+        if (!again) break;
+        std::sort(splits.begin(), splits.end());
+        splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
+    }
+    const double saved_pixels = (old_area - new_area) / (kScale * kScale);
+    if (!(saved_pixels > 0)) return false;
+    // Pieces in texel space.
+    const TexelMap map = texel_map(e);
+    const double x0 = e.rect.x, x1 = double(e.rect.x) + e.rect.w, y0 = e.rect.y, y1 = double(e.rect.y) + e.rect.h;
+    ClippedPart part;
+    double new_triangles = 0, new_perimeter = 0;
+    for (const cl::Path& contour : contours) {
+        Polygon piece, screen;
+        for (const cl::IntPoint& ip : contour) {
+            auto it = original.find({ip.X, ip.Y});
+            if (it != original.end()) {
+                piece.push_back(it->second);
+                screen.push_back(screen_of(e, it->second));
+                continue;
+            }
+            Vec2 s{double(ip.X) / kScale, double(ip.Y) / kScale};
+            // On B's outline: pushed outward, off B's polygons.
+            bool pushed = false;
+            for (std::size_t k = 0; k < region.screen.size() && !pushed; ++k) {
+                const Polygon& q = region.screen[k];
+                const std::size_t m = q.size();
+                const double sign = signed_area(q) > 0 ? 1.0 : -1.0;
+                for (std::size_t i = 0; i < m && !pushed; ++i) {
+                    const Vec2 a = q[i], c = q[(i + 1) % m];
+                    const double len = std::hypot(c.x - a.x, c.y - a.y);
+                    if (len == 0 || distance_to_segment(s, a, c) >= kOnEdge) continue;
+                    // Outward is to the left of a->c for a clockwise (positive) polygon, y down.
+                    const Vec2 normal{sign * (c.y - a.y) / len, -sign * (c.x - a.x) / len};
+                    s = s + kPush * normal;
+                    pushed = true;
+                }
+            }
+            // A push that lands inside B (a reflex corner, another of its
+            // polygons) could uncover a pixel: no cut for this element.
+            if (pushed)
+                for (const Polygon& q : region.screen)
+                    if (strictly_inside(s, q)) return false;
+            Vec2 t{map.u0 + map.ux * s.x + map.uy * s.y, map.v0 + map.vx * s.x + map.vy * s.y};
+            t.x = std::clamp(t.x, x0, x1);
+            t.y = std::clamp(t.y, y0, y1);
+            piece.push_back(t);
+            screen.push_back(screen_of(e, t));
+        }
+        if (piece.size() < 3) continue;
+        std::vector<std::uint32_t> tris = triangulate_polygon(piece);
+        // The ear clipping must tile the piece exactly (it is exact on the
+        // texel grid; cut vertices are not on it).
+        double sum = 0;
+        for (std::size_t t = 0; t + 2 < tris.size(); t += 3) sum += std::abs(orient(piece[tris[t]], piece[tris[t + 1]], piece[tris[t + 2]])) / 2;
+        if (!(std::abs(sum - std::abs(signed_area(piece))) <= 1e-9 * std::max(1.0, sum))) return false;
+        new_triangles += double(tris.size() / 3);
+        new_perimeter += triangle_perimeter(screen, tris);
+        part.pieces.push_back(std::move(piece));
+        part.triangles.push_back(std::move(tris));
+    }
+    const double gain = saved_pixels * options.fragment_cost - (new_triangles - old_triangles) * options.triangle_cost -
+                        (new_perimeter - old_perimeter) * options.perimeter_cost;
+    if (!(gain > 0)) return false;
+    *out = std::move(part);
+    return true;
+}
+
+bool boxes_overlap(const cl::Paths& a, const Polygon& b_screen) {
+    double ax0 = INFINITY, ay0 = INFINITY, ax1 = -INFINITY, ay1 = -INFINITY;
+    for (const cl::Path& p : a)
+        for (const cl::IntPoint& q : p) {
+            ax0 = std::min(ax0, double(q.X) / kScale), ax1 = std::max(ax1, double(q.X) / kScale);
+            ay0 = std::min(ay0, double(q.Y) / kScale), ay1 = std::max(ay1, double(q.Y) / kScale);
+        }
+    double bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
+    for (const Vec2& q : b_screen) bx0 = std::min(bx0, q.x), bx1 = std::max(bx1, q.x), by0 = std::min(by0, q.y), by1 = std::max(by1, q.y);
+    return ax0 < bx1 && bx0 < ax1 && ay0 < by1 && by0 < ay1;
+}
+
+} // namespace
+
+ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, const ElementShapes& shapes,
+                               const std::vector<std::int64_t>& levels, const ElementGraph& graph,
+                               const std::vector<std::int32_t>& keys, const MeshBuilder& builder,
+                               const ClipHiddenOptions& options) {
+    ClippedParts result;
+    const std::size_t n = scene.elements.size();
+    if (!options.enabled || !(options.margin > 0) || graph.size() != n || levels.size() != n) return result;
+    // Who is in front of whom: the graph lists, per element, those behind it.
+    std::vector<std::vector<std::uint32_t>> front(n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (const std::uint32_t* b = graph.behind_begin(i); b != graph.behind_end(i); ++b) front[*b].push_back(std::uint32_t(i));
+    // Each occluder's cut region, made once.
+    std::vector<std::uint8_t> made(n, 0);
+    std::vector<cl::Paths> cut_of(n);
+    auto occluder = [&](std::uint32_t a) -> const cl::Paths& {
+        if (made[a]) return cut_of[a];
+        made[a] = 1;
+        const Element& e = scene.elements[a];
+        std::vector<Polygon> polys;
+        if (shapes.opaque[a] == Shape::rect) polys.push_back(rect_polygon(e.rect));
+        else if (shapes.opaque[a] == Shape::analysis && a < analyses.size() && analyses[a])
+            for (const Polygon& p : analyses[a]->opaque) polys.push_back(builder.pull_inward(a, p));
+        for (const Polygon& p : polys) {
+            Polygon s;
+            for (const Vec2& v : p) s.push_back(screen_of(e, v));
+            shrink(s, options.margin, cut_of[a]);
+        }
+        return cut_of[a];
+    };
+    try {
+        for (std::uint32_t b = 0; b < n; ++b) {
+            const Element& e = scene.elements[b];
+            if (!snaps_exactly(e.transform)) continue;
+            const bool blend = shapes.blended[b] && shapes.boundary[b] != Shape::none && keys[b] >= 0;
+            const bool opaque_tile = shapes.opaque[b] == Shape::rect && keys[b] >= 0;
+            if (!blend && !opaque_tile) continue;
+            // Both regions lie in the rect: occluders whose cut misses the rect are skipped.
+            Polygon rect_screen;
+            for (const Vec2& v : rect_polygon(e.rect)) rect_screen.push_back(screen_of(e, v));
+            cl::Paths cut;
+            std::size_t used = 0;
+            // Its own opaque polygons too: drawn nearer (2k+2 against 2k+1),
+            // they reject its own blend fragments under them.
+            std::vector<std::uint32_t> occluders = front[b];
+            if (blend && shapes.opaque[b] == Shape::analysis) occluders.insert(occluders.begin(), b);
+            for (std::uint32_t a : occluders) {
+                if ((a != b && levels[a] <= levels[b]) || shapes.opaque[a] == Shape::none || keys[a] < 0) continue;
+                const cl::Paths& c = occluder(a);
+                if (c.empty() || !boxes_overlap(c, rect_screen)) continue;
+                cut.insert(cut.end(), c.begin(), c.end());
+                if (++used == kMaxOccluders) break;
+            }
+            if (cut.empty()) continue;
+            auto region_of = [&](Shape shape) {
+                Region r;
+                if (shape == Shape::rect) r.texel.push_back(rect_polygon(e.rect));
+                else if (shape == Shape::analysis && analyses[b]) r.texel = analyses[b]->boundary;
+                for (const Polygon& p : r.texel) {
+                    Polygon s;
+                    for (const Vec2& v : p) s.push_back(screen_of(e, v));
+                    r.screen.push_back(std::move(s));
+                }
+                return r;
+            };
+            ClippedPart part;
+            if (blend && clip_region(scene, b, region_of(shapes.boundary[b]), cut, options, &part)) {
+                result.blend.emplace(b, std::move(part));
+                ++result.elements;
+            }
+            if (opaque_tile && !cut.empty() && clip_region(scene, b, region_of(Shape::rect), cut, options, &part)) {
+                result.opaque.emplace(b, std::move(part));
+                ++result.elements;
+            }
+        }
+    } catch (...) {
+        // Clipper throws only on coordinates past its range (checked before) or
+        // when memory runs out: then nothing is clipped, which is always correct.
+        return {};
+    }
+    return result;
+}
+
+#endif
+
+} // namespace depthcull::detail
