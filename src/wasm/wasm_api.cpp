@@ -672,7 +672,7 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         choice = choose_for_target(scene, candidates, element_key, profile, reconstruct);
         ReconstructOptions chosen = reconstruct;
         chosen.opaque_polygons = reconstruct.opaque_polygons && choice.opaque_pass;
-        st = reconstruct_scene(scene, choice.element_analysis, chosen, &meshes);
+        st = reconstruct_scene(scene, choice.analysis, chosen, &meshes);
     }
     if (st == ReconstructStatus::too_many_depth_levels) return fail("reconstruct: the scene needs more depth levels than a 24-bit depth buffer resolves");
     if (st != ReconstructStatus::ok) return fail("reconstruct: invalid scene (an element names a missing image or analysis)");
