@@ -224,7 +224,8 @@ TEST(InsertionPoints, JsonErrorsNameThePath) {
         {replaced(text, "\"insertion_points\": [", "\"insertion_points\": [{}, "), "m.json: insertion_points[0]: missing \"element\""},
     };
     for (const auto& [t, expected] : cases) {
-        const std::string error = error_of([&] { io::meshes_from_json(t, "m.json"); });
+        const std::string& text = t; // clang 14 cannot capture a structured binding
+        const std::string error = error_of([&] { io::meshes_from_json(text, "m.json"); });
         EXPECT_EQ(error.substr(0, expected.size()), expected) << error;
         EXPECT_EQ(error.find('\n'), std::string::npos) << error;
     }
@@ -257,7 +258,8 @@ TEST(InsertionPoints, BinaryErrorsNameTheByte) {
         {b + "x", "m.bin: byte " + std::to_string(b.size()) + ": 1 bytes after the insertion points"},
     };
     for (const auto& [bytes, expected] : cases) {
-        const std::string error = error_of([&] { io::meshes_from_binary(bytes, "m.bin"); });
+        const std::string& data = bytes; // clang 14 cannot capture a structured binding
+        const std::string error = error_of([&] { io::meshes_from_binary(data, "m.bin"); });
         EXPECT_EQ(error.substr(0, expected.size()), expected) << error;
     }
     for (std::size_t n = count; n < b.size(); ++n) EXPECT_NE(error_of([&] { io::meshes_from_binary(b.substr(0, n), "m.bin"); }), "no error") << n;
