@@ -1,4 +1,4 @@
-// Fuzzes the analysis cache entry reader (io::parse_analysis): an entry
+// Fuzzes the analysis cache entry reader (pipeline::parse_analysis): an entry
 // that fails any structural check is a miss (nullopt), never a crash or an
 // allocation beyond its bytes; what reads back keeps the reader's promises
 // (vertices finite and within the rect grown by one texel) and reads back
@@ -10,23 +10,23 @@
 #include <cstdlib>
 
 #include "depthcull/scene.h"
-#include "io/cache.h"
+#include "pipeline/cache.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace depthcull;
     if (size < 2) return 0;
     const Rect rect{7, 3, 1 + data[0] % 64, 1 + data[1] % 64};
     const std::string_view payload(reinterpret_cast<const char*>(data) + 2, size - 2);
-    const io::CacheKey key = io::hash_bytes_128(data, 2);
-    const std::string entry = io::cache_entry(key, payload);
+    const pipeline::CacheKey key = pipeline::hash_bytes_128(data, 2);
+    const std::string entry = pipeline::cache_entry(key, payload);
 
-    const std::optional<ImageAnalysis> a = io::parse_analysis(entry, key, rect);
+    const std::optional<ImageAnalysis> a = pipeline::parse_analysis(entry, key, rect);
     if (!a) return 0;
     for (const auto* list : {&a->boundary, &a->opaque})
         for (const Polygon& p : *list)
             for (const Vec2& v : p)
                 if (!(v.x >= rect.x - 1 && v.x <= rect.x + rect.w + 1 && v.y >= rect.y - 1 && v.y <= rect.y + rect.h + 1)) std::abort();
-    const std::optional<ImageAnalysis> back = io::parse_analysis(io::serialize_analysis(key, *a), key, rect);
+    const std::optional<ImageAnalysis> back = pipeline::parse_analysis(pipeline::serialize_analysis(key, *a), key, rect);
     if (!back || back->boundary != a->boundary || back->opaque != a->opaque ||
         back->stats.nontransparent_texels != a->stats.nontransparent_texels || back->stats.boundary_vertices != a->stats.boundary_vertices)
         std::abort();

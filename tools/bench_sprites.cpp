@@ -66,7 +66,7 @@ void run_sprite_bench(const SpriteBenchArgs& args) {
     std::string target;
     CostProfile profile;
     if (!input.target.empty()) {
-        profile = io::resolve_target(input.target);
+        profile = pipeline::resolve_target(input.target);
         options.target = &profile;
         target = profile.name;
     }

@@ -214,7 +214,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
         std::vector<const ImageAnalysis*> candidates;
         for (const ImageAnalysis& a : analyses) candidates.push_back(&a);
         candidates.push_back(&plain);
-        const std::size_t c = io::choose_image_candidate(candidates, args.profile);
+        const std::size_t c = pipeline::choose_image_candidate(candidates, args.profile);
         r.analysis = *candidates[c];
         r.chosen_budget = c < budgets.size() ? budgets[c] : 0;
     }
@@ -386,7 +386,7 @@ void run_analyze(const AnalyzeArgs& args) {
 void set_cache(AnalyzeArgs& args) {
     args.cache_dir = args.cache.directory();
     if (!args.target.empty()) {
-        args.profile = io::resolve_target(args.target);
+        args.profile = pipeline::resolve_target(args.target);
         args.has_profile = true;
     }
 }

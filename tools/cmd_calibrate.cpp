@@ -224,9 +224,9 @@ void run_calibrate(const CalibrateArgs& args) {
                std::to_string(frames) + " frames per microbenchmark at " + std::to_string(w) + "x" + std::to_string(h);
     std::string what;
     if (!profile_is_complete(p, &what)) throw CliError("calibrate: the measured term " + what + " is not a finite number >= 0");
-    std::string text = io::profile_to_json(p);
+    std::string text = pipeline::profile_to_json(p);
     // The wall-clock terms beside, for reference (not read back as terms).
-    std::string wall_json = io::profile_to_json(wall);
+    std::string wall_json = pipeline::profile_to_json(wall);
     const std::size_t terms_at = wall_json.find("\"frame_us\"");
     wall_json = "{\n    " + wall_json.substr(terms_at);
     for (std::size_t pos = 0; (pos = wall_json.find("\n  \"", pos)) != std::string::npos; pos += 3) wall_json.insert(pos + 1, "  ");

@@ -208,5 +208,16 @@ report::SceneReport scene_report(const std::string& path, const pipeline::Prepar
     return r;
 }
 
+std::unique_ptr<pipeline::TargetPlan> apply_render_target(const std::string& path, pipeline::PreparedScene& prepared, RenderInput& in, bool quiet) {
+    if (in.target.empty()) return nullptr;
+    const pipeline::PrepareOptions prepare = prepare_options(in); // as prepare_for_render prepared it
+    ReconstructOptions reconstruct = reconstruct_options(in);
+    auto plan = apply_target(in.target, path, prepared, prepare, &reconstruct, quiet);
+    in.opaque = reconstruct.opaque_polygons;
+    in.reconstruct.clip_hidden = reconstruct.clip_hidden;
+    in.reconstruct.merge_opaque = reconstruct.merge_opaque;
+    return plan;
+}
+
 } // namespace depthcull::cli
 #endif

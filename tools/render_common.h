@@ -37,6 +37,10 @@ std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared);
 // Throws CliError("no OpenGL context: ...") when none can be made.
 std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& input);
 
+// apply_target (target_common.h) for render, bench and report: the prepare
+// options of prepare_for_render, and input.opaque set as chosen.
+std::unique_ptr<pipeline::TargetPlan> apply_render_target(const std::string& path, pipeline::PreparedScene& prepared, RenderInput& input, bool quiet);
+
 } // namespace depthcull::cli
 
 #ifdef DEPTHCULL_HAVE_RENDER

@@ -2,10 +2,6 @@
 
 #include <cstdio>
 
-#ifdef DEPTHCULL_HAVE_RENDER
-#include "render_common.h"
-#endif
-
 namespace depthcull::cli {
 
 void add_target_option(CLI::App& cmd, std::string& target) {
@@ -18,33 +14,9 @@ void add_target_option(CLI::App& cmd, std::string& target) {
 std::unique_ptr<pipeline::TargetPlan> apply_target(const std::string& target, const std::string& path, pipeline::PreparedScene& prepared,
                                              const pipeline::PrepareOptions& prepare, ReconstructOptions* reconstruct, bool quiet) {
     if (target.empty()) return nullptr;
-    const CostProfile profile = io::resolve_target(target);
-    auto plan = std::make_unique<pipeline::TargetPlan>(pipeline::plan_target(prepared, prepare, profile, *reconstruct));
-    prepared.analysis = plan->analysis;
-    *reconstruct = plan->reconstruct;
-    if (!quiet) {
-        const TargetChoice& c = plan->choice;
-        std::fprintf(stderr,
-                     "depthcull: %s: --target %s: predicted %.3f ms (overpaint %.3f, meshes only %.3f); opaque pass %s, %lld elements with "
-                     "opaque polygons (%lld given up per element), %lld hidden elements dropped, MIN_OPAQUE_AREA %d%s%s\n",
-                     path.c_str(), profile.name.c_str(), c.predicted_ms, c.overpaint_ms, c.meshes_only_ms, c.opaque_pass ? "on" : "off",
-                     (long long)c.elements_opaque, (long long)c.elements_reverted, (long long)c.elements_dropped, plan->min_opaque_area, c.fallback.empty() ? "" : "; fallback: ",
-                     c.fallback.c_str());
-    }
+    auto plan = std::make_unique<pipeline::TargetPlan>(pipeline::apply_target(prepared, prepare, pipeline::resolve_target(target), *reconstruct));
+    if (!quiet) std::fprintf(stderr, "depthcull: %s\n", pipeline::target_summary(path, *plan).c_str());
     return plan;
 }
-
-#ifdef DEPTHCULL_HAVE_RENDER
-std::unique_ptr<pipeline::TargetPlan> apply_render_target(const std::string& path, pipeline::PreparedScene& prepared, RenderInput& in, bool quiet) {
-    if (in.target.empty()) return nullptr;
-    const pipeline::PrepareOptions prepare = prepare_options(in); // as prepare_for_render prepared it
-    ReconstructOptions reconstruct = reconstruct_options(in);
-    auto plan = apply_target(in.target, path, prepared, prepare, &reconstruct, quiet);
-    in.opaque = reconstruct.opaque_polygons;
-    in.reconstruct.clip_hidden = reconstruct.clip_hidden;
-    in.reconstruct.merge_opaque = reconstruct.merge_opaque;
-    return plan;
-}
-#endif
 
 } // namespace depthcull::cli

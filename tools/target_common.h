@@ -1,5 +1,5 @@
 // --target PROFILE (issue 14) for optimize, render, bench and analyze:
-// the choices of choose_for_target applied to a prepared scene.
+// the option, and pipeline::apply_target with its one line on stderr.
 #pragma once
 
 #include <memory>
@@ -14,19 +14,10 @@ namespace depthcull::cli {
 // --target NAME|FILE.json
 void add_target_option(CLI::App& command, std::string& target);
 
-// Plans the scene for the target (nothing when `target` is empty): replaces
-// prepared.analysis with the chosen analyses (a value: the plan returned
-// is only the record of the choice) and sets reconstruct->opaque_polygons
-// as chosen. Prints one line of what was
-// chosen on stderr unless quiet.
+// pipeline::apply_target for `target` (nothing when it is empty): prepared
+// and *reconstruct get the choice. Prints pipeline::target_summary on
+// stderr unless quiet.
 std::unique_ptr<pipeline::TargetPlan> apply_target(const std::string& target, const std::string& path, pipeline::PreparedScene& prepared,
                                              const pipeline::PrepareOptions& prepare, ReconstructOptions* reconstruct, bool quiet);
-
-#ifdef DEPTHCULL_HAVE_RENDER
-struct RenderInput;
-// apply_target for render, bench and report: the prepare options of
-// prepare_for_render, and input.opaque set as chosen.
-std::unique_ptr<pipeline::TargetPlan> apply_render_target(const std::string& path, pipeline::PreparedScene& prepared, RenderInput& input, bool quiet);
-#endif
 
 } // namespace depthcull::cli

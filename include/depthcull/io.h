@@ -7,8 +7,10 @@
 #pragma once
 
 #include <array>
+#include <filesystem>
 #include <functional>
 #include <memory>
+#include <new>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -24,6 +26,53 @@ namespace depthcull::io {
 struct Error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+
+// A library exception's text without nlohmann's "[json.exception.x.n] ".
+inline std::string exception_text(const std::exception& e) {
+    std::string message = e.what();
+    if (message.compare(0, 16, "[json.exception.") == 0)
+        if (auto end = message.find("] "); end != std::string::npos) message = message.substr(end + 2);
+    return message;
+}
+
+// fn(), with every exception that is not ours (std::bad_alloc, a library's
+// own types) turned into an io::Error naming `path`: the library throws
+// only its documented types.
+template <class F>
+auto guarded(const std::string& path, F&& fn) -> decltype(fn()) {
+    try {
+        return fn();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        // Within every limit (README, "Limits") yet beyond this machine: the
+        // limits that bound memory are named so the user knows what held.
+        throw Error(path + ": out of memory (the limits allow " + std::to_string(limits::kMaxDecodedBytes >> 20) +
+                    " MiB of decoded images, kMaxDecodedBytes, and " + std::to_string(kMaxAnalysisBytes >> 20) +
+                    " MiB of analysis memory, kMaxAnalysisBytes)");
+    } catch (const std::filesystem::filesystem_error& e) {
+        throw Error(path + ": " + e.code().message() + " (" + e.path1().string() + ")");
+    } catch (const std::exception& e) {
+        throw Error(path + ": " + exception_text(e));
+    }
+}
+
+// io::Error when JSON `text` nests arrays / objects deeper than
+// limits::kMaxNestingDepth (nlohmann's parser copes, but copying, dumping
+// and our walks of the document recurse), or when its parsed document
+// would take more than limits::kMaxDocumentBytes of memory, estimated in
+// one pass before anything is allocated: a small file of "[]," takes
+// about 16 times its size once parsed, and nlohmann's destructor
+// terminates the process when it runs out of memory freeing a partial one
+// (json_checks.cpp). Every JSON reader calls it before parsing.
+void check_json_document(std::string_view text, const std::string& path);
+// io::Error "<path>: not valid JSON at line L, column C (byte B): <what>"
+// for an exception nlohmann's parse threw over `text` (B counted from 0):
+// the one form of every JSON reader, quoting none of the file's bytes.
+[[noreturn]] void throw_json_error(const std::exception& e, std::string_view text, const std::string& path);
+
+// Colour keys (SceneImage::trans) as files write them: "rrggbb".
+std::string colour_key_text(std::uint32_t rgb);
 
 // PNG of any colour type libpng reads (grey, palette with tRNS, 16-bit,
 // RGB, RGBA), converted to RGBA8. Rejects images over kMaxImageSide /

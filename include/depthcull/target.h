@@ -1,15 +1,16 @@
-// depthcull: cost profiles as files and --target planning (issue 14).
-// Everything here may do I/O and throws depthcull::io::Error with a
-// one-line message naming the file and the place.
+// depthcull: cost profiles as files and --target planning (issue 14), in
+// the pipeline layer: io depends on no cost type. Everything here may do
+// I/O and throws depthcull::io::Error with a one-line message naming the
+// file and the place.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "depthcull/cost.h"
-#include "depthcull/io.h"
+#include "depthcull/pipeline.h"
 
-namespace depthcull::io {
+namespace depthcull::pipeline {
 
 // A profile is plain JSON (docs/cost-model.md):
 // {"depthcull_profile": 1, "name": ..., "renderer": ..., "source": ...,
@@ -25,11 +26,19 @@ CostProfile resolve_target(const std::string& name_or_path);
 // The paper's Table 2 as tests/data/paper-table2.tsv holds it.
 std::vector<Table2Row> read_table2_tsv(const std::string& path);
 
-// --target over a prepared scene: pipeline::plan_target (depthcull/pipeline.h).
+// --target over a prepared scene, as one step: plan_target (pipeline.h),
+// then the choice applied: prepared.analysis becomes the chosen analyses
+// and `reconstruct` the chosen options (opaque_polygons). The plan
+// returned is the record of the choice.
+TargetPlan apply_target(PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
+                        ReconstructOptions& reconstruct);
+// The one line the commands print about a plan (without a newline):
+// "<path>: --target <name>: predicted ... ms ...".
+std::string target_summary(const std::string& path, const TargetPlan& plan);
 
 // Per image (no scene): the candidate that minimizes the model's cost of
 // drawing the image once at scale 1 with nothing behind it (`analyze
 // --target`): boundary triangles, perimeter and fragments.
 std::size_t choose_image_candidate(const std::vector<const ImageAnalysis*>& candidates, const CostProfile& profile);
 
-} // namespace depthcull::io
+} // namespace depthcull::pipeline

@@ -7,7 +7,6 @@
 #include <atomic>
 
 #include "depthcull/pipeline.h"
-#include "io/formats.h"
 
 namespace depthcull::pipeline {
 

@@ -18,8 +18,7 @@
 
 #include "depthcull/limits.h"
 #include "depthcull/pipeline.h"
-#include "io/cache.h"
-#include "io/formats.h"
+#include "pipeline/cache.h"
 
 namespace depthcull::pipeline {
 
@@ -149,14 +148,14 @@ ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& o
     MemoryBudget& memory = budget ? *budget : shared_memory_budget();
     if (hit) *hit = false;
     if (cache_dir.empty()) return analyze_within(image, rect, options, name, memory);
-    const io::CacheKey key = io::analysis_key(image, rect, options);
-    if (auto cached = io::cache_load(cache_dir, key, rect)) {
+    const pipeline::CacheKey key = pipeline::analysis_key(image, rect, options);
+    if (auto cached = pipeline::cache_load(cache_dir, key, rect)) {
         if (hit) *hit = true;
         cached->bleeding_edges = edges_bleed(image, rect); // not cached (ImageAnalysis::bleeding_edges)
         return std::move(*cached);
     }
     ImageAnalysis analysis = analyze_within(image, rect, options, name, memory);
-    io::cache_store(cache_dir, key, analysis);
+    pipeline::cache_store(cache_dir, key, analysis);
     return analysis;
 }
 

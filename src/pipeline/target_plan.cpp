@@ -5,10 +5,11 @@
 // depends on the thread count.
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 
-#include "depthcull/pipeline.h"
+#include "depthcull/target.h"
 
 namespace depthcull::pipeline {
 
@@ -108,6 +109,28 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     plan.analyzed += planned.analyzed;
     plan.cache_hits += planned.cache_hits;
     return plan;
+}
+
+TargetPlan apply_target(PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile, ReconstructOptions& reconstruct) {
+    TargetPlan plan = plan_target(prepared, options, profile, reconstruct);
+    prepared.analysis = plan.analysis;
+    reconstruct = plan.reconstruct;
+    return plan;
+}
+
+std::string target_summary(const std::string& path, const TargetPlan& plan) {
+    const TargetChoice& c = plan.choice;
+    auto print = [&](char* out, std::size_t size) {
+        return std::snprintf(out, size,
+                             "%s: --target %s: predicted %.3f ms (overpaint %.3f, meshes only %.3f); opaque pass %s, %lld elements with "
+                             "opaque polygons (%lld given up per element), %lld hidden elements dropped, MIN_OPAQUE_AREA %d%s%s",
+                             path.c_str(), plan.profile.name.c_str(), c.predicted_ms, c.overpaint_ms, c.meshes_only_ms,
+                             c.opaque_pass ? "on" : "off", (long long)c.elements_opaque, (long long)c.elements_reverted,
+                             (long long)c.elements_dropped, plan.min_opaque_area, c.fallback.empty() ? "" : "; fallback: ", c.fallback.c_str());
+    };
+    std::string line(std::size_t(std::max(0, print(nullptr, 0))), '\0');
+    print(line.data(), line.size() + 1);
+    return line;
 }
 
 } // namespace depthcull::pipeline

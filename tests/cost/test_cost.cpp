@@ -16,7 +16,7 @@ namespace {
 std::string data(const std::string& name) { return std::string(DEPTHCULL_SOURCE_DIR) + "/tests/data/" + name; }
 
 TEST(Table2Fit, ReproducesThePapersFit) {
-    const std::vector<Table2Row> rows = io::read_table2_tsv(data("paper-table2.tsv"));
+    const std::vector<Table2Row> rows = pipeline::read_table2_tsv(data("paper-table2.tsv"));
     ASSERT_EQ(rows.size(), 57u); // 19 scenes x 3 modes
     Table2Fit fit;
     ASSERT_TRUE(fit_table2(rows, &fit));
@@ -47,8 +47,8 @@ TEST(Profiles, BuiltinsAreCompleteAndRoundTrip) {
         ASSERT_TRUE(builtin_profile(name, &p)) << name;
         std::string what;
         EXPECT_TRUE(profile_is_complete(p, &what)) << name << ": " << what;
-        const CostProfile back = io::profile_from_json(io::profile_to_json(p), name);
-        EXPECT_EQ(io::profile_to_json(back), io::profile_to_json(p));
+        const CostProfile back = pipeline::profile_from_json(pipeline::profile_to_json(p), name);
+        EXPECT_EQ(pipeline::profile_to_json(back), pipeline::profile_to_json(p));
         EXPECT_GE(min_opaque_area(p), 1);
     }
     CostProfile p;
@@ -58,7 +58,7 @@ TEST(Profiles, BuiltinsAreCompleteAndRoundTrip) {
 TEST(Profiles, BadFilesGetOneLineErrors) {
     auto error_of = [](const std::string& text) {
         try {
-            io::profile_from_json(text, "p.json");
+            pipeline::profile_from_json(text, "p.json");
         } catch (const io::Error& e) {
             return std::string(e.what());
         }
@@ -66,7 +66,7 @@ TEST(Profiles, BadFilesGetOneLineErrors) {
     };
     CostProfile llvm;
     ASSERT_TRUE(builtin_profile("llvmpipe", &llvm));
-    const std::string good = io::profile_to_json(llvm);
+    const std::string good = pipeline::profile_to_json(llvm);
     EXPECT_EQ(error_of(good), "");
     EXPECT_NE(error_of("{"), "");
     EXPECT_EQ(error_of("[]"), "p.json: a profile is a JSON object");
@@ -77,7 +77,7 @@ TEST(Profiles, BadFilesGetOneLineErrors) {
     negative.insert(negative.find("\"draw_call_us\": ") + 16, "-");
     EXPECT_NE(error_of(negative).find("draw_call_us"), std::string::npos);
     for (const std::string& e : {error_of("{"), error_of(missing), error_of(negative)}) EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-    EXPECT_THROW(io::resolve_target("nosuchprofile"), io::Error);
+    EXPECT_THROW(pipeline::resolve_target("nosuchprofile"), io::Error);
 }
 
 TEST(Features, CountsPassesAndRejection) {
@@ -190,7 +190,7 @@ TEST(Calibrate, QuickCalibrationWritesACompleteFiniteProfile) {
     const int rc = std::system((cli() + " calibrate --quick -q -o " + out + " 2>" + temp("cal.err")).c_str());
     if (rc != 0 && slurp(temp("cal.err")).find("no OpenGL") != std::string::npos) GTEST_SKIP() << "no GL here";
     ASSERT_EQ(rc, 0) << slurp(temp("cal.err"));
-    const CostProfile p = io::load_profile(out); // every term present, finite, >= 0
+    const CostProfile p = pipeline::load_profile(out); // every term present, finite, >= 0
     std::string what;
     EXPECT_TRUE(profile_is_complete(p, &what)) << what;
     EXPECT_GT(p.fragment_blend_ns, 0);
@@ -304,7 +304,7 @@ TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
     std::vector<std::string> targets = {"llvmpipe", "ipad1"};
     for (const CostProfile& p : {rejected_dear, edges_dear}) {
         targets.push_back(temp(p.name + ".json"));
-        io::save_profile(targets.back(), p);
+        pipeline::save_profile(targets.back(), p);
     }
     for (const std::string& target : targets) {
         const std::string err = temp("never-slower.err");

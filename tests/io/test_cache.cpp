@@ -5,13 +5,14 @@
 
 #include <gtest/gtest.h>
 
-#include "io/cache.h"
+#include "pipeline/cache.h"
 #include "test_scene_json_helpers.h"
 
 namespace depthcull::test {
 namespace {
 
 using namespace depthcull::io;
+using namespace depthcull::pipeline;
 
 ImageAnalysis sample_analysis() {
     Image img = ascii_image({"........", "..####..", ".######.", ".######.", ".######.", "..####..", "........", "........"});

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "depthcull/io.h"
-#include "io/cache.h"
+#include "pipeline/cache.h"
 #include "io/formats.h"
 #include "io/tiled_internal.h"
 #include "test_scene_json_helpers.h"
@@ -101,8 +101,8 @@ TEST(FuzzCorpus, CacheEntrySeedsAreEntriesOfTheCurrentFormat) {
         const std::string b = slurp(e.path());
         ASSERT_GE(b.size(), 2u) << e.path();
         const Rect rect{7, 3, 1 + static_cast<unsigned char>(b[0]) % 64, 1 + static_cast<unsigned char>(b[1]) % 64};
-        const io::CacheKey key = io::hash_bytes_128(b.data(), 2);
-        EXPECT_TRUE(io::parse_analysis(io::cache_entry(key, std::string_view(b).substr(2)), key, rect)) << e.path();
+        const pipeline::CacheKey key = pipeline::hash_bytes_128(b.data(), 2);
+        EXPECT_TRUE(pipeline::parse_analysis(pipeline::cache_entry(key, std::string_view(b).substr(2)), key, rect)) << e.path();
         ++seeds;
     }
     EXPECT_GT(seeds, 0);

@@ -19,7 +19,7 @@
 #include "depthcull/io.h"
 #include "depthcull/pipeline.h"
 #include "depthcull/limits.h"
-#include "io/cache.h"
+#include "pipeline/cache.h"
 #include "io/formats.h"
 #include "test_scene_json_helpers.h"
 
@@ -337,19 +337,19 @@ TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
     pipeline::PreparedScene first = pipeline::prepare_scene(scene, o);
     ASSERT_EQ(first.analyzed, 1);
     const ImageAnalysis good = first.analysis.images[0];
-    const io::CacheKey key = io::analysis_key(first.view(0), good.rect, o.analyze);
-    const std::string entry = io::cache_entry_path(o.cache_dir, key);
+    const pipeline::CacheKey key = pipeline::analysis_key(first.view(0), good.rect, o.analyze);
+    const std::string entry = pipeline::cache_entry_path(o.cache_dir, key);
     // Damaged before it was summed: the checksum matches, the content lies.
     auto corrupt = [&](auto&& damage) {
         ImageAnalysis bad = good;
         damage(bad);
-        std::ofstream(entry, std::ios::binary | std::ios::trunc) << io::serialize_analysis(key, bad);
-        EXPECT_FALSE(io::parse_analysis(io::serialize_analysis(key, bad), key, good.rect));
+        std::ofstream(entry, std::ios::binary | std::ios::trunc) << pipeline::serialize_analysis(key, bad);
+        EXPECT_FALSE(pipeline::parse_analysis(pipeline::serialize_analysis(key, bad), key, good.rect));
         pipeline::PreparedScene run = pipeline::prepare_scene(scene, o);
         EXPECT_EQ(run.analyzed, 1);
         EXPECT_EQ(run.analysis.images[0].boundary, good.boundary);
         std::ifstream in(entry, std::ios::binary);
-        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), io::serialize_analysis(key, run.analysis.images[0])) << "rewritten";
+        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), pipeline::serialize_analysis(key, run.analysis.images[0])) << "rewritten";
         EXPECT_EQ(pipeline::prepare_scene(scene, o).cache_hits, 1);
     };
     corrupt([](ImageAnalysis& a) { a.boundary[0][0].x = NAN; });
@@ -365,17 +365,17 @@ TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
 TEST(HostileCache, CountsBeyondTheBytesLeftAreRefusedBeforeAllocating) {
     ImageAnalysis a;
     a.rect = {0, 0, 4, 4};
-    const io::CacheKey key = io::hash_bytes_128("k", 1);
-    std::string bytes = io::serialize_analysis(key, a);
+    const pipeline::CacheKey key = pipeline::hash_bytes_128("k", 1);
+    std::string bytes = pipeline::serialize_analysis(key, a);
     // Payload: w, h, boundary count. Claim a million polygons in an entry
     // of a few bytes, and re-sum it so only the structure can tell.
     const std::size_t header = 4 + 4 + 16 + 8;
     std::uint32_t many = 1u << 20;
     std::memcpy(bytes.data() + header + 8, &many, 4);
     std::string payload = bytes.substr(header, bytes.size() - header - 8);
-    std::uint64_t sum = io::hash_bytes_128(payload.data(), payload.size(), 1).words[0];
+    std::uint64_t sum = pipeline::hash_bytes_128(payload.data(), payload.size(), 1).words[0];
     std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
-    EXPECT_FALSE(io::parse_analysis(bytes, key, a.rect));
+    EXPECT_FALSE(pipeline::parse_analysis(bytes, key, a.rect));
 }
 
 // ---- 5. Files

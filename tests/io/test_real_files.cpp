@@ -205,7 +205,7 @@ TEST(RealFiles, InvalidJsonIsReportedWithoutItsContent) {
     const std::string atlas = write(dir / "a.json", "{\"frames\": {\"" + secret + "\": 1e999}}");
     cases.push_back({atlas, error_of([&] { io::load_texturepacker(atlas); })});
     cases.push_back({"m.json", error_of([&] { io::meshes_from_json("{\"viewport\": " + secret, "m.json"); })});
-    cases.push_back({"p.json", error_of([&] { io::profile_from_json("[" + secret + "]", "p.json"); })});
+    cases.push_back({"p.json", error_of([&] { pipeline::profile_from_json("[" + secret + "]", "p.json"); })});
     for (const Case& c : cases) {
         EXPECT_EQ(c.error.rfind(c.file + ": not valid JSON at line ", 0), 0u) << c.error;
         EXPECT_FALSE(has(c.error, "SECRET") || has(c.error, "last read") || has(c.error, "1e999")) << c.error;

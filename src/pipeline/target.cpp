@@ -1,4 +1,5 @@
-// Cost profiles as JSON files, and --target planning over a prepared scene.
+// Cost profiles as JSON files (the format of docs/cost-model.md), in
+// pipeline because io depends on no cost type; the JSON checks are io's.
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -8,9 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "depthcull/target.h"
-#include "io/formats.h"
 
-namespace depthcull::io {
+namespace depthcull::pipeline {
+
+using io::Error;
 
 namespace {
 
@@ -36,12 +38,12 @@ constexpr Term kTerms[] = {
 } // namespace
 
 CostProfile profile_from_json(const std::string& text, const std::string& name) {
-    check_json_document(text, name);
+    io::check_json_document(text, name);
     json j;
     try {
         j = json::parse(text);
     } catch (const std::exception& e) { // nlohmann's, or std::bad_alloc ("out of memory")
-        throw_json_error(e, text, name);
+        io::throw_json_error(e, text, name);
     }
     if (!j.is_object()) throw Error(name + ": a profile is a JSON object");
     CostProfile p;
@@ -84,9 +86,9 @@ std::string profile_to_json(const CostProfile& p) {
     return out.str();
 }
 
-CostProfile load_profile(const std::string& path) { return profile_from_json(read_file(path), path); }
+CostProfile load_profile(const std::string& path) { return profile_from_json(io::read_file(path), path); }
 
-void save_profile(const std::string& path, const CostProfile& profile) { write_file_atomic(path, profile_to_json(profile)); }
+void save_profile(const std::string& path, const CostProfile& profile) { io::write_file_atomic(path, profile_to_json(profile)); }
 
 CostProfile resolve_target(const std::string& name_or_path) {
     CostProfile p;
@@ -100,7 +102,7 @@ CostProfile resolve_target(const std::string& name_or_path) {
 }
 
 std::vector<Table2Row> read_table2_tsv(const std::string& path) {
-    std::istringstream in(read_file(path));
+    std::istringstream in(io::read_file(path));
     std::vector<Table2Row> rows;
     int line_no = 0;
     bool header = false;
@@ -143,4 +145,4 @@ std::size_t choose_image_candidate(const std::vector<const ImageAnalysis*>& cand
     return best;
 }
 
-} // namespace depthcull::io
+} // namespace depthcull::pipeline

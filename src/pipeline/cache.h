@@ -1,4 +1,5 @@
-// Internal to src/io: the on-disk cache of per-image analyses (issue 4,
+// Internal to src/pipeline (hashing and orchestration, not a file format):
+// the on-disk cache of per-image analyses (issue 4,
 // paper section 2 notes the per-image results are reusable across scenes).
 //
 // One file per entry, named by a 128-bit key of everything the analysis
@@ -17,7 +18,7 @@
 
 #include "depthcull/analyze.h"
 
-namespace depthcull::io {
+namespace depthcull::pipeline {
 
 // 2: the payload no longer ends with the analysis' wall time (ImageStats
 // holds none). 3: the checksum covers the header (magic, version, key,
@@ -53,4 +54,4 @@ std::optional<ImageAnalysis> cache_load(const std::string& dir, const CacheKey& 
 // Writes an entry; returns false (and leaves no partial file) on failure.
 bool cache_store(const std::string& dir, const CacheKey& key, const ImageAnalysis& analysis);
 
-} // namespace depthcull::io
+} // namespace depthcull::pipeline

@@ -11,9 +11,9 @@
 #include <filesystem>
 
 #include "depthcull/io.h"
-#include "io/cache.h"
+#include "pipeline/cache.h"
 
-namespace depthcull::io {
+namespace depthcull::pipeline {
 
 namespace {
 
@@ -257,8 +257,8 @@ std::optional<ImageAnalysis> cache_load(const std::string& dir, const CacheKey& 
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
     try {
-        return parse_analysis(read_file(path), key, rect);
-    } catch (const Error&) {
+        return parse_analysis(io::read_file(path), key, rect);
+    } catch (const io::Error&) {
         return std::nullopt; // unreadable: recompute
     }
 }
@@ -269,12 +269,12 @@ bool cache_store(const std::string& dir, const CacheKey& key, const ImageAnalysi
     std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
     if (ec) return false;
     try {
-        write_file_atomic(path, serialize_analysis(key, analysis));
+        io::write_file_atomic(path, serialize_analysis(key, analysis));
         return true;
-    } catch (const Error&) {
+    } catch (const io::Error&) {
         return false; // a cache that cannot be written only costs time
     }
 }
 
 
-} // namespace depthcull::io
+} // namespace depthcull::pipeline
