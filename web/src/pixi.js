@@ -61,8 +61,9 @@ export class DepthCulledLayer extends RenderContainer {
    * TextureSources of the whole images, premultiplied as Pixi uploads
    * them). Then set `layer.movingSprites` each frame: one sprite list per
    * insertion point (assemble()'s input; with meshes without points, one
-   * list drawn on top). Sprite colours go to the shader as floats: white
-   * and opaque ones draw exactly what Pixi sprites draw.
+   * list drawn on top). Sprite colours ([r, g, b, a], 0..1) go to the
+   * shader as the bytes Pixi makes of a sprite's tint and alpha
+   * (pixiColorByte), so tinted and translucent sprites draw what Pixi's draw.
    */
   setMovingSprites(assembler, textures) {
     if (!assembler || typeof assembler.assemble !== 'function') throw new DepthcullError('DepthCulledLayer.setMovingSprites: expected a FrameAssembler');

@@ -148,10 +148,12 @@ export class MeshRenderer {
    * WebGL 2 has no base vertex, so each draw's indices are offset by its
    * first vertex. `colorByte(c, channel)`: the colours as normalized bytes (0..255)
    * instead of floats, as PixiJS's batcher feeds its shader (the GPU's byte
-   * to float conversion is not always the correctly rounded c / 255).
+   * to float conversion is not always the correctly rounded c / 255); the
+   * moving sprites of draw({ frame }) get the same bytes.
    */
   setMeshes(meshes, { colorByte } = {}) {
     const gl = this.gl;
+    this.colorByte = colorByte ?? null;
     let vertexCount = 0, indexCount = 0;
     for (const d of meshes.draws) {
       vertexCount += d.vertices.length / VERTEX_FLOATS;
@@ -273,31 +275,58 @@ export class MeshRenderer {
   }
 
   // The frame's vertex and index buffers (a VAO of their own: 9 floats a
-  // vertex), grown to the largest frame so far and then only overwritten.
+  // vertex, or with colorByte 5 floats and 4 colour bytes, as setMeshes
+  // lays out the static vertices), grown to the largest frame so far and
+  // then only overwritten.
   #uploadFrame(frame) {
     const gl = this.gl;
+    const bytes = !!this.colorByte;
     if (!this.frameVao) {
       this.frameVao = gl.createVertexArray();
       this.frameVbo = gl.createBuffer();
       this.frameIbo = gl.createBuffer();
       this.frameCapacity = [0, 0];
+      this.frameBytes = null; // the layout the VAO holds
       gl.bindVertexArray(this.frameVao);
       gl.bindBuffer(gl.ARRAY_BUFFER, this.frameVbo);
       gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.frameIbo);
-      const stride = VERTEX_FLOATS * 4;
+    }
+    gl.bindVertexArray(this.frameVao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.frameVbo);
+    if (this.frameBytes !== bytes) {
+      const stride = bytes ? 24 : VERTEX_FLOATS * 4;
       gl.enableVertexAttribArray(0);
       gl.vertexAttribPointer(0, 3, gl.FLOAT, false, stride, 0);
       gl.enableVertexAttribArray(1);
       gl.vertexAttribPointer(1, 2, gl.FLOAT, false, stride, 12);
       gl.enableVertexAttribArray(2);
-      gl.vertexAttribPointer(2, 4, gl.FLOAT, false, stride, 20);
+      if (bytes) gl.vertexAttribPointer(2, 4, gl.UNSIGNED_BYTE, true, stride, 20);
+      else gl.vertexAttribPointer(2, 4, gl.FLOAT, false, stride, 20);
+      this.frameBytes = bytes;
     }
-    gl.bindVertexArray(this.frameVao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, this.frameVbo);
+    // Pixi quantises a sprite's tint and alpha to bytes (pixiColorByte):
+    // the frame's float colours become the same bytes, in a staging buffer
+    // kept at the largest frame's size (nothing allocated per frame after).
+    let vertices = frame.vertices;
+    if (bytes) {
+      const n = frame.vertices.length / VERTEX_FLOATS;
+      if (!this.frameStaging || this.frameStaging.byteLength < n * 24) {
+        this.frameStaging = new ArrayBuffer(n * 24 * 2);
+        this.frameStagingF32 = new Float32Array(this.frameStaging);
+        this.frameStagingU8 = new Uint8Array(this.frameStaging);
+      }
+      const src = frame.vertices, f32 = this.frameStagingF32, u8 = this.frameStagingU8, colorByte = this.colorByte;
+      for (let k = 0; k < n; ++k) {
+        const s = k * VERTEX_FLOATS, d = k * 6;
+        for (let c = 0; c < 5; ++c) f32[d + c] = src[s + c];
+        for (let c = 0; c < 4; ++c) u8[(d + 5) * 4 + c] = colorByte(src[s + 5 + c], c);
+      }
+      vertices = this.frameStagingU8.subarray(0, n * 24);
+    }
     const cap = this.frameCapacity;
-    if (frame.vertices.byteLength > cap[0]) gl.bufferData(gl.ARRAY_BUFFER, (cap[0] = frame.vertices.byteLength * 2), gl.STREAM_DRAW);
+    if (vertices.byteLength > cap[0]) gl.bufferData(gl.ARRAY_BUFFER, (cap[0] = vertices.byteLength * 2), gl.STREAM_DRAW);
     if (frame.indices.byteLength > cap[1]) gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, (cap[1] = frame.indices.byteLength * 2), gl.STREAM_DRAW);
-    if (frame.vertices.length) gl.bufferSubData(gl.ARRAY_BUFFER, 0, frame.vertices);
+    if (vertices.length) gl.bufferSubData(gl.ARRAY_BUFFER, 0, vertices);
     if (frame.indices.length) gl.bufferSubData(gl.ELEMENT_ARRAY_BUFFER, 0, frame.indices);
   }
 

@@ -210,7 +210,12 @@ window.depthcullTest = {
   // wasm with an insertion point before that element (reconstructScene,
   // as optimize --insert-at), the sprites go there, and the plain app draws
   // them between the elements before it and those after it.
-  async identityMoving({ sceneUrl, meshesUrl, frames = 60, count = 24, atElement }) {
+  //
+  // `styled`: sprite k is plain (k % 4 == 0), tinted (1), tinted and
+  // translucent (2) or tinted, translucent and additive (3), with tints and
+  // alphas whose bytes are not exact floats (0.85 * 255 = 216.75), as
+  // Pixi's own sprites take them.
+  async identityMoving({ sceneUrl, meshesUrl, frames = 60, count = 24, atElement, styled = false }) {
     const scene = await (await fetch(sceneUrl)).json();
     const depthcull = await loadDepthcull();
     let meshes;
@@ -267,15 +272,26 @@ window.depthcullTest = {
     const plain = plainSprites(scene, sources);
     const moving = new PIXI.Container();
     const pixiSprites = [];
+    const styles = [
+      { color: [1, 1, 1, 1], blend: 'alpha' },
+      { color: [1, 0.85, 0.6, 1], blend: 'alpha' },
+      { color: [0.7, 0.9, 1, 0.55], blend: 'alpha' },
+      { color: [1, 0.95, 0.7, 0.8], blend: 'add' },
+    ];
+    const styleOf = (k) => (styled ? styles[k % styles.length] : styles[0]);
     for (let k = 0; k < count; ++k) {
       const { p } = place(k, 0);
       const s = new PIXI.Sprite(new PIXI.Texture({ source: p.source, frame: new PIXI.Rectangle(...p.rect) }));
+      const { color, blend } = styleOf(k);
+      s.tint = color.slice(0, 3);
+      s.alpha = color[3];
+      s.blendMode = PIXI_BLEND[blend];
       pixiSprites.push(s);
       moving.addChild(s);
     }
     const layer = new DepthCulledLayer(meshes, meshes.images.map((img) => sources.get(img.id)));
     layer.setMovingSprites(assembler, textures);
-    const sprites = Array.from({ length: count }, () => ({ image: 0, x: 0, y: 0 }));
+    const sprites = Array.from({ length: count }, (_, k) => ({ image: 0, x: 0, y: 0, color: styleOf(k).color, blend: styleOf(k).blend }));
     let result = { differ: 0, offEdges: 0, examples: [] };
     let draws = 0, triangles = 0, opaqueSprites = 0;
     for (let f = 0; f < frames; ++f) {
