@@ -47,6 +47,7 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
     const std::size_t keys = analysis.images.size(), nb = plan.budgets.size();
     plan.candidates.resize(keys * nb);
     std::vector<std::uint8_t> hit(keys * nb, 0);
+    const std::vector<ImageView> views = prepared.views();
     parallel_for(keys * nb, options.threads, [&](std::size_t w) {
         const std::size_t k = w / nb, b = w % nb;
         if (first_use[k] == std::size_t(-1)) return;
@@ -54,8 +55,13 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
         AnalyzeOptions o = analyze;
         o.boundary.max_vertices = plan.budgets[b];
         bool h = false;
-        plan.candidates[w] = analyze_cached(prepared.view(std::size_t(e.image)), e.rect, o, options.cache_dir, &h,
-                                             scene.images[std::size_t(e.image)].path, options.memory);
+        const std::string& name = scene.images[std::size_t(e.image)].path;
+        // An animated element's key is its animation's (prepare_scene): its
+        // candidates too hold every frame's texels, or the chosen meshes
+        // would cut off what frame 0 does not show.
+        plan.candidates[w] = e.animation >= 0 ? analyze_animation(views, scene.animations[std::size_t(e.animation)], o, options.cache_dir, &h,
+                                                                  name + ": animation " + std::to_string(e.animation), options.memory)
+                                              : analyze_cached(views[std::size_t(e.image)], e.rect, o, options.cache_dir, &h, name, options.memory);
         hit[w] = h;
     });
     for (std::size_t w = 0; w < keys * nb; ++w) {

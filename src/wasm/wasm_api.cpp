@@ -199,14 +199,21 @@ constexpr std::size_t kMaxSceneElementsWasm = 1 << 22;
 // ---- Reconstruction (paper 2.3) and --target in the wasm ----
 //
 // A scene built image by image and element by element from JavaScript
-// (pixels copied in, as the CLI decodes its files), then reconstructed as
-// `depthcull optimize` does: each distinct (image, rect) analysed once,
-// reconstruct_scene; with a target, each distinct rect analysed at the
-// CLI's vertex budgets and the profile's opaque area (pipeline::
-// plan_target's choice, single-threaded here), then choose_for_target.
+// (pixels copied in, as the CLI decodes its files: colour keys applied,
+// fills made), then reconstructed as `depthcull optimize` does
+// (pipeline::prepare_scene, plan_target): each distinct (decoded image,
+// rect) analysed once, an animated element's analysis made of all its
+// frames; with a target, each distinct rect analysed at the CLI's vertex
+// budgets and the profile's opaque area, then choose_for_target with
+// opaque merging on. What the wasm cannot do: Clipper 6 is not in it
+// (clip_hidden_parts does nothing there), so --target plans without
+// clipping hidden parts, as optimize with DEPTHCULL_CLIP_HIDDEN=0 does.
 struct SceneBuild {
     Scene scene;
     std::vector<std::vector<std::uint8_t>> pixels; // per image, RGBA8 rows packed
+    // Per image, what the pipeline decodes once: the file (path) and its
+    // colour key, or the fill colour. Images with equal keys share analyses.
+    std::vector<std::string> decode_key;
 };
 
 std::vector<std::unique_ptr<SceneBuild>> g_scenes;
@@ -233,6 +240,60 @@ void append_meshes(const SceneMeshes& m) {
         for (float v : d.vertices) g_result.push_back(v);
         for (std::uint32_t i : d.indices) g_result.push_back(i);
     }
+}
+
+// The animated runs of `meshes` (io::animated_runs: the meshes files'
+// "animated"): per draw, runs of vertices of one animated element, as
+// draw, first vertex, vertex count, animation.
+void append_animated_runs(const Scene& scene, const SceneMeshes& meshes) {
+    std::vector<double> runs;
+    for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
+        const Draw& draw = meshes.draws[d];
+        const std::vector<ElementSpan>& spans = draw.element_spans;
+        for (std::size_t j = 0; j < spans.size();) {
+            std::size_t next = j + 1; // adjacent spans of one element are one run
+            while (next < spans.size() && spans[next].element == spans[j].element) ++next;
+            const std::size_t first = spans[j].first_vertex, end = next < spans.size() ? spans[next].first_vertex : draw.vertex_count();
+            const std::uint32_t element = spans[j].element;
+            const int animation = element < scene.elements.size() ? scene.elements[element].animation : -1;
+            if (animation >= 0 && end > first)
+                for (double v : {double(d), double(first), double(end - first), double(animation)}) runs.push_back(v);
+            j = next;
+        }
+    }
+    g_result.push_back(double(runs.size() / 4));
+    g_result.insert(g_result.end(), runs.begin(), runs.end());
+}
+
+// pipeline::analyze_animation without the cache: the analysis of an image
+// combining the frames' alpha (0 where every frame is transparent, 255
+// where every frame is opaque, 128 elsewhere), polygons moved onto frame
+// 0's rect. Keep the two the same (the wasm test compares with optimize).
+ImageAnalysis analyze_animation_frames(const std::vector<ImageView>& images, const Animation& animation, const AnalyzeOptions& options) {
+    const AnimationFrame& first = animation.frames.front();
+    const int w = first.rect.w, h = first.rect.h;
+    std::vector<std::uint8_t> combined(std::size_t(w) * std::size_t(h) * 4, 0);
+    std::vector<std::uint8_t> any(std::size_t(w) * std::size_t(h), 0), all(std::size_t(w) * std::size_t(h), 1);
+    for (const AnimationFrame& f : animation.frames) {
+        const ImageView& view = images[std::size_t(f.image)];
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::uint8_t a = view.alpha(f.rect.x + x, f.rect.y + y);
+                const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+                any[i] |= a != 0;
+                all[i] &= a == 255;
+            }
+    }
+    for (std::size_t i = 0; i < any.size(); ++i) combined[4 * i + 3] = all[i] ? 255 : any[i] ? 128 : 0;
+    ImageAnalysis a = analyze_image(ImageView{combined.data(), w, h, std::ptrdiff_t(w) * 4}, {0, 0, w, h}, options);
+    const double dx = first.rect.x, dy = first.rect.y;
+    for (auto* polygons : {&a.boundary, &a.opaque})
+        for (Polygon& p : *polygons)
+            for (Vec2& v : p) v = {v.x + dx, v.y + dy};
+    a.rect = first.rect;
+    a.bleeding_edges = false;
+    for (const AnimationFrame& f : animation.frames) a.bleeding_edges |= edges_bleed(images[std::size_t(f.image)], f.rect);
+    return a;
 }
 
 } // namespace
@@ -492,38 +553,122 @@ DCW_EXPORT(dcw_scene_free) void dcw_scene_free(double handle) {
 }
 
 // An image of the scene: width x height RGBA8 texels at `rgba` (copied),
-// `name` its id in messages. Its index is the result's one number.
+// `name` its id in messages, `path` the file it came from (UTF-8, may be
+// null or empty: the id), which decides, as in the CLI, which images share
+// analyses and meshes. `trans` a colour key 0xRRGGBB (texels of exactly
+// that colour made transparent, as the CLI decodes a Tiled `trans` image)
+// or -1; `fill` 0xRRGGBB or -1: a solid image of that colour,
+// kFillImageSide square, no pixels read (rgba may be null). Its index is
+// the result's one number.
 DCW_EXPORT(dcw_scene_add_image)
-int dcw_scene_add_image(double handle, const std::uint8_t* rgba, double width, double height, const char* name) {
+int dcw_scene_add_image(double handle, const std::uint8_t* rgba, double width, double height, const char* name, const char* path,
+                        double trans, double fill) {
     g_result.clear();
     SceneBuild* s = scene_of(handle);
     if (!s) return DCW_ERROR_INVALID_ARGUMENT;
     const std::string who = name && *name ? std::string(name) : std::string("image");
     std::string error;
-    int w = 0, h = 0;
+    int w = 0, h = 0, key = -1, colour = -1;
+    if (!int_option("trans", trans, -1, 0xffffff, &key, &error) || !int_option("fill", fill, -1, 0xffffff, &colour, &error))
+        return fail(who + ": " + error);
+    if (colour >= 0) width = height = kFillImageSide;
     if (!int_option("width", width, 1, kMaxImageSide, &w, &error) || !int_option("height", height, 1, kMaxImageSide, &h, &error))
         return fail(who + ": " + error);
     if (std::int64_t(w) * h > kMaxImageTexels)
         return fail(who + ": " + std::to_string(w) + "x" + std::to_string(h) + " image exceeds " + std::to_string(kMaxImageTexels) + " texels");
-    if (!rgba) return fail(who + ": no pixels");
+    if (!rgba && colour < 0) return fail(who + ": no pixels");
     if (s->scene.images.size() >= kMaxSceneImagesWasm) return fail(who + ": more than " + std::to_string(kMaxSceneImagesWasm) + " images");
     SceneImage img;
     img.id = who;
-    img.path = who;
+    img.path = path && *path ? std::string(path) : who;
     img.width = w;
     img.height = h;
+    std::vector<std::uint8_t> pixels;
+    char hex[8];
+    if (colour >= 0) {
+        // io::load_scene_image's fill: every texel the colour, opaque; no file.
+        img.has_fill = true;
+        img.fill = std::uint32_t(colour);
+        img.path.clear();
+        pixels.resize(std::size_t(w) * std::size_t(h) * 4);
+        for (std::size_t i = 0; i < pixels.size(); i += 4) {
+            pixels[i] = std::uint8_t(colour >> 16);
+            pixels[i + 1] = std::uint8_t(colour >> 8);
+            pixels[i + 2] = std::uint8_t(colour);
+            pixels[i + 3] = 255;
+        }
+        std::snprintf(hex, sizeof hex, "%06x", unsigned(colour));
+        s->decode_key.push_back(std::string("\nfill ") + hex);
+    } else {
+        pixels.assign(rgba, rgba + std::size_t(w) * std::size_t(h) * 4);
+        std::string k = img.path;
+        if (key >= 0) {
+            // io::apply_colour_key: only alpha changes.
+            img.has_trans = true;
+            img.trans = std::uint32_t(key);
+            const std::uint8_t r = std::uint8_t(key >> 16), g = std::uint8_t(key >> 8), b = std::uint8_t(key);
+            for (std::size_t i = 0; i < pixels.size(); i += 4)
+                if (pixels[i] == r && pixels[i + 1] == g && pixels[i + 2] == b) pixels[i + 3] = 0;
+            std::snprintf(hex, sizeof hex, "%06x", unsigned(key));
+            k += std::string("\n") + hex;
+        }
+        s->decode_key.push_back(k);
+    }
     s->scene.images.push_back(img);
-    s->pixels.emplace_back(rgba, rgba + std::size_t(w) * std::size_t(h) * 4);
+    s->pixels.push_back(std::move(pixels));
     g_result.push_back(double(s->scene.images.size() - 1));
+    return DCW_OK;
+}
+
+// An animation (a Tiled animated tile): `count` frames at `frames`, 6
+// doubles each: image, rect x, y, w, h, duration (ms); frames of one size,
+// within their images, checked as the scene JSON reader and
+// pipeline::prepare_scene check them. Its index is the result's one number.
+DCW_EXPORT(dcw_scene_add_animation) int dcw_scene_add_animation(double handle, const double* frames, double count) {
+    g_result.clear();
+    SceneBuild* s = scene_of(handle);
+    if (!s) return DCW_ERROR_INVALID_ARGUMENT;
+    const std::string at = "animation " + std::to_string(s->scene.animations.size()) + ": ";
+    std::string error;
+    int n = 0;
+    if (!int_option("frames.length", count, 1, int(limits::kMaxAnimationFrames), &n, &error)) return fail(at + error);
+    if (s->scene.animations.size() >= kMaxSceneElementsWasm) return fail(at + "more than " + std::to_string(kMaxSceneElementsWasm) + " animations");
+    Animation animation;
+    for (int k = 0; k < n; ++k) {
+        const double* f = frames + 6 * k;
+        const std::string where = at + "frames[" + std::to_string(k) + "].";
+        AnimationFrame frame;
+        if (!int_option((where + "image").c_str(), f[0], 0, int(s->scene.images.size()) - 1, &frame.image, &error) ||
+            !int_option((where + "rect.x").c_str(), f[1], 0, kMaxImageSide, &frame.rect.x, &error) ||
+            !int_option((where + "rect.y").c_str(), f[2], 0, kMaxImageSide, &frame.rect.y, &error) ||
+            !int_option((where + "rect.width").c_str(), f[3], 1, kMaxImageSide, &frame.rect.w, &error) ||
+            !int_option((where + "rect.height").c_str(), f[4], 1, kMaxImageSide, &frame.rect.h, &error) ||
+            !int_option((where + "duration").c_str(), f[5], 0, INT32_MAX, &frame.duration_ms, &error))
+            return fail(at + error);
+        const SceneImage& img = s->scene.images[std::size_t(frame.image)];
+        if (frame.rect.x + frame.rect.w > img.width || frame.rect.y + frame.rect.h > img.height)
+            return fail(at + "frame " + std::to_string(k) + " rect is outside image \"" + img.id + "\"");
+        if (k && (frame.rect.w != animation.frames[0].rect.w || frame.rect.h != animation.frames[0].rect.h))
+            return fail(at + "frames differ in size");
+        animation.frames.push_back(frame);
+    }
+    const Rect& r0 = animation.frames[0].rect;
+    const std::uint64_t texels = std::uint64_t(n) * std::uint64_t(r0.w) * std::uint64_t(r0.h);
+    if (texels > limits::kMaxAnimationTexels)
+        return fail(at + std::to_string(n) + " frames of " + std::to_string(r0.w) + "x" + std::to_string(r0.h) + " are " + std::to_string(texels) +
+                    " texels, more than " + std::to_string(limits::kMaxAnimationTexels) + " (kMaxAnimationTexels)");
+    s->scene.animations.push_back(std::move(animation));
+    g_result.push_back(double(s->scene.animations.size() - 1));
     return DCW_OK;
 }
 
 // An element, in painter's order: `rect` of image `image` drawn through
 // the transform [a b c d e f], colour multiplier r g b a (0..1), blend 0
-// alpha, 1 add, 2 multiply, 3 opaque.
+// alpha, 1 add, 2 multiply, 3 opaque; `animation` an animation's index or
+// -1 (the element shows its first frame's image and rect).
 DCW_EXPORT(dcw_scene_add_element)
 int dcw_scene_add_element(double handle, double image, double rx, double ry, double rw, double rh, double a, double b, double c, double d,
-                          double e, double f, double r, double g, double bl, double al, double blend) {
+                          double e, double f, double r, double g, double bl, double al, double blend, double animation) {
     SceneBuild* s = scene_of(handle);
     if (!s) return DCW_ERROR_INVALID_ARGUMENT;
     const std::string at = "element " + std::to_string(s->scene.elements.size()) + ": ";
@@ -551,25 +696,39 @@ int dcw_scene_add_element(double handle, double image, double rx, double ry, dou
         el.color[std::size_t(k)] = float(col[k]);
     }
     el.blend = Blend(blend_value);
+    if (!int_option("animation", animation, -1, int(s->scene.animations.size()) - 1, &el.animation, &error)) return fail(at + error);
+    if (el.animation >= 0) {
+        const AnimationFrame& first = s->scene.animations[std::size_t(el.animation)].frames.front();
+        if (first.image != el.image || first.rect != el.rect) return fail(at + "an animated element shows its animation's first frame (image and rect)");
+    }
     s->scene.elements.push_back(el);
     return DCW_OK;
 }
 
 // Reconstructs the scene for the viewport (x, y, width, height) and filter
 // (0 nearest, 1 linear), analysing with dcw_analyze's options; opaque
-// polygons 0 or 1 (optimize --no-opaque); `target` (UTF-8, may be null or
-// empty) a built-in cost profile name (optimize --target NAME). The result:
-// the stats (elements, draw calls, triangles, depth levels, depth bits,
-// graph edges), depth test, the draw count, per draw image, pass (0 opaque,
-// 1 blend), blend, vertex count, index count, the vertices' floats and the
+// polygons 0 or 1 (optimize --no-opaque: no opaque search either);
+// `points` holds point_count (element, levels) pairs
+// (ReconstructOptions::insertion_points, optimize --insert-at and
+// --insertion-levels). `target` (UTF-8, may be null or empty): optimize
+// --target NAME, a built-in profile; or, when `profile` is not null, the
+// name of a calibrated profile whose ten terms `profile` holds in
+// docs/cost-model.md's order (frame_us, clear_color_ns_per_pixel,
+// clear_depth_ns_per_pixel, draw_call_us, texture_switch_us, triangle_us,
+// triangle_perimeter_ns_per_pixel, fragment_opaque_ns, fragment_blend_ns,
+// fragment_rejected_ns; the file is read by JavaScript). The result: the
+// stats (elements, draw calls, triangles, depth levels, depth bits, graph
+// edges), depth test, the draw count, per draw image, pass (0 opaque, 1
+// blend), blend, vertex count, index count, the vertices' floats and the
 // indices; the insertion points (count, then element, levels, first level,
-// blend draw each: `points` holds point_count (element, levels) pairs, as
-// ReconstructOptions::insertion_points); then with a target the predicted ms (chosen, meshes only,
-// overpaint) and the elements dropped, drawing opaque polygons, reverted.
+// blend draw each); the animated runs (count, then draw, first vertex,
+// vertex count, animation each); then with a target the predicted ms
+// (chosen, meshes only, overpaint) and the elements dropped, drawing opaque
+// polygons, reverted.
 DCW_EXPORT(dcw_scene_reconstruct)
 int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double vh, double filter, double max_vertices, double split,
                           double opaque_method, double max_opaque, double min_coverage, double min_opaque_area, double opaque_polygons,
-                          const double* points, double point_count, const char* target) {
+                          const double* points, double point_count, const char* target, const double* profile) {
     g_result.clear();
     SceneBuild* s = scene_of(handle);
     if (!s) return DCW_ERROR_INVALID_ARGUMENT;
@@ -598,30 +757,49 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
     analyze.opaque.max_polygons = int(max_opaque);
     analyze.opaque.min_coverage = min_coverage;
     analyze.opaque.min_area = int(min_opaque_area);
+    // optimize --no-opaque skips the opaque search rather than drop its result.
+    if (!opaque_flag) analyze.opaque.max_polygons = 0;
 
     const bool targeted = target && *target;
-    CostProfile profile;
-    if (targeted && !builtin_profile(target, &profile)) {
+    CostProfile cost;
+    if (targeted && profile) {
+        cost.name = target;
+        double CostProfile::* const terms[] = {&CostProfile::frame_us, &CostProfile::clear_color_ns_per_pixel, &CostProfile::clear_depth_ns_per_pixel,
+                                               &CostProfile::draw_call_us, &CostProfile::texture_switch_us, &CostProfile::triangle_us,
+                                               &CostProfile::triangle_perimeter_ns_per_pixel, &CostProfile::fragment_opaque_ns,
+                                               &CostProfile::fragment_blend_ns, &CostProfile::fragment_rejected_ns};
+        for (std::size_t k = 0; k < std::size(terms); ++k) cost.*terms[k] = profile[k];
+        std::string what;
+        if (!profile_is_complete(cost, &what)) return fail("target: profile '" + cost.name + "': \"" + what + "\" is not a finite number >= 0");
+    } else if (targeted && !builtin_profile(target, &cost)) {
         std::string names;
         for (const std::string& n : builtin_profile_names()) names += (names.empty() ? "" : ", ") + n;
-        return fail("target: '" + std::string(target) + "' is not a built-in profile (" + names + "; profile files are read by the CLI)");
+        return fail("target: '" + std::string(target) + "' is not a built-in profile (" + names + "; or pass a profile from depthcull calibrate)");
     }
-    // Distinct (image, rect) keys in first-use order, as the pipeline's.
-    std::map<std::tuple<int, int, int, int, int>, int> key_of;
+    // Distinct analyses in first-use order, as pipeline::prepare_scene's:
+    // per (decoded image, rect), and per animation for animated elements.
+    std::map<std::tuple<int, std::string, int, int, int, int>, int> key_of;
     std::vector<int> element_key(scene.elements.size());
     std::vector<std::size_t> first_use;
     for (std::size_t i = 0; i < scene.elements.size(); ++i) {
         const Element& e = scene.elements[i];
-        auto [it, fresh] = key_of.emplace(std::make_tuple(e.image, e.rect.x, e.rect.y, e.rect.w, e.rect.h), int(first_use.size()));
+        const auto key = e.animation >= 0 ? std::make_tuple(e.animation, std::string(), 0, 0, 0, 0)
+                                          : std::make_tuple(-1, s->decode_key[std::size_t(e.image)], e.rect.x, e.rect.y, e.rect.w, e.rect.h);
+        auto [it, fresh] = key_of.emplace(key, int(first_use.size()));
         if (fresh) first_use.push_back(i);
         element_key[i] = it->second;
     }
-    auto view = [&](int image) {
-        const SceneImage& img = scene.images[std::size_t(image)];
-        return ImageView{s->pixels[std::size_t(image)].data(), img.width, img.height, std::ptrdiff_t(img.width) * 4};
+    std::vector<ImageView> views;
+    for (std::size_t i = 0; i < scene.images.size(); ++i)
+        views.push_back(ImageView{s->pixels[i].data(), scene.images[i].width, scene.images[i].height, std::ptrdiff_t(scene.images[i].width) * 4});
+    auto analyze_key = [&](std::size_t k, const AnalyzeOptions& o) {
+        const Element& e = scene.elements[first_use[k]];
+        return e.animation >= 0 ? analyze_animation_frames(views, scene.animations[std::size_t(e.animation)], o)
+                                : analyze_image(views[std::size_t(e.image)], e.rect, o);
     };
     ReconstructOptions reconstruct;
     reconstruct.opaque_polygons = opaque_flag != 0;
+    std::vector<InsertionPoint> insertion_points;
     int np = 0;
     if (!int_option("insertionPoints.length", point_count, 0, 1 << 16, &np, &error)) return fail(error);
     for (int k = 0; k < np; ++k) {
@@ -630,12 +808,12 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         if (!int_option((at + "element").c_str(), points[2 * k], 0, int(scene.elements.size()), &element, &error) ||
             !int_option((at + "levels").c_str(), points[2 * k + 1], 0, int(kMaxDepthLevels), &levels, &error))
             return fail(error);
-        if (k && std::size_t(element) < reconstruct.insertion_points.back().element)
+        if (k && std::size_t(element) < insertion_points.back().element)
             return fail(at + "element: " + std::to_string(element) + " is before the previous point's (points go in element order)");
         InsertionPoint p;
         p.element = std::size_t(element);
         p.levels = levels;
-        reconstruct.insertion_points.push_back(p);
+        insertion_points.push_back(p);
     }
     SceneMeshes meshes;
     ReconstructStatus st;
@@ -643,25 +821,29 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
     std::vector<ImageAnalysis> analyses;
     if (!targeted) {
         analyses.reserve(first_use.size());
-        for (std::size_t i : first_use) analyses.push_back(analyze_image(view(scene.elements[i].image), scene.elements[i].rect, analyze));
+        for (std::size_t k = 0; k < first_use.size(); ++k) analyses.push_back(analyze_key(k, analyze));
         std::vector<const ImageAnalysis*> per_element(scene.elements.size());
         for (std::size_t i = 0; i < per_element.size(); ++i) per_element[i] = &analyses[std::size_t(element_key[i])];
+        reconstruct.insertion_points = insertion_points;
+        reconstruct.element_spans = !scene.animations.empty();
         st = reconstruct_scene(scene, per_element, reconstruct, &meshes);
     } else {
-        // pipeline::plan_target's budgets and opaque area.
+        // pipeline::plan_target: opaque merging on; its budgets and opaque
+        // area; the choice made before optimize adds the insertion points.
+        reconstruct.merge_opaque = true;
         const int cap = std::max(kMinBoundaryVertices, analyze.boundary.max_vertices);
         std::vector<int> budgets;
         for (int b : {4, 6, 8})
             if (b < cap) budgets.push_back(b);
         budgets.push_back(cap);
-        analyze.opaque.min_area = depthcull::min_opaque_area(profile); // the function, not the parameter
+        analyze.opaque.min_area = depthcull::min_opaque_area(cost); // the function, not the parameter
         const std::size_t nb = budgets.size();
         analyses.reserve(first_use.size() * nb);
-        for (std::size_t i : first_use)
+        for (std::size_t k = 0; k < first_use.size(); ++k)
             for (int b : budgets) {
                 AnalyzeOptions o = analyze;
                 o.boundary.max_vertices = b;
-                analyses.push_back(analyze_image(view(scene.elements[i].image), scene.elements[i].rect, o));
+                analyses.push_back(analyze_key(k, o));
             }
         std::vector<TargetCandidates> candidates(first_use.size());
         for (std::size_t k = 0; k < first_use.size(); ++k)
@@ -669,17 +851,22 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
                 candidates[k].analyses.push_back(&analyses[k * nb + b]);
                 candidates[k].max_vertices.push_back(budgets[b]);
             }
-        choice = choose_for_target(scene, candidates, element_key, profile, reconstruct);
+        choice = choose_for_target(scene, candidates, element_key, cost, reconstruct);
         ReconstructOptions chosen = reconstruct;
         chosen.opaque_polygons = reconstruct.opaque_polygons && choice.opaque_pass;
+        chosen.insertion_points = insertion_points;
+        chosen.element_spans = !scene.animations.empty();
         st = reconstruct_scene(scene, choice.analysis, chosen, &meshes);
     }
-    if (st == ReconstructStatus::too_many_depth_levels) return fail("reconstruct: the scene needs more depth levels than a 24-bit depth buffer resolves");
+    if (st == ReconstructStatus::too_many_depth_levels)
+        return fail(std::string("reconstruct: the scene needs more depth levels than a 24-bit depth buffer resolves") +
+                    (insertion_points.empty() ? "" : " (overlap chains and the insertion points' levels)"));
     if (st != ReconstructStatus::ok) return fail("reconstruct: invalid scene (an element names a missing image or analysis)");
     append_meshes(meshes);
     g_result.push_back(double(meshes.insertion_points.size()));
     for (const InsertionPoint& p : meshes.insertion_points)
         for (double v : {double(p.element), double(p.levels), double(p.first_level), double(p.blend_draw)}) g_result.push_back(v);
+    append_animated_runs(scene, meshes);
     if (targeted)
         for (double v : {choice.predicted_ms, choice.meshes_only_ms, choice.overpaint_ms, double(choice.elements_dropped),
                          double(choice.elements_opaque), double(choice.elements_reverted)})

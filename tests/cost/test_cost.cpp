@@ -253,6 +253,52 @@ TEST(Target, ACopiedChoiceStandsAlone) {
     }
 }
 
+// --target's candidates for an animated element are analyses of all its
+// frames, as prepare_scene's analysis is: of frame 0 alone, the chosen
+// meshes cut off the texels only later frames show (the look changed).
+TEST(Target, AnimatedElementsCandidatesHoldEveryFrame) {
+    pipeline::PreparedScene p;
+    Image sheet;
+    sheet.width = 16;
+    sheet.height = 8;
+    sheet.rgba.assign(16 * 8 * 4, 0);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x) {
+            const int u = x % 8;
+            // Frame 0 (x < 8): a 4x4 square; frame 1: a 6x4 one, higher.
+            const bool on = x < 8 ? (u >= 2 && u < 6 && y >= 2 && y < 6) : (u >= 1 && u < 7 && y >= 1 && y < 5);
+            if (on) sheet.rgba[std::size_t(y * 16 + x) * 4 + 3] = 255;
+        }
+    p.decoded.push_back(sheet);
+    p.pixels = {0};
+    SceneImage image;
+    image.id = image.path = "anim.png";
+    image.width = 16;
+    image.height = 8;
+    p.scene.images = {image};
+    p.scene.viewport = {0, 0, 32, 32};
+    Animation animation;
+    animation.frames = {{0, {0, 0, 8, 8}, 100}, {0, {8, 0, 8, 8}, 100}};
+    p.scene.animations = {animation};
+    Element e;
+    e.rect = {0, 0, 8, 8};
+    e.animation = 0;
+    e.transform = {1, 0, 0, 1, 4, 4};
+    p.scene.elements = {e};
+    const pipeline::PrepareOptions options;
+    p.analysis.images = {pipeline::analyze_animation(p.views(), animation, options.analyze, "")};
+    p.analysis.of_element = {0};
+    const std::int64_t every_frame = p.analysis.images[0].stats.nontransparent_texels;
+    ASSERT_EQ(every_frame, 16 + 24 - 12); // the union of the two squares
+    for (const std::string& name : builtin_profile_names()) {
+        CostProfile profile;
+        ASSERT_TRUE(builtin_profile(name, &profile));
+        const pipeline::TargetPlan plan = pipeline::plan_target(p, options, profile, {});
+        ASSERT_FALSE(plan.candidates.empty());
+        for (const ImageAnalysis& c : plan.candidates) EXPECT_EQ(c.stats.nontransparent_texels, every_frame) << name;
+    }
+}
+
 TEST(Target, ChoicesAreDeterministicForAProfile) {
     if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
     for (const char* target : {"llvmpipe", "ipad1"}) {

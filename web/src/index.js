@@ -38,6 +38,67 @@ const STAT_NAMES = [
   'boundary_vertices', 'opaque_area', 'opaque_covered_texels', 'opaque_coverage',
 ];
 
+// io::load_scene_image's fill images: kFillImageSide square.
+const FILL_IMAGE_SIDE = 16;
+
+// A colour key or fill, "rrggbb" (or "#rrggbb"), as the scene reader reads it.
+function colourKey(where, v) {
+  if (typeof v !== 'string' || !/^#?[0-9a-fA-F]{6}$/.test(v)) throw new DepthcullError(`${where}: colour key '${v}' is not RRGGBB hex`);
+  return parseInt(v.replace('#', ''), 16);
+}
+
+// A cost profile's terms in docs/cost-model.md's order (what dcw_scene_reconstruct takes).
+const PROFILE_TERMS = [
+  'frame_us', 'clear_color_ns_per_pixel', 'clear_depth_ns_per_pixel', 'draw_call_us', 'texture_switch_us', 'triangle_us',
+  'triangle_perimeter_ns_per_pixel', 'fragment_opaque_ns', 'fragment_blend_ns', 'fragment_rejected_ns',
+];
+
+// `target`: '' (none), a built-in profile's name, or a profile `depthcull
+// calibrate` wrote (JSON text or object), checked as the CLI's
+// pipeline::profile_from_json checks a file, with its words.
+function targetProfile(target) {
+  if (target === '' || target === undefined || target === null) return { targetName: '', profile: null };
+  let doc = target;
+  if (typeof target === 'string') {
+    if (!target.trimStart().startsWith('{')) return { targetName: target, profile: null };
+    try {
+      doc = JSON.parse(target);
+    } catch (e) {
+      throw new DepthcullError(`target: not valid JSON (${e.message.split('\n')[0]})`);
+    }
+  }
+  const name = 'target';
+  if (doc === null || typeof doc !== 'object' || Array.isArray(doc)) throw new DepthcullError(`${name}: a profile is a JSON object`);
+  if (doc.depthcull_profile !== 1) throw new DepthcullError(`${name}: "depthcull_profile": expected 1 (the profile format version)`);
+  for (const k of ['name', 'renderer', 'source'])
+    if (k in doc && typeof doc[k] !== 'string') throw new DepthcullError(`${name}: "${k}": expected a string`);
+  for (const k of PROFILE_TERMS) {
+    if (!(k in doc)) throw new DepthcullError(`${name}: "${k}" missing (every term of the model is required)`);
+    if (typeof doc[k] !== 'number') throw new DepthcullError(`${name}: "${k}": expected a number`);
+    if (!Number.isFinite(doc[k]) || doc[k] < 0) throw new DepthcullError(`${name}: "${k}": ${JSON.stringify(doc[k])} is not a finite number >= 0`);
+  }
+  const knownKeys = new Set(['depthcull_profile', 'name', 'renderer', 'source', 'wall', 'min_opaque_area', ...PROFILE_TERMS]);
+  for (const k of Object.keys(doc)) if (!knownKeys.has(k)) throw new DepthcullError(`${name}: "${k}": unknown key`);
+  return { targetName: doc.name || 'profile', profile: doc };
+}
+
+// The insertion points to reserve: `scene.insertionPoints` outright, else
+// optimize's: the scene's insertion_points and options.insertAt (sorted,
+// once each), `insertionLevels` levels each (default 1024 with insertAt,
+// else 0: none).
+function insertionPoints(scene, o) {
+  if (scene.insertionPoints !== undefined) {
+    if (!Array.isArray(scene.insertionPoints)) throw new DepthcullError('insertionPoints: must be an array of {element, levels}');
+    return scene.insertionPoints;
+  }
+  const at = [...(scene.insertion_points ?? []), ...(o.insertAt ?? [])];
+  if (!Array.isArray(scene.insertion_points ?? []) || !Array.isArray(o.insertAt ?? []) || at.some((v) => !Number.isInteger(v) || v < 0))
+    throw new DepthcullError('insertion_points, insertAt: must be arrays of element indices');
+  const levels = o.insertionLevels ?? (o.insertAt?.length ? 1024 : 0);
+  if (levels === 0) return [];
+  return [...new Set(at)].sort((a, b) => a - b).map((element) => ({ element, levels }));
+}
+
 const isNode = typeof process !== 'undefined' && !!process.versions?.node;
 
 async function wasmBytes(source) {
@@ -210,56 +271,122 @@ export class Depthcull {
 
   /**
    * Reconstructs a scene in the wasm as `depthcull optimize` does (paper
-   * 2.3; with `target`, optimize --target's choice per image): `scene`
-   * {viewport: {x, y, width, height}, filter, images: [{width, height,
-   * data, id}], elements: [{image (index), rect [x, y, w, h] (default the
-   * whole image), transform [a, b, c, d, e, f], color [r, g, b, a], blend}],
-   * insertionPoints: [{element, levels}] (optimize --insert-at)},
+   * 2.3; with `target`, optimize --target's choice per image). `scene` is
+   * the scene JSON (`depthcull import MAP.tmx -o SCENE.json` writes it) with
+   * each image's decoded pixels added:
+   * {viewport: {x, y, width, height}, filter, images: [{id, path, trans,
+   * fill, width, height, data}], elements: [{image (id or index), rect
+   * [x, y, w, h] (default the whole image), transform [a, b, c, d, e, f],
+   * color [r, g, b, a], blend, animation}], animations: [{frames: [{image,
+   * rect, duration}]}], insertion_points: [element index, ...]}.
+   * An image's `data` is its file's RGBA8 texels as decoded (the colour key
+   * `trans` "rrggbb" is applied here, as the CLI applies it); a `fill`
+   * image needs none. Images with the same `path` (and key) share analyses
+   * and meshes, as in the CLI. `insertionPoints: [{element, levels}]`
+   * gives the insertion points outright instead of `insertion_points`.
    * options: analyzeImage's (maxVertices, split, opaque, maxOpaque,
    * minCoverage, minOpaqueArea), `opaquePolygons` (false: optimize
-   * --no-opaque), `target` (a built-in profile: llvmpipe, ipad1). Returns
-   * meshes as parseMeshes does (MeshRenderer.setMeshes takes them), and
-   * with a target `target: {predictedMs, meshesOnlyMs, overpaintMs,
-   * elementsDropped, elementsOpaque, elementsReverted}`.
+   * --no-opaque), `insertAt` (element indices, optimize --insert-at),
+   * `insertionLevels` (optimize --insertion-levels: levels reserved at each
+   * of insertion_points and insertAt; default 1024 with insertAt, else 0:
+   * none), `target`: a built-in profile name (llvmpipe, ipad1) or a
+   * profile `depthcull calibrate` wrote (its JSON text or parsed object).
+   * Returns meshes as parseMeshes does (MeshRenderer.setMeshes takes them),
+   * and with a target `target: {predictedMs, meshesOnlyMs, overpaintMs,
+   * elementsDropped, elementsOpaque, elementsReverted}`. The wasm has no
+   * Clipper: with a target it does not clip hidden parts (optimize with
+   * DEPTHCULL_CLIP_HIDDEN=0), so on a profile that prices rejected
+   * fragments its meshes may differ from the CLI's (README).
    */
   reconstructScene(scene, options = {}) {
-    const known = new Set([...Object.keys(DEFAULTS), 'opaquePolygons', 'target']);
+    const known = new Set([...Object.keys(DEFAULTS), 'opaquePolygons', 'target', 'insertAt', 'insertionLevels']);
     for (const key of Object.keys(options))
       if (!known.has(key)) throw new DepthcullError(`reconstructScene: unknown option '${key}' (known: ${[...known].join(', ')})`);
     const o = { ...DEFAULTS, opaquePolygons: true, target: '', ...options, filter: scene?.filter ?? 'nearest' };
     if (scene === null || typeof scene !== 'object' || !Array.isArray(scene.images) || !Array.isArray(scene.elements))
       throw new DepthcullError('reconstructScene: scene must be {viewport, images, elements}');
+    const { targetName, profile } = targetProfile(o.target);
+    const points = insertionPoints(scene, o);
+    const ids = new Map();
+    scene.images.forEach((img, i) => {
+      const id = img?.id;
+      if (typeof id === 'string' && !ids.has(id)) ids.set(id, i);
+    });
+    const imageIndex = (v, where) => {
+      if (typeof v === 'number') return v;
+      if (typeof v === 'string') {
+        if (!ids.has(v)) throw new DepthcullError(`${where}: unknown image id "${v}"`);
+        return ids.get(v);
+      }
+      return NaN;
+    };
     const ex = this.#exports;
     if (ex.dcw_scene_new() !== 0) throw new DepthcullError(this.#cString(ex.dcw_last_error()));
     const handle = new Float64Array(ex.memory.buffer, ex.dcw_result(), 1)[0];
     const fail = () => new DepthcullError(this.#cString(ex.dcw_last_error()));
     try {
-      scene.images.forEach((img, i) => {
+      const images = scene.images.map((img, i) => {
+        if (img === null || typeof img !== 'object') throw new DepthcullError(`image ${i}: must be an object`);
         const name = String(img.id ?? `images[${i}]`);
-        const { width, height, data } = img;
-        if (!(data instanceof Uint8Array || data instanceof Uint8ClampedArray))
-          throw new DepthcullError(`${name}: data must be a Uint8Array or Uint8ClampedArray of RGBA8 texels`);
-        if (Number.isInteger(width) && Number.isInteger(height) && data.length !== width * height * 4)
-          throw new DepthcullError(`${name}: data has ${data.length} bytes, a ${width}x${height} RGBA8 image has ${width * height * 4}`);
-        const pixels = ex.dcw_alloc(data.length);
-        try {
-          new Uint8Array(ex.memory.buffer, pixels, data.length).set(data);
-          if (this.#withString(name, (namePtr) => ex.dcw_scene_add_image(handle, pixels, number('width', width), number('height', height), namePtr)) !== 0)
-            throw fail();
-        } finally {
-          ex.dcw_free(pixels);
+        const fill = img.fill === undefined ? -1 : colourKey(`${name}: fill`, img.fill);
+        const trans = img.trans === undefined ? -1 : colourKey(`${name}: trans`, img.trans);
+        const path = fill >= 0 ? '' : String(img.path ?? '');
+        let { width, height, data } = img;
+        if (fill >= 0) {
+          width = height = FILL_IMAGE_SIDE;
+          data = null;
+        } else {
+          if (!(data instanceof Uint8Array || data instanceof Uint8ClampedArray))
+            throw new DepthcullError(`${name}: data must be a Uint8Array or Uint8ClampedArray of RGBA8 texels`);
+          if (Number.isInteger(width) && Number.isInteger(height) && data.length !== width * height * 4)
+            throw new DepthcullError(`${name}: data has ${data.length} bytes, a ${width}x${height} RGBA8 image has ${width * height * 4}`);
         }
+        const pixels = data ? ex.dcw_alloc(data.length) : 0;
+        try {
+          if (data) new Uint8Array(ex.memory.buffer, pixels, data.length).set(data);
+          const status = this.#withString(name, (namePtr) =>
+            this.#withString(path, (pathPtr) => ex.dcw_scene_add_image(handle, pixels, number('width', width), number('height', height), namePtr, pathPtr, trans, fill)));
+          if (status !== 0) throw fail();
+        } finally {
+          if (pixels && this.#instance?.exports === ex) ex.dcw_free(pixels);
+        }
+        const out = { id: name, path, url: '', width, height };
+        if (trans >= 0) out.trans = img.trans.replace('#', '').toLowerCase();
+        if (fill >= 0) out.fill = img.fill.replace('#', '').toLowerCase();
+        return out;
+      });
+      const animations = [];
+      const animationsIn = scene.animations ?? [];
+      if (!Array.isArray(animationsIn)) throw new DepthcullError('animations: must be an array of {frames}');
+      animationsIn.forEach((a, i) => {
+        const frames = Array.isArray(a?.frames) ? a.frames : [];
+        const list = frames.map((f, k) => {
+          const where = `animation ${i}: frames[${k}]`;
+          const r = Array.isArray(f?.rect) && f.rect.length === 4 ? f.rect : [NaN, NaN, NaN, NaN];
+          return [imageIndex(f?.image, where), ...r, f?.duration ?? 0].map((v) => (typeof v === 'number' ? v : NaN));
+        });
+        const ptr = ex.dcw_alloc(Math.max(1, list.length) * 48);
+        try {
+          new Float64Array(ex.memory.buffer, ptr, list.length * 6).set(list.flat());
+          if (ex.dcw_scene_add_animation(handle, ptr, list.length) !== 0) throw fail();
+        } finally {
+          if (this.#instance?.exports === ex) ex.dcw_free(ptr);
+        }
+        animations.push({ frames: list.map(([image, x, y, w, h, duration]) => ({ image, rect: [x, y, w, h], duration })) });
       });
       const BLEND = { alpha: 0, add: 1, multiply: 2, opaque: 3 };
       scene.elements.forEach((e, i) => {
-        const img = scene.images[e.image];
+        if (e === null || typeof e !== 'object') throw new DepthcullError(`element ${i}: must be an object`);
+        const image = imageIndex(e.image, `element ${i}`);
+        const img = images[image];
         const rect = e.rect ?? [0, 0, img?.width ?? 0, img?.height ?? 0];
         const t = e.transform ?? [1, 0, 0, 1, 0, 0];
         const c = e.color ?? [1, 1, 1, 1];
         const blend = e.blend ?? 'alpha';
         if (!Object.hasOwn(BLEND, blend)) throw new DepthcullError(`element ${i}: blend '${blend}' is not one of alpha, add, multiply, opaque`);
-        const nums = [e.image, ...rect, ...t, ...c].map((v) => (typeof v === 'number' ? v : NaN));
-        if (ex.dcw_scene_add_element(handle, ...nums, BLEND[blend]) !== 0) throw fail();
+        const nums = [image, ...rect, ...t, ...c].map((v) => (typeof v === 'number' ? v : NaN));
+        const animation = e.animation ?? -1;
+        if (ex.dcw_scene_add_element(handle, ...nums, BLEND[blend], typeof animation === 'number' ? animation : NaN) !== 0) throw fail();
       });
       const vp = scene.viewport ?? {};
       const args = [
@@ -267,19 +394,22 @@ export class Depthcull {
         choice('filter', o.filter, FILTERS), number('maxVertices', o.maxVertices), number('split', o.split), choice('opaque', o.opaque, OPAQUE_METHODS),
         number('maxOpaque', o.maxOpaque), number('minCoverage', o.minCoverage), number('minOpaqueArea', o.minOpaqueArea), number('opaquePolygons', o.opaquePolygons),
       ];
-      const points = scene.insertionPoints ?? [];
-      if (!Array.isArray(points)) throw new DepthcullError('insertionPoints: must be an array of {element, levels}');
       const pointsPtr = ex.dcw_alloc(Math.max(1, points.length) * 16);
+      const profilePtr = profile ? ex.dcw_alloc(PROFILE_TERMS.length * 8) : 0;
       let status;
       try {
         const view = new Float64Array(ex.memory.buffer, pointsPtr, points.length * 2);
         points.forEach((p, k) => view.set([typeof p?.element === 'number' ? p.element : NaN, typeof p?.levels === 'number' ? p.levels : NaN], 2 * k));
-        status = this.#withString(String(o.target ?? ''), (targetPtr) => ex.dcw_scene_reconstruct(handle, ...args, pointsPtr, points.length, targetPtr));
+        if (profile) new Float64Array(ex.memory.buffer, profilePtr, PROFILE_TERMS.length).set(PROFILE_TERMS.map((k) => profile[k]));
+        status = this.#withString(targetName, (targetPtr) => ex.dcw_scene_reconstruct(handle, ...args, pointsPtr, points.length, targetPtr, profilePtr));
       } finally {
-        if (this.#instance?.exports === ex) ex.dcw_free(pointsPtr);
+        if (this.#instance?.exports === ex) {
+          ex.dcw_free(pointsPtr);
+          if (profilePtr) ex.dcw_free(profilePtr);
+        }
       }
       if (status !== 0) throw fail();
-      return this.#readMeshes(scene, o.filter, Boolean(o.target));
+      return this.#readMeshes(scene, images, animations, o.filter, Boolean(targetName));
     } catch (e) {
       if (e instanceof WebAssembly.RuntimeError) throw this.#trapped('reconstructScene', e);
       throw e;
@@ -288,7 +418,7 @@ export class Depthcull {
     }
   }
 
-  #readMeshes(scene, filter, targeted) {
+  #readMeshes(scene, images, animations, filter, targeted) {
     const ex = this.#exports;
     const r = new Float64Array(ex.memory.buffer, ex.dcw_result(), ex.dcw_result_size());
     let i = 0;
@@ -309,11 +439,12 @@ export class Depthcull {
     const vp = scene.viewport;
     const out = {
       viewport: { x: vp.x ?? 0, y: vp.y ?? 0, width: vp.width, height: vp.height },
-      depthTest, filter,
-      images: scene.images.map((img, k) => ({ id: String(img.id ?? `images[${k}]`), path: '', url: '', width: img.width, height: img.height })),
-      draws, stats, animations: [], animated: [], insertionPoints: [],
+      depthTest, filter, images, draws, stats, animations: [], animated: [], insertionPoints: [],
     };
     for (let n = r[i++]; n > 0; --n, i += 4) out.insertionPoints.push({ element: r[i], levels: r[i + 1], firstLevel: r[i + 2], blendDraw: r[i + 3] });
+    for (let n = r[i++]; n > 0; --n, i += 4) out.animated.push({ draw: r[i], firstVertex: r[i + 1], vertexCount: r[i + 2], animation: r[i + 3] });
+    // As the meshes files: the animations only where a draw shows one.
+    if (out.animated.length) out.animations = animations;
     if (targeted) {
       const t = {};
       for (const key of ['predictedMs', 'meshesOnlyMs', 'overpaintMs', 'elementsDropped', 'elementsOpaque', 'elementsReverted']) t[key] = r[i++];

@@ -2,7 +2,7 @@
 // must not depend on one): 8-bit RGBA or RGB, not interlaced, which is what
 // the test images are. Anything else is refused by name.
 import { readFileSync } from 'node:fs';
-import { inflateSync } from 'node:zlib';
+import { deflateSync, inflateSync } from 'node:zlib';
 
 export function readPng(path) {
   const file = readFileSync(path);
@@ -59,4 +59,40 @@ export function readPng(path) {
     data[t * 4 + 3] = 255;
   }
   return { width, height, data };
+}
+
+// A PNG writer for the tests' own images: 8-bit RGBA, or RGB when `rgb`
+// (the alpha dropped), filter 0, one IDAT.
+const CRC_TABLE = Array.from({ length: 256 }, (_, n) => {
+  let c = n;
+  for (let k = 0; k < 8; ++k) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
+  return c >>> 0;
+});
+
+function crc32(bytes) {
+  let c = 0xffffffff;
+  for (const b of bytes) c = CRC_TABLE[(c ^ b) & 255] ^ (c >>> 8);
+  return (c ^ 0xffffffff) >>> 0;
+}
+
+function chunk(type, body) {
+  const out = Buffer.alloc(12 + body.length);
+  out.writeUInt32BE(body.length, 0);
+  out.write(type, 4, 'latin1');
+  body.copy(out, 8);
+  out.writeUInt32BE(crc32(out.subarray(4, 8 + body.length)), 8 + body.length);
+  return out;
+}
+
+export function encodePng({ width, height, data }, { rgb = false } = {}) {
+  const channels = rgb ? 3 : 4;
+  const raw = Buffer.alloc((width * channels + 1) * height);
+  for (let y = 0; y < height; ++y)
+    for (let x = 0; x < width; ++x)
+      for (let c = 0; c < channels; ++c) raw[y * (width * channels + 1) + 1 + x * channels + c] = data[(y * width + x) * 4 + c];
+  const ihdr = Buffer.alloc(13);
+  ihdr.writeUInt32BE(width, 0);
+  ihdr.writeUInt32BE(height, 4);
+  ihdr.set([8, rgb ? 2 : 6, 0, 0, 0], 8);
+  return Buffer.concat([Buffer.from([0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a]), chunk('IHDR', ihdr), chunk('IDAT', deflateSync(raw)), chunk('IEND', Buffer.alloc(0))]);
 }
