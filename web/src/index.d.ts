@@ -74,20 +74,84 @@ export interface LoadOptions {
   log?: (line: string) => void;
 }
 
+/** A scene image: a file's decoded RGBA8 texels, or a `fill` colour (no pixels). */
+export interface SceneImageInput {
+  id?: string;
+  /** The file: images with the same path (and key) share analyses and meshes, as in the CLI. */
+  path?: string;
+  /** A colour key "rrggbb" (Tiled's trans): texels of exactly that colour become transparent. */
+  trans?: string;
+  /** A solid colour "rrggbb" (a map's backgroundcolor): 16x16, no pixels needed. */
+  fill?: string;
+  width?: number;
+  height?: number;
+  data?: Uint8Array | Uint8ClampedArray;
+}
+
+/** The scene JSON `depthcull import` writes, with each image's pixels added. */
+export interface SceneInput {
+  viewport: { x?: number; y?: number; width: number; height: number };
+  filter?: 'nearest' | 'linear';
+  images: SceneImageInput[];
+  /** `image`: an image id or index; `animation`: an index into `animations` (the element shows its frame 0). */
+  elements: { image: string | number; rect?: [number, number, number, number]; transform?: number[]; color?: number[]; blend?: 'alpha' | 'add' | 'multiply' | 'opaque'; animation?: number }[];
+  animations?: { frames: { image: string | number; rect: [number, number, number, number]; duration?: number }[] }[];
+  /** Element indices where moving sprites go (levels from ReconstructOptions.insertionLevels). */
+  insertion_points?: number[];
+  /** The insertion points outright (instead of insertion_points). */
+  insertionPoints?: { element: number; levels: number }[];
+}
+
+/** A profile `depthcull calibrate` wrote (docs/cost-model.md). */
+export interface CostProfileJson {
+  depthcull_profile: 1;
+  name?: string;
+  renderer?: string;
+  source?: string;
+  frame_us: number;
+  clear_color_ns_per_pixel: number;
+  clear_depth_ns_per_pixel: number;
+  draw_call_us: number;
+  texture_switch_us: number;
+  triangle_us: number;
+  triangle_perimeter_ns_per_pixel: number;
+  fragment_opaque_ns: number;
+  fragment_blend_ns: number;
+  fragment_rejected_ns: number;
+  min_opaque_area?: number;
+  wall?: unknown;
+}
+
+export type ReconstructOptions = Omit<AnalyzeOptions, 'rect' | 'name' | 'filter'> & {
+  /** false: optimize --no-opaque. */
+  opaquePolygons?: boolean;
+  /** optimize --target: a built-in profile name (llvmpipe, ipad1), or a calibrated profile (its JSON text or object). */
+  target?: string | CostProfileJson;
+  /** optimize --insert-at INDEX. */
+  insertAt?: number[];
+  /** optimize --insertion-levels (default 1024 with insertAt, else 0: none). */
+  insertionLevels?: number;
+};
+
+export interface TargetReport {
+  predictedMs: number;
+  meshesOnlyMs: number;
+  overpaintMs: number;
+  elementsDropped: number;
+  elementsOpaque: number;
+  elementsReverted: number;
+}
+
 export class Depthcull {
   private constructor();
   /** Boundary and opaque polygons of an image, as `depthcull analyze` computes them. Throws DepthcullError. */
   analyzeImage(image: ImageLike, options?: AnalyzeOptions): ImageAnalysis;
-  /** Paper 2.3 (and optimize --target with a built-in profile) in the wasm: meshes as parseMeshes returns them. */
-  reconstructScene(
-    scene: {
-      viewport: { x?: number; y?: number; width: number; height: number };
-      filter?: 'nearest' | 'linear';
-      images: (ImageLike & { id?: string })[];
-      elements: { image: number; rect?: [number, number, number, number]; transform?: number[]; color?: number[]; blend?: 'alpha' | 'add' | 'multiply' | 'opaque' }[];
-    },
-    options?: Omit<AnalyzeOptions, 'rect' | 'name' | 'filter'> & { opaquePolygons?: boolean; target?: string },
-  ): Meshes & { target?: { predictedMs: number; meshesOnlyMs: number; overpaintMs: number; elementsDropped: number; elementsOpaque: number; elementsReverted: number } };
+  /**
+   * Paper 2.3 in the wasm, as `depthcull optimize` does it for the same
+   * scene JSON (colour keys, fills, animations, insertion points, --target
+   * with a built-in or calibrated profile): meshes as parseMeshes returns them.
+   */
+  reconstructScene(scene: SceneInput, options?: ReconstructOptions): Meshes & { target?: TargetReport };
   /** Moving sprites depth-culled every frame (src/frames.js). */
   createFrameAssembler(options?: { opaquePass?: boolean; filter?: 'nearest' | 'linear' }): FrameAssembler;
 }
