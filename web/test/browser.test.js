@@ -120,6 +120,17 @@ test('meadow: moving sprites at an insertion point for 60 frames (wasm reconstru
   await identityMoving('meadow', join(root, 'examples/meadow.json'), null, 230);
 });
 
+// A corpus map's scene JSON as `depthcull import` wrote it (the island:
+// animated tiles, an object layer) reconstructed in the browser's wasm
+// with the sprites at its object layer's insertion point.
+test('corpus island: moving sprites at its object layer for 60 frames (wasm reconstruction of the scene JSON in the browser), Pixi sprites and DepthCulledLayer draw the same pixels', { skip: missing ?? (!corpusMaps.some(([n]) => n === 'island') && 'no corpus island') }, async () => {
+  const scene = join(gen, 'island.page.json');
+  if (!existsSync(scene)) return assert.fail(`island: the static test above makes ${scene}`);
+  const doc = JSON.parse(readFileSync(scene, 'utf8'));
+  assert.ok(doc.animations?.length > 0 && doc.insertion_points?.length > 0, 'island has animated tiles and an object layer');
+  await identityMoving('island', scene, null, doc.insertion_points[0], true);
+});
+
 // Tinted, translucent and additive sprites (tints and alphas that are not
 // exact bytes): Pixi quantises a sprite's tint and alpha to 8 bits, so the
 // layer must feed the frame's colours to its shader as the same bytes.

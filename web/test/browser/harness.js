@@ -221,14 +221,17 @@ window.depthcullTest = {
     let meshes;
     if (atElement === undefined) meshes = await loadMeshes(meshesUrl);
     else {
-      const ids = scene.images.map((i) => i.id);
+      // The scene JSON as loaded, each image's pixels added (a fill needs
+      // none; a colour key is applied by reconstructScene, as the CLI does).
       const images = [];
       for (const img of scene.images) {
-        const { width, height, data } = await decodedPixels(new URL(img.path, sceneUrl).href); // getters: no spread
-        images.push({ id: img.id, width, height, data });
+        if (img.fill) images.push(img);
+        else {
+          const { width, height, data } = await decodedPixels(new URL(img.path, sceneUrl).href); // getters: no spread
+          images.push({ ...img, width, height, data });
+        }
       }
-      const elements = scene.elements.map((e) => ({ ...e, image: ids.indexOf(e.image) }));
-      meshes = depthcull.reconstructScene({ viewport: scene.viewport, images, elements, insertionPoints: [{ element: atElement, levels: count }] });
+      meshes = depthcull.reconstructScene({ ...scene, images, insertionPoints: [{ element: atElement, levels: count }] });
     }
     const { width, height } = meshes.viewport;
     const app = new PIXI.Application();
