@@ -117,7 +117,7 @@ export class DepthCulledLayer extends RenderContainer {
       this.frameStats = frame.stats;
     }
     const frameTextures = frame ? this.frameSources.map((s) => (s ? renderer.texture.getGlSource(s).texture : null)) : undefined;
-    this.stats = r.draw({ matrix, frame, frameTextures });
+    this.stats = r.draw({ matrix, frame, frameTextures, frameColorByte: pixiColorByte });
   }
 
   destroy(options) {

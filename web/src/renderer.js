@@ -148,12 +148,10 @@ export class MeshRenderer {
    * WebGL 2 has no base vertex, so each draw's indices are offset by its
    * first vertex. `colorByte(c, channel)`: the colours as normalized bytes (0..255)
    * instead of floats, as PixiJS's batcher feeds its shader (the GPU's byte
-   * to float conversion is not always the correctly rounded c / 255); the
-   * moving sprites of draw({ frame }) get the same bytes.
+   * to float conversion is not always the correctly rounded c / 255).
    */
   setMeshes(meshes, { colorByte } = {}) {
     const gl = this.gl;
-    this.colorByte = colorByte ?? null;
     let vertexCount = 0, indexCount = 0;
     for (const d of meshes.draws) {
       vertexCount += d.vertices.length / VERTEX_FLOATS;
@@ -278,9 +276,9 @@ export class MeshRenderer {
   // vertex, or with colorByte 5 floats and 4 colour bytes, as setMeshes
   // lays out the static vertices), grown to the largest frame so far and
   // then only overwritten.
-  #uploadFrame(frame) {
+  #uploadFrame(frame, colorByte) {
     const gl = this.gl;
-    const bytes = !!this.colorByte;
+    const bytes = !!colorByte;
     if (!this.frameVao) {
       this.frameVao = gl.createVertexArray();
       this.frameVbo = gl.createBuffer();
@@ -315,7 +313,7 @@ export class MeshRenderer {
         this.frameStagingF32 = new Float32Array(this.frameStaging);
         this.frameStagingU8 = new Uint8Array(this.frameStaging);
       }
-      const src = frame.vertices, f32 = this.frameStagingF32, u8 = this.frameStagingU8, colorByte = this.colorByte;
+      const src = frame.vertices, f32 = this.frameStagingF32, u8 = this.frameStagingU8;
       for (let k = 0; k < n; ++k) {
         const s = k * VERTEX_FLOATS, d = k * 6;
         for (let c = 0; c < 5; ++c) f32[d + c] = src[s + c];
@@ -343,9 +341,12 @@ export class MeshRenderer {
    * sorts it), then the static opaque pass, then the static blend draws with
    * each insertion point's blend draws before the static draw it names.
    * Its draws name `frameTextures` (default the meshes' textures).
+   * `frameColorByte(c, channel)`: the frame's colours as these bytes (as
+   * setMeshes' colorByte; PixiJS quantises a sprite's tint and alpha so),
+   * else as floats.
    * Without static meshes (setMeshes not called) only the frame is drawn.
    */
-  draw({ matrix, camera, clearDepth = true, frame, frameTextures } = {}) {
+  draw({ matrix, camera, clearDepth = true, frame, frameTextures, frameColorByte } = {}) {
     const gl = this.gl;
     const m = matrix ?? cameraMatrix(camera ?? this.meshes?.viewport);
     const stats = { draws: 0, triangles: 0 };
@@ -386,7 +387,7 @@ export class MeshRenderer {
       gl.uniform1i(this.uPremultiply, this.premultipliedAlpha ? 1 : 0);
       gl.bindSampler(0, null);
       gl.disable(gl.CULL_FACE); // mirrored elements have the other winding
-      if (frame) this.#uploadFrame(frame);
+      if (frame) this.#uploadFrame(frame, frameColorByte);
       gl.bindVertexArray(this.vao);
       if (clearDepth) {
         gl.depthMask(true);
