@@ -27,11 +27,26 @@ import { DepthcullError } from './index.js';
 import { MeshRenderer } from './renderer.js';
 import { loadMeshes } from './meshes.js';
 
+// The double a colour had in the scene file: parseMeshes keeps vertices as
+// float32, and a float32 of a byte boundary lands on the other side of it
+// (0.7 is 0.699999988 as float32: * 255 = 178.4999970 rounds to 178, where
+// the scene's 0.7 * 255 = 178.5 rounds to 179, the byte Phaser draws the
+// scene's 0.7 with). The shortest decimal that reads back as the same
+// float32 is what the file said (the CLI writes at most 9 digits).
+function sceneDouble(f) {
+  for (let p = 1; p < 9; ++p) {
+    const d = Number(f.toPrecision(p));
+    if (Math.fround(d) === f) return d;
+  }
+  return f;
+}
+
 // Phaser feeds a tint to its shader as bytes: rgb as the integer colour
 // given to setTint (a scene's 0..1 colour rounded), alpha truncated
-// (renderer/webgl/Utils.js getTintAppendFloatAlpha: (a * 255) | 0).
+// (renderer/webgl/Utils.js getTintAppendFloatAlpha: (a * 255) | 0), each
+// of the colour as the scene file gives it (sceneDouble).
 function phaserColorByte(c, channel) {
-  const v = Math.min(1, Math.max(0, c)) * 255;
+  const v = Math.min(1, Math.max(0, sceneDouble(c))) * 255;
   return channel === 3 ? v | 0 : Math.round(v);
 }
 
