@@ -166,6 +166,48 @@ export class DepthCulledExtern extends Phaser.GameObjects.Extern {
     };
     this.stats = { draws: 0, triangles: 0 };
     this._renderer = null;
+    this.assembler = null;
+    this.movingSprites = null;
+    this.frameStats = null;
+  }
+
+  /**
+   * Moving sprites drawn with the layer every frame, depth-culled at the
+   * meshes' insertion points (`optimize --insert-at`), as
+   * DepthCulledLayer.setMovingSprites (src/pixi.js): `assembler` a
+   * FrameAssembler (depthcull.createFrameAssembler(), src/frames.js) whose
+   * images name textures by their index in `textures` (Phaser texture keys
+   * or Textures, the whole images; the assembler's u, v are of the whole
+   * image). Then set `layer.movingSprites` each frame: one sprite list per
+   * insertion point (assemble()'s input; with meshes without points, one
+   * list drawn on top). Sprite colours go to the shader as floats: white
+   * and opaque ones draw exactly what Phaser Images draw.
+   */
+  setMovingSprites(assembler, textures) {
+    if (!assembler || typeof assembler.assemble !== 'function') throw new DepthcullError('DepthCulledExtern.setMovingSprites: expected a FrameAssembler');
+    if (!Array.isArray(textures)) throw new DepthcullError('DepthCulledExtern.setMovingSprites: expected an array of textures');
+    const refs = textures.map((t, i) => {
+      const tex = typeof t === 'string' ? this.scene.textures.get(t) : t;
+      if (!tex || tex.key === '__MISSING') throw new DepthcullError(`DepthCulledExtern.setMovingSprites: no Phaser texture "${t}" for texture ${i}`);
+      return tex;
+    });
+    assembler.setStaticMeshes(this.meshes);
+    this.assembler = assembler;
+    this.frameTextureRefs = refs;
+    this.movingSprites = [];
+    this._frameVertices = null;
+  }
+
+  // The frame's vertices with v flipped as the static meshes' (Phaser's
+  // textures are flipped on upload), copied out of the wasm's memory into
+  // one reused array (grown, never shrunk).
+  #flipFrame(frame) {
+    const src = frame.vertices;
+    if (!this._frameVertices || this._frameVertices.length < src.length) this._frameVertices = new Float32Array(Math.max(src.length, 2 * (this._frameVertices?.length ?? 0)));
+    const v = this._frameVertices.subarray(0, src.length);
+    v.set(src);
+    for (let k = 4; k < v.length; k += 9) v[k] = 1 - src[k];
+    return { ...frame, vertices: v };
   }
 
   /** Loads a meshes file and its images through the scene's loader, then adds the layer to the scene. */
@@ -201,7 +243,15 @@ export class DepthCulledExtern extends Phaser.GameObjects.Extern {
     // then to clip space, y down on the canvas.
     const [a, b, c, d, tx, ty] = calcMatrix.matrix;
     const sx = 2 / drawingContext.width, sy = -2 / drawingContext.height;
-    this.stats = r.draw({ matrix: new Float32Array([sx * a, sy * b, 0, sx * c, sy * d, 0, sx * tx - 1, sy * ty + 1, 1]) });
+    const matrix = new Float32Array([sx * a, sy * b, 0, sx * c, sy * d, 0, sx * tx - 1, sy * ty + 1, 1]);
+    let frame, frameTextures;
+    if (this.assembler && this.movingSprites) {
+      const assembled = this.assembler.assemble(this.movingSprites, this.meshes.viewport);
+      this.frameStats = assembled.stats;
+      frame = this.#flipFrame(assembled);
+      frameTextures = this.frameTextureRefs.map((t) => t.source[0].glTexture.webGLTexture);
+    }
+    this.stats = r.draw({ matrix, frame, frameTextures });
   }
 
   preDestroy() {

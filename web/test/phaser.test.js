@@ -105,6 +105,25 @@ test('Phaser meadow (tints, add, multiply, rotations): Images and DepthCulledExt
   assert.deepEqual(pageErrors, []);
 });
 
+// Moving sprites between the layers (FrameAssembler in the wasm,
+// DepthCulledExtern.setMovingSprites): 24 sprites, every third additive,
+// at an insertion point before element 230 of the meadow's 459 (elements
+// before it behind the sprites, those after in front), 60 frames, each
+// against the same sprites as Phaser Images placed there in the display
+// list. The same Images drawn on top of every element differ off texel
+// edges, so a layer drawing its sprites on top would fail.
+const noWasm = existsSync(join(webDir, 'dist', 'depthcull.wasm')) ? null : 'no web/dist/depthcull.wasm (scripts/build-wasm)';
+test('Phaser meadow: moving sprites at an insertion point for 60 frames, Images and DepthCulledExtern', { skip: missing ?? noWasm ?? false }, async () => {
+  const meshes = join(gen, 'meadow-at-230.meshes.json');
+  cliRun('optimize', join(root, 'examples/meadow.json'), '-o', meshes, '--no-timing', '--insert-at', '230', '--insertion-levels', '64');
+  const r = await page.evaluate((a) => window.phaserTest.layerMoving(a), { sceneUrl: `${origin}/examples/meadow.json`, meshesUrl: `${origin}/gen/meadow-at-230.meshes.json`, frames: 60, count: 24, atElement: 230 });
+  console.log(`# Phaser meadow + moving sprites before element 230: ${r.frames} frames of ${r.sprites} sprites (${r.pictures} pictures), layer up to ${r.stats.draws} draws ${r.stats.triangles} triangles (${r.stats.frameOpaqueDraws} opaque sprite draws); at most ${r.differ} pixels differ, ${r.offEdges} off texel edges; sprites on top instead: ${r.onTopOffEdges} pixels off texel edges (${r.glRenderer})`);
+  assert.equal(r.offEdges, 0, r.examples.join('; '));
+  assert.ok(r.onTopOffEdges > 1000, `sprites on top differ at only ${r.onTopOffEdges} pixels: the test would not tell`);
+  assert.ok(r.stats.frameOpaqueDraws > 0, 'no sprite went through the opaque pass');
+  assert.deepEqual(pageErrors, []);
+});
+
 test('Phaser: DepthCulledExtern.from loads a meshes file and its images and draws', { skip: missing ?? false }, async () => {
   const meshes = join(gen, 'meadow.meshes.json');
   cliRun('optimize', join(root, 'examples/meadow.json'), '-o', meshes, '--no-timing');

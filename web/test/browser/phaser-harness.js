@@ -3,9 +3,12 @@
 // test/phaser.test.js calls.
 //   mesh2d: atlas frames as Images, then as polygonMesh2D (our polygons).
 //   layer: a scene's elements as Images, then as one DepthCulledExtern.
+//   layerMoving: the same with moving sprites at an insertion point, as
+//     Images among the elements, then as the layer's moving sprites.
 import * as Phaser from 'phaser';
 import { DepthCulledExtern, polygonMesh2D, webgl2Context } from '../../src/phaser.js';
 import { loadMeshes } from '../../src/meshes.js';
+import { loadDepthcull } from '../../src/index.js';
 import { compareFrames, readPixels, rendererString } from './compare.js';
 
 // A game on a WebGL 2 context with depth, nearest filtering, no rounding;
@@ -142,6 +145,128 @@ window.phaserTest = {
     const stats = layer.stats;
     destroy(game, game.canvas);
     return { ...result, width, height, elements: doc.elements.length, stats, glRenderer };
+  },
+
+  // A scene's elements as Images with `count` moving Images among them
+  // before element `atElement` (plain Phaser, layer order), then as one
+  // DepthCulledExtern with the same sprites given to its FrameAssembler at
+  // the meshes' insertion point (made by optimize --insert-at atElement);
+  // each of `frames` frames compared. Every tenth frame the Images drawn
+  // on top of all elements are compared too (onTop*): what a layer drawing
+  // its sprites on top would show, so the scene tells the two apart.
+  async layerMoving({ sceneUrl, meshesUrl, frames = 60, count = 24, atElement }) {
+    const doc = await (await fetch(sceneUrl)).json();
+    const meshes = await loadMeshes(meshesUrl);
+    if (meshes.insertionPoints.length !== 1) throw new Error(`expected one insertion point, the meshes have ${meshes.insertionPoints.length}`);
+    const depthcull = await loadDepthcull();
+    const { width, height } = meshes.viewport;
+    const { game, scene } = await makeGame(width, height, (s) => {
+      for (const img of doc.images) if (!img.fill) s.load.image(img.id, new URL(img.path, sceneUrl).href);
+    });
+    for (const img of doc.images) {
+      if (img.fill || img.trans) throw new Error(`image ${img.id}: fill and trans images are not in this test`);
+      scene.textures.get(img.id).setFilter(Phaser.Textures.FilterMode.NEAREST);
+    }
+    scene.cameras.main.setScroll(meshes.viewport.x, meshes.viewport.y);
+    scene.add.rectangle(0, 0, width, height, 0x336699).setOrigin(0).setScrollFactor(0);
+
+    // Up to 6 pictures: whole images of untransformed-size elements, their
+    // pixels decoded without premultiplication for the analysis.
+    const assembler = depthcull.createFrameAssembler();
+    const pictures = [], textures = [];
+    for (const img of doc.images) {
+      if (pictures.length >= 6 || !doc.elements.some((e) => e.image === img.id && !e.rect)) continue;
+      const bitmap = await createImageBitmap(await (await fetch(new URL(img.path, sceneUrl).href)).blob(), { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
+      const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+      const ctx = canvas.getContext('2d');
+      ctx.drawImage(bitmap, 0, 0);
+      const pixels = ctx.getImageData(0, 0, bitmap.width, bitmap.height);
+      const texture = textures.push(img.id) - 1;
+      // Every third picture added: that image's sprites blend additively.
+      pictures.push({ id: assembler.addImage(pixels, { texture, name: img.path }), key: img.id, w: bitmap.width, h: bitmap.height, add: pictures.length % 3 === 2 });
+    }
+    const place = (k, f) => {
+      const p = pictures[k % pictures.length];
+      // Whole pixels, a different path per sprite, crossing each other.
+      const x = meshes.viewport.x + ((k * 97 + f * (3 + (k % 5))) % Math.max(1, width - p.w));
+      const y = meshes.viewport.y + ((k * 61 + f * (2 + (k % 3))) % Math.max(1, height - p.h));
+      return { p, x, y };
+    };
+    const movingImages = () =>
+      Array.from({ length: count }, (_, k) => {
+        const { p } = place(k, 0);
+        return scene.add.image(0, 0, p.key).setOrigin(0).setBlendMode(p.add ? Phaser.BlendModes.ADD : Phaser.BlendModes.NORMAL);
+      });
+
+    const blends = { alpha: Phaser.BlendModes.NORMAL, add: Phaser.BlendModes.ADD, multiply: Phaser.BlendModes.MULTIPLY };
+    const elements = [];
+    const plain = [];
+    let inOrder = null;
+    doc.elements.forEach((e, n) => {
+      if (n === atElement) inOrder = movingImages();
+      const tex = scene.textures.get(e.image);
+      const rect = e.rect ?? [0, 0, tex.source[0].width, tex.source[0].height];
+      const frame = `rect${rect.join(',')}`;
+      if (!tex.has(frame)) tex.add(frame, 0, ...rect);
+      const [a, b, c, d, tx, ty] = e.transform ?? [1, 0, 0, 1, 0, 0];
+      elements.push({ rect, transform: [a, b, c, d, tx, ty] });
+      const sx = Math.hypot(a, b), sy = (a * d - b * c) / sx;
+      if (Math.abs(a * c + b * d) > 1e-12) throw new Error(`element ${n}: a skewed transform has no Phaser Image equivalent`);
+      const img = scene.add.image(tx, ty, e.image, frame).setOrigin(0).setScale(sx, sy).setRotation(Math.atan2(b, a));
+      if (e.color) {
+        const [r, g, bl, al] = e.color;
+        img.setTint((Math.round(r * 255) << 16) | (Math.round(g * 255) << 8) | Math.round(bl * 255));
+        img.setAlpha(al);
+      }
+      img.setBlendMode(blends[e.blend ?? 'alpha']);
+      plain.push(img);
+    });
+    if (!inOrder) throw new Error(`atElement ${atElement}: the scene has ${doc.elements.length} elements`);
+    const onTop = movingImages();
+    const layer = scene.add.existing(new DepthCulledExtern(scene, meshes, meshes.images.map((img) => (img.fill ? null : img.id))));
+    layer.setMovingSprites(assembler, textures);
+    scene.add.rectangle(width / 4, height / 4, width / 2, height / 8, 0xffcc00, 0.5).setOrigin(0).setScrollFactor(0);
+    const sprites = Array.from({ length: count }, () => ({ image: 0, x: 0, y: 0 }));
+    const show = (list, on) => list.forEach((o) => o.setVisible(on));
+
+    let result = { differ: 0, offEdges: 0, examples: [] };
+    let onTopDiffer = 0, onTopOffEdges = 0, draws = 0, triangles = 0, frameOpaqueDraws = 0;
+    for (let f = 0; f < frames; ++f) {
+      for (let k = 0; k < count; ++k) {
+        const { p, x, y } = place(k, f);
+        inOrder[k].setPosition(x, y);
+        onTop[k].setPosition(x, y);
+        Object.assign(sprites[k], { image: p.id, x, y, blend: p.add ? 'add' : 'alpha' });
+      }
+      layer.setVisible(false);
+      show(onTop, false);
+      show(plain, true);
+      show(inOrder, true);
+      const a = await nextFrame(game);
+      if (f % 10 === 0) {
+        show(inOrder, false);
+        show(onTop, true);
+        const c = await nextFrame(game);
+        const r = compareFrames(elements, meshes.viewport, a, c, width, height);
+        onTopDiffer += r.differ;
+        onTopOffEdges += r.offEdges;
+        show(onTop, false);
+      }
+      show(plain, false);
+      show(inOrder, false);
+      layer.movingSprites = [sprites];
+      layer.setVisible(true);
+      const b = await nextFrame(game);
+      const r = compareFrames(elements, meshes.viewport, a, b, width, height);
+      result = { differ: Math.max(result.differ, r.differ), offEdges: result.offEdges + r.offEdges, examples: result.examples.concat(r.examples.map((x) => `frame ${f}: ${x}`)).slice(0, 5) };
+      draws = Math.max(draws, layer.stats.draws);
+      triangles = Math.max(triangles, layer.stats.triangles);
+      frameOpaqueDraws = Math.max(frameOpaqueDraws, layer.frameStats.opaqueDraws);
+    }
+    const glRenderer = rendererString(game.renderer.gl);
+    assembler.free();
+    destroy(game, game.canvas);
+    return { ...result, onTopDiffer, onTopOffEdges, width, height, elements: doc.elements.length, sprites: count, pictures: pictures.length, frames, stats: { draws, triangles, frameOpaqueDraws }, glRenderer };
   },
 
   // DepthCulledExtern.from: loads the meshes and their images, adds the layer.
