@@ -180,8 +180,9 @@ export class DepthCulledExtern extends Phaser.GameObjects.Extern {
    * or Textures, the whole images; the assembler's u, v are of the whole
    * image). Then set `layer.movingSprites` each frame: one sprite list per
    * insertion point (assemble()'s input; with meshes without points, one
-   * list drawn on top). Sprite colours go to the shader as floats: white
-   * and opaque ones draw exactly what Phaser Images draw.
+   * list drawn on top). Sprite colours are made the bytes Phaser feeds its
+   * shader for an Image's tint and alpha (phaserColorByte), so tinted and
+   * translucent sprites draw what Phaser Images draw too.
    */
   setMovingSprites(assembler, textures) {
     if (!assembler || typeof assembler.assemble !== 'function') throw new DepthcullError('DepthCulledExtern.setMovingSprites: expected a FrameAssembler');
@@ -199,14 +200,21 @@ export class DepthCulledExtern extends Phaser.GameObjects.Extern {
   }
 
   // The frame's vertices with v flipped as the static meshes' (Phaser's
-  // textures are flipped on upload), copied out of the wasm's memory into
-  // one reused array (grown, never shrunk).
+  // textures are flipped on upload) and colours quantized as Phaser's
+  // (k / 255 in float32: measured identical to the normalized byte the
+  // static meshes use; as floats, the meadow test's tinted sprites were a
+  // level off at 49252 pixels in 60 frames), copied out of the wasm's
+  // memory into one reused array (grown, never shrunk).
   #flipFrame(frame) {
     const src = frame.vertices;
     if (!this._frameVertices || this._frameVertices.length < src.length) this._frameVertices = new Float32Array(Math.max(src.length, 2 * (this._frameVertices?.length ?? 0)));
     const v = this._frameVertices.subarray(0, src.length);
     v.set(src);
-    for (let k = 4; k < v.length; k += 9) v[k] = 1 - src[k];
+    for (let k = 4; k < v.length; k += 9) {
+      v[k] = 1 - src[k];
+      // The colour as the byte Phaser would feed its shader for it.
+      for (let c = 0; c < 4; ++c) v[k + 1 + c] = phaserColorByte(src[k + 1 + c], c) / 255;
+    }
     return { ...frame, vertices: v };
   }
 

@@ -106,7 +106,8 @@ test('Phaser meadow (tints, add, multiply, rotations): Images and DepthCulledExt
 });
 
 // Moving sprites between the layers (FrameAssembler in the wasm,
-// DepthCulledExtern.setMovingSprites): 24 sprites, every third additive,
+// DepthCulledExtern.setMovingSprites): 24 sprites, every third picture
+// additive, every fourth sprite tinted (1, 0.95, 0.7) at alpha 0.8,
 // at an insertion point before element 230 of the meadow's 459 (elements
 // before it behind the sprites, those after in front), 60 frames, each
 // against the same sprites as Phaser Images placed there in the display

@@ -192,10 +192,14 @@ window.phaserTest = {
       const y = meshes.viewport.y + ((k * 61 + f * (2 + (k % 3))) % Math.max(1, height - p.h));
       return { p, x, y };
     };
+    // Every fourth sprite tinted, on byte boundaries (0.7 * 255 = 178.5).
+    const tint = { color: [1, 0.95, 0.7, 0.8], rgb: (255 << 16) | (Math.round(0.95 * 255) << 8) | Math.round(0.7 * 255) };
     const movingImages = () =>
       Array.from({ length: count }, (_, k) => {
         const { p } = place(k, 0);
-        return scene.add.image(0, 0, p.key).setOrigin(0).setBlendMode(p.add ? Phaser.BlendModes.ADD : Phaser.BlendModes.NORMAL);
+        const img = scene.add.image(0, 0, p.key).setOrigin(0).setBlendMode(p.add ? Phaser.BlendModes.ADD : Phaser.BlendModes.NORMAL);
+        if (k % 4 === 1) img.setTint(tint.rgb).setAlpha(tint.color[3]);
+        return img;
       });
 
     const blends = { alpha: Phaser.BlendModes.NORMAL, add: Phaser.BlendModes.ADD, multiply: Phaser.BlendModes.MULTIPLY };
@@ -236,7 +240,7 @@ window.phaserTest = {
         const { p, x, y } = place(k, f);
         inOrder[k].setPosition(x, y);
         onTop[k].setPosition(x, y);
-        Object.assign(sprites[k], { image: p.id, x, y, blend: p.add ? 'add' : 'alpha' });
+        Object.assign(sprites[k], { image: p.id, x, y, blend: p.add ? 'add' : 'alpha', color: k % 4 === 1 ? tint.color : undefined });
       }
       layer.setVisible(false);
       show(onTop, false);
