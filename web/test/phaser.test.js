@@ -71,6 +71,16 @@ test('Phaser: a rotated atlas frame as Image and as polygonMesh2D', { skip: miss
   assert.equal(r.differ, 0, r.examples.join('; '));
 });
 
+// The same rotated frame against Images of its page rectangle turned back
+// (-90 degrees) by hand: polygonMesh2D draws rotated frames upright.
+test('Phaser: a rotated atlas frame as polygonMesh2D and as its page texels turned upright', { skip: missing ?? false }, async () => {
+  const r = await mesh2d({ rotated: true, upright: true });
+  console.log(`# rotated Mesh2D: ${r.objects} objects, ${r.drawn} pixels drawn, ${r.differ} differ`);
+  assert.ok(r.drawn > 100, 'the sprites were not drawn');
+  assert.equal(r.differ, 0, r.examples.join('; '));
+  assert.deepEqual(pageErrors, []);
+});
+
 for (const [name, file, viewport] of corpusMaps) {
   test(`Phaser corpus ${name}: Images and DepthCulledExtern draw the same pixels`, { skip: missing ?? false }, async () => {
     const scene = join(gen, `${name}.scene.json`);

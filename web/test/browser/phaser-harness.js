@@ -47,10 +47,27 @@ function destroy(game, canvas) {
   canvas?.remove();
 }
 
+// A rotated TexturePacker frame (stored turned 90 degrees clockwise: the
+// page holds h x w texels; sprite texel (u, v) is page texel (h - 1 - v,
+// u)) as an Image of that page rectangle turned -90 degrees, placed where
+// a Sprite of the frame with origin 0.5 at (x, y), scaled (sx, sy), shows
+// it: local (u, v) = (trimX - srcW / 2 + pv, trimY - srcH / 2 + h - pu).
+function uprightImage(scene, tex, f, x, y, sx, sy) {
+  const { x: fx, y: fy, w, h } = f.frame;
+  const key = `page${fx},${fy},${h},${w}`;
+  if (!tex.has(key)) tex.add(key, 0, fx, fy, h, w);
+  const lx = f.spriteSourceSize.x - f.sourceSize.w / 2, ly = f.spriteSourceSize.y - f.sourceSize.h / 2;
+  return scene.add.image(x + sx * lx, y + sy * (ly + h), 'sheet', key).setOrigin(0).setScale(sy, sx).setRotation(-Math.PI / 2);
+}
+
 window.phaserTest = {
-  async mesh2d({ atlasUrl, pageUrl, rotated = false, ordered = false }) {
+  // upright: the Images show each (rotated) frame from its page rectangle
+  // as stored, turned back by -90 degrees, instead of by Phaser's frame
+  // (whose rotated frames Phaser 4.2.1 draws transposed).
+  async mesh2d({ atlasUrl, pageUrl, rotated = false, ordered = false, upright = false }) {
     const width = 256, height = 128;
     const { game, scene } = await makeGame(width, height, (s) => s.load.atlas('sheet', pageUrl, atlasUrl));
+    const atlas = upright ? await (await fetch(atlasUrl)).json() : null;
     scene.textures.get('sheet').setFilter(Phaser.Textures.FilterMode.NEAREST);
     scene.add.rectangle(0, 0, width, height, 0x336699).setOrigin(0);
     const tex = scene.textures.get('sheet');
@@ -62,7 +79,7 @@ window.phaserTest = {
     names.forEach((name, i) =>
       variants.forEach(([sx, sy], k) => {
         const x = 24 + k * 56, y = 16 + i * 28 + (k % 2) * 3;
-        images.push(scene.add.image(x, y, 'sheet', name).setScale(sx, sy));
+        images.push(upright ? uprightImage(scene, tex, atlas.frames[name], x, y, sx, sy) : scene.add.image(x, y, 'sheet', name).setScale(sx, sy));
         const m = scene.add.existing(polygonMesh2D(scene, x, y, 'sheet', name, { ordered })).setScale(sx, sy);
         meshes.push(m);
         triangles += m.indices.length / 4;
@@ -72,10 +89,15 @@ window.phaserTest = {
     // A half-transparent object in front of both.
     scene.add.rectangle(width / 4, height / 4, width / 2, height / 8, 0xffcc00, 0.5).setOrigin(0);
     meshes.forEach((m) => m.setVisible(false));
+    images.forEach((m) => m.setVisible(false));
+    const empty = await nextFrame(game); // the background and rectangle only
+    images.forEach((m) => m.setVisible(true));
     const a = await nextFrame(game);
     images.forEach((m) => m.setVisible(false));
     meshes.forEach((m) => m.setVisible(true));
     const b = await nextFrame(game);
+    let drawn = 0; // pixels the Images changed
+    for (let i = 0; i < a.length; i += 4) if (a[i] !== empty[i] || a[i + 1] !== empty[i + 1] || a[i + 2] !== empty[i + 2]) ++drawn;
     let differ = 0, covered = 0;
     const examples = [];
     for (let i = 0; i < a.length; i += 4) {
@@ -87,7 +109,7 @@ window.phaserTest = {
     if (window.keepFrames) window.keptFrames = { a: Array.from(a), b: Array.from(b), width, height };
     const glRenderer = rendererString(game.renderer.gl);
     destroy(game, game.canvas);
-    return { differ, examples, covered, frames: names.length, objects: meshes.length, triangles, rectTriangles, glRenderer, webgl2: game.renderer.gl instanceof WebGL2RenderingContext };
+    return { differ, examples, covered, drawn, frames: names.length, objects: meshes.length, triangles, rectTriangles, glRenderer, webgl2: game.renderer.gl instanceof WebGL2RenderingContext };
   },
 
   async layer({ sceneUrl, meshesUrl, frames = 2 }) {
