@@ -161,3 +161,10 @@ test('Phaser: DepthCulledExtern into a DynamicTexture (no depth buffer) says why
   const m = await page.evaluate((a) => window.phaserTest.dynamicTextureError(a), { meshesUrl: `${origin}/gen/meadow.meshes.json` });
   assert.equal(m, 'DepthcullError: DepthCulledExtern: the framebuffer has no depth buffer (a camera with filters or a DynamicTexture: Phaser makes those without depth)');
 });
+
+test('Phaser: DepthCulledExtern.setMovingSprites names a texture the game lacks', { skip: missing ?? noWasm ?? false }, async () => {
+  const meshes = join(gen, 'meadow.meshes.json');
+  if (!existsSync(meshes)) cliRun('optimize', join(root, 'examples/meadow.json'), '-o', meshes, '--no-timing');
+  const m = await page.evaluate((a) => window.phaserTest.movingTextureError(a), { meshesUrl: `${origin}/gen/meadow.meshes.json` });
+  assert.equal(m, 'DepthcullError: DepthCulledExtern.setMovingSprites: no Phaser texture "no-such-texture" for texture 1');
+});

@@ -306,6 +306,24 @@ window.phaserTest = {
     return { inList, stats };
   },
 
+  // What setMovingSprites says of a texture key the game does not have.
+  async movingTextureError({ meshesUrl }) {
+    const meshes = await loadMeshes(meshesUrl);
+    const depthcull = await loadDepthcull();
+    const { game, scene } = await makeGame(64, 64, () => {});
+    const layer = new DepthCulledExtern(scene, meshes, meshes.images.map(() => '__WHITE'));
+    const assembler = depthcull.createFrameAssembler();
+    let message = null;
+    try {
+      layer.setMovingSprites(assembler, ['__WHITE', 'no-such-texture']);
+    } catch (e) {
+      message = `${e.name}: ${e.message}`;
+    }
+    assembler.free();
+    destroy(game, game.canvas);
+    return message;
+  },
+
   // What DepthCulledExtern says drawn into a DynamicTexture (no depth buffer).
   async dynamicTextureError({ meshesUrl }) {
     const meshes = await loadMeshes(meshesUrl);
