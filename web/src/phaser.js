@@ -32,7 +32,8 @@ import { loadMeshes } from './meshes.js';
 // (0.7 is 0.699999988 as float32: * 255 = 178.4999970 rounds to 178, where
 // the scene's 0.7 * 255 = 178.5 rounds to 179, the byte Phaser draws the
 // scene's 0.7 with). The shortest decimal that reads back as the same
-// float32 is what the file said (the CLI writes at most 9 digits).
+// float32 (9 digits at most) is what the file said, unless the scene gave
+// more digits than a float32 keeps.
 function sceneDouble(f) {
   for (let p = 1; p < 9; ++p) {
     const d = Number(f.toPrecision(p));
@@ -41,12 +42,21 @@ function sceneDouble(f) {
   return f;
 }
 
+// float32 rounding moves c * 255 by at most 255 * 2^-24 (1.5e-5): only a
+// value this close to a byte boundary may round to another byte than the
+// scene's double, so only those take sceneDouble's string work (frames
+// quantize every moving sprite's vertex colours).
+const NEAR_BOUNDARY = 1e-4;
+
 // Phaser feeds a tint to its shader as bytes: rgb as the integer colour
 // given to setTint (a scene's 0..1 colour rounded), alpha truncated
 // (renderer/webgl/Utils.js getTintAppendFloatAlpha: (a * 255) | 0), each
 // of the colour as the scene file gives it (sceneDouble).
 function phaserColorByte(c, channel) {
-  const v = Math.min(1, Math.max(0, sceneDouble(c))) * 255;
+  let v = Math.min(1, Math.max(0, c)) * 255;
+  const frac = v - Math.floor(v);
+  const boundary = channel === 3 ? Math.min(frac, 1 - frac) : Math.abs(frac - 0.5);
+  if (boundary < NEAR_BOUNDARY && c > 0 && c < 1) v = Math.min(1, Math.max(0, sceneDouble(c))) * 255;
   return channel === 3 ? v | 0 : Math.round(v);
 }
 
