@@ -225,7 +225,9 @@ export class DepthCulledExtern extends Phaser.GameObjects.Extern {
       // The colour as the byte Phaser would feed its shader for it.
       for (let c = 0; c < 4; ++c) v[k + 1 + c] = phaserColorByte(src[k + 1 + c], c) / 255;
     }
-    return { ...frame, vertices: v };
+    this._frameOut = Object.assign(this._frameOut ?? {}, frame);
+    this._frameOut.vertices = v;
+    return this._frameOut;
   }
 
   /** Loads a meshes file and its images through the scene's loader, then adds the layer to the scene. */
