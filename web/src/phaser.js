@@ -27,11 +27,36 @@ import { DepthcullError } from './index.js';
 import { MeshRenderer } from './renderer.js';
 import { loadMeshes } from './meshes.js';
 
+// The double a colour had in the scene file: parseMeshes keeps vertices as
+// float32, and a float32 of a byte boundary lands on the other side of it
+// (0.7 is 0.699999988 as float32: * 255 = 178.4999970 rounds to 178, where
+// the scene's 0.7 * 255 = 178.5 rounds to 179, the byte Phaser draws the
+// scene's 0.7 with). The shortest decimal that reads back as the same
+// float32 (9 digits at most) is what the file said, unless the scene gave
+// more digits than a float32 keeps.
+function sceneDouble(f) {
+  for (let p = 1; p < 9; ++p) {
+    const d = Number(f.toPrecision(p));
+    if (Math.fround(d) === f) return d;
+  }
+  return f;
+}
+
+// float32 rounding moves c * 255 by at most 255 * 2^-24 (1.5e-5): only a
+// value this close to a byte boundary may round to another byte than the
+// scene's double, so only those take sceneDouble's string work (frames
+// quantize every moving sprite's vertex colours).
+const NEAR_BOUNDARY = 1e-4;
+
 // Phaser feeds a tint to its shader as bytes: rgb as the integer colour
 // given to setTint (a scene's 0..1 colour rounded), alpha truncated
-// (renderer/webgl/Utils.js getTintAppendFloatAlpha: (a * 255) | 0).
+// (renderer/webgl/Utils.js getTintAppendFloatAlpha: (a * 255) | 0), each
+// of the colour as the scene file gives it (sceneDouble).
 function phaserColorByte(c, channel) {
-  const v = Math.min(1, Math.max(0, c)) * 255;
+  let v = Math.min(1, Math.max(0, c)) * 255;
+  const frac = v - Math.floor(v);
+  const boundary = channel === 3 ? Math.min(frac, 1 - frac) : Math.abs(frac - 0.5);
+  if (boundary < NEAR_BOUNDARY && c > 0 && c < 1) v = Math.min(1, Math.max(0, sceneDouble(c))) * 255;
   return channel === 3 ? v | 0 : Math.round(v);
 }
 
@@ -151,6 +176,58 @@ export class DepthCulledExtern extends Phaser.GameObjects.Extern {
     };
     this.stats = { draws: 0, triangles: 0 };
     this._renderer = null;
+    this.assembler = null;
+    this.movingSprites = null;
+    this.frameStats = null;
+  }
+
+  /**
+   * Moving sprites drawn with the layer every frame, depth-culled at the
+   * meshes' insertion points (`optimize --insert-at`), as
+   * DepthCulledLayer.setMovingSprites (src/pixi.js): `assembler` a
+   * FrameAssembler (depthcull.createFrameAssembler(), src/frames.js) whose
+   * images name textures by their index in `textures` (Phaser texture keys
+   * or Textures, the whole images; the assembler's u, v are of the whole
+   * image). Then set `layer.movingSprites` each frame: one sprite list per
+   * insertion point (assemble()'s input; with meshes without points, one
+   * list drawn on top). Sprite colours are made the bytes Phaser feeds its
+   * shader for an Image's tint and alpha (phaserColorByte), so tinted and
+   * translucent sprites draw what Phaser Images draw too.
+   */
+  setMovingSprites(assembler, textures) {
+    if (!assembler || typeof assembler.assemble !== 'function') throw new DepthcullError('DepthCulledExtern.setMovingSprites: expected a FrameAssembler');
+    if (!Array.isArray(textures)) throw new DepthcullError('DepthCulledExtern.setMovingSprites: expected an array of textures');
+    const refs = textures.map((t, i) => {
+      const tex = typeof t === 'string' ? this.scene.textures.get(t) : t;
+      if (!tex || tex.key === '__MISSING') throw new DepthcullError(`DepthCulledExtern.setMovingSprites: no Phaser texture "${t}" for texture ${i}`);
+      return tex;
+    });
+    assembler.setStaticMeshes(this.meshes);
+    this.assembler = assembler;
+    this.frameTextureRefs = refs;
+    this.movingSprites = [];
+    this._frameVertices = null;
+  }
+
+  // The frame's vertices with v flipped as the static meshes' (Phaser's
+  // textures are flipped on upload) and colours quantized as Phaser's
+  // (k / 255 in float32: measured identical to the normalized byte the
+  // static meshes use; as floats, the meadow test's tinted sprites were a
+  // level off at 49252 pixels in 60 frames), copied out of the wasm's
+  // memory into one reused array (grown, never shrunk).
+  #flipFrame(frame) {
+    const src = frame.vertices;
+    if (!this._frameVertices || this._frameVertices.length < src.length) this._frameVertices = new Float32Array(Math.max(src.length, 2 * (this._frameVertices?.length ?? 0)));
+    const v = this._frameVertices.subarray(0, src.length);
+    v.set(src);
+    for (let k = 4; k < v.length; k += 9) {
+      v[k] = 1 - src[k];
+      // The colour as the byte Phaser would feed its shader for it.
+      for (let c = 0; c < 4; ++c) v[k + 1 + c] = phaserColorByte(src[k + 1 + c], c) / 255;
+    }
+    this._frameOut = Object.assign(this._frameOut ?? {}, frame);
+    this._frameOut.vertices = v;
+    return this._frameOut;
   }
 
   /** Loads a meshes file and its images through the scene's loader, then adds the layer to the scene. */
@@ -186,7 +263,15 @@ export class DepthCulledExtern extends Phaser.GameObjects.Extern {
     // then to clip space, y down on the canvas.
     const [a, b, c, d, tx, ty] = calcMatrix.matrix;
     const sx = 2 / drawingContext.width, sy = -2 / drawingContext.height;
-    this.stats = r.draw({ matrix: new Float32Array([sx * a, sy * b, 0, sx * c, sy * d, 0, sx * tx - 1, sy * ty + 1, 1]) });
+    const matrix = new Float32Array([sx * a, sy * b, 0, sx * c, sy * d, 0, sx * tx - 1, sy * ty + 1, 1]);
+    let frame, frameTextures;
+    if (this.assembler && this.movingSprites) {
+      const assembled = this.assembler.assemble(this.movingSprites, this.meshes.viewport);
+      this.frameStats = assembled.stats;
+      frame = this.#flipFrame(assembled);
+      frameTextures = this.frameTextureRefs.map((t) => t.source[0].glTexture.webGLTexture);
+    }
+    this.stats = r.draw({ matrix, frame, frameTextures });
   }
 
   preDestroy() {
