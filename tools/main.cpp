@@ -50,12 +50,12 @@ int main(int argc, char** argv) {
                      static_cast<unsigned long long>(depthcull::kMaxAnalysisBytes >> 20));
         return 1;
     } catch (const depthcull::Error& e) {
-        // io's, the pipeline's and the commands' (CliError): one line
-        // naming the file.
+        // io's, the pipeline's, the GL renderer's (render::Error) and the
+        // commands' (CliError): one line naming the file.
         std::fprintf(stderr, "depthcull: error: %s\n", e.what());
         return 1;
     } catch (const std::exception& e) {
-        // The GL renderer's (render::Error) and anything unforeseen.
+        // Anything unforeseen (a library's own type): the same one line.
         std::fprintf(stderr, "depthcull: error: %s\n", e.what());
         return 1;
     }
