@@ -36,7 +36,7 @@ const std::vector<Sprite>& corpus() {
             Sprite s;
             try {
                 s.image = io::load_png(path);
-            } catch (const io::Error&) {
+            } catch (const depthcull::Error&) {
                 continue;
             }
             for (std::size_t i = 3; i < s.image.rgba.size(); i += 4) s.texels += s.image.rgba[i] != 0;

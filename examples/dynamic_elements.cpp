@@ -26,14 +26,14 @@ int main(int argc, char** argv) {
     try {
         pipeline::PrepareOptions prepare;
         pipeline::PreparedScene p = pipeline::prepare_scene(argv[1], prepare);
-        if (p.scene.elements.empty()) throw io::Error(std::string(argv[1]) + ": scene has no elements");
+        if (p.scene.elements.empty()) throw depthcull::Error(std::string(argv[1]) + ": scene has no elements");
 
         // Static part: reconstructed once, with room for 256 moving sprites.
         ReconstructOptions options;
         options.reserved_dynamic_levels = 256;
         SceneMeshes static_meshes;
         if (reconstruct_scene(p.scene, p.analysis, options, &static_meshes) != ReconstructStatus::ok)
-            throw io::Error(std::string(argv[1]) + ": reconstruction failed");
+            throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
         std::printf("static: %" PRId64 " elements, %" PRId64 " draw calls, %" PRId64 " depth levels\n",
                     static_meshes.stats.elements, static_meshes.stats.draw_calls, static_meshes.stats.depth_levels);
 
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
             }
             SceneMeshes meshes;
             if (add_dynamic_elements(static_meshes, p.scene, moving, analyses, &meshes) != ReconstructStatus::ok)
-                throw io::Error("frame " + std::to_string(frame) + ": too many dynamic elements for the reserved depth range");
+                throw depthcull::Error("frame " + std::to_string(frame) + ": too many dynamic elements for the reserved depth range");
             // `meshes` holds this frame's own draws; the frame is them around the static ones.
             meshes = compose_frame(static_meshes, meshes);
             std::printf("frame %d: %zu moving sprites, %" PRId64 " draw calls, %" PRId64 " triangles, %" PRId64 " depth levels\n",
@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
             if (argc > 2) {
                 std::filesystem::create_directories(argv[2]);
                 io::write_meshes_json((std::filesystem::path(argv[2]) / ("frame_" + std::to_string(frame) + ".json")).string(),
-                                      p.scene, meshes, false);
+                                      io::meshes_document(p.scene, std::move(meshes)));
             }
         }
     } catch (const std::exception& e) {

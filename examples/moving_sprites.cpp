@@ -57,18 +57,18 @@ int main(int argc, char** argv) {
         // ---- Asset build side: scene, analysis, static meshes with a depth
         // range reserved for `count` sprites at the insertion point.
         pipeline::PreparedScene p = pipeline::prepare_scene(argv[1], {});
-        if (p.scene.elements.empty()) throw io::Error(std::string(argv[1]) + ": no elements");
+        if (p.scene.elements.empty()) throw depthcull::Error(std::string(argv[1]) + ": no elements");
         const std::size_t at = p.scene.insertion_points.empty() ? p.scene.elements.size() / 2 : p.scene.insertion_points[0];
         ReconstructOptions options;
         options.insertion_points = {{at, count}};
         SceneMeshes built;
         if (reconstruct_scene(p.scene, p.analysis, options, &built) != ReconstructStatus::ok)
-            throw io::Error(std::string(argv[1]) + ": reconstruction failed");
+            throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
         // What the asset build writes (`depthcull optimize --insert-at ...
         // --binary level.bin`) and the game loads (io::read_meshes): the
         // reserved range travels in the file's insertion points.
-        const std::string file = io::meshes_to_binary(p.scene, built, "");
-        const io::LoadedMeshes loaded = io::meshes_from_binary(file, "level.bin");
+        const std::string file = io::meshes_to_binary(io::meshes_document(p.scene, std::move(built)), "");
+        const io::MeshesDocument loaded = io::meshes_from_binary(file, "level.bin");
         const SceneMeshes& static_meshes = loaded.meshes;
         const InsertionPoint& point = static_meshes.insertion_points.at(0);
         std::printf("%zu static elements, %" PRId64 " static draws (%zu KB of binary meshes); %d sprites at element %zu: depth levels %" PRId64
@@ -105,10 +105,10 @@ int main(int argc, char** argv) {
         }
         std::string error;
         auto renderer = runtime::Renderer::create(&gl_loader, &error);
-        if (!renderer) throw io::Error(error);
+        if (!renderer) throw depthcull::Error(error);
         const std::vector<ImageView> images = p.views();
-        if (renderer->upload_images(images, p.scene.filter) != runtime::Status::ok) throw io::Error(renderer->error());
-        if (renderer->set_meshes(static_meshes) != runtime::Status::ok) throw io::Error(renderer->error());
+        if (renderer->upload_images(images, p.scene.filter) != runtime::Status::ok) throw depthcull::Error(renderer->error());
+        if (renderer->set_meshes(static_meshes) != runtime::Status::ok) throw depthcull::Error(renderer->error());
 
         // Characters: walking left or right, facing their way (a flip),
         // bobbing; positions from a fixed seed.
@@ -159,11 +159,11 @@ int main(int argc, char** argv) {
             move(f);
             const auto start = std::chrono::steady_clock::now();
             const std::span<const Sprite> lists[1] = {sprites};
-            if (assembler.assemble_at(static_meshes, lists, view, &frame) != FrameStatus::ok) throw io::Error("assembly failed");
+            if (assembler.assemble_at(static_meshes, lists, view, &frame) != FrameStatus::ok) throw depthcull::Error("assembly failed");
             const double assemble_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
             runtime::FrameCounts counts;
             if (renderer->draw_frame({view.x, view.y, width, height, false}, frame, frame_options, &counts) != runtime::Status::ok)
-                throw io::Error(renderer->error());
+                throw depthcull::Error(renderer->error());
             if (f % 10 == 0 || f == frames - 1)
                 std::printf("frame %3d camera x %6.0f: %" PRId64 " draws (%" PRId64 " moving), %" PRId64 " triangles, %" PRId64
                             " fragments, assembly %.3f ms\n",

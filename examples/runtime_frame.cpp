@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
         options.reserved_dynamic_levels = 64;
         SceneMeshes static_meshes;
         if (reconstruct_scene(p.scene, p.analysis, options, &static_meshes) != ReconstructStatus::ok)
-            throw io::Error(std::string(argv[1]) + ": reconstruction failed");
+            throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
 
         // ---- Engine start-up: context, then the runtime renderer.
         Host host;
@@ -58,10 +58,10 @@ int main(int argc, char** argv) {
         }
         std::string error;
         auto renderer = runtime::Renderer::create(&gl_loader, &error);
-        if (!renderer) throw io::Error(error);
+        if (!renderer) throw depthcull::Error(error);
         std::printf("runtime renderer on %s\n", renderer->gl_version().c_str());
         const std::vector<ImageView> images = p.views();
-        if (renderer->upload_images(images, p.scene.filter) != runtime::Status::ok) throw io::Error(renderer->error());
+        if (renderer->upload_images(images, p.scene.filter) != runtime::Status::ok) throw depthcull::Error(renderer->error());
 
         // flip_y false: the framebuffer is read back top row first. A window
         // (row 0 at the bottom) keeps the default, true.
@@ -101,8 +101,8 @@ int main(int argc, char** argv) {
                 analyses.push_back(p.analysis.of(source));
             }
             if (add_dynamic_elements(static_meshes, p.scene, moving, analyses, &dynamic) != ReconstructStatus::ok)
-                throw io::Error("more moving sprites than reserved depth levels");
-            if (renderer->draw(camera, dynamic.draws, clear, &counts) != runtime::Status::ok) throw io::Error(renderer->error());
+                throw depthcull::Error("more moving sprites than reserved depth levels");
+            if (renderer->draw(camera, dynamic.draws, clear, &counts) != runtime::Status::ok) throw depthcull::Error(renderer->error());
             std::printf("frame %d: %zu moving sprites, %" PRId64 " draw calls\n", frame, moving.size(), counts.draw_calls);
         }
         if (argc > 2) io::save_png(argv[2], host.read(view.width, view.height).view());

@@ -27,7 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     depthcull::Image image;
     try {
         image = depthcull::io::decode_png(data + 1, size - 1, "fuzz.png");
-    } catch (const depthcull::io::Error&) {
+    } catch (const depthcull::Error&) {
         return 0;
     }
     if (std::int64_t(image.width) * image.height > 256 * 256) return 0; // keep iterations fast

@@ -1,5 +1,5 @@
 // Fuzzes the binary meshes reader (docs/mesh-format.md): every input is a
-// value or an io::Error, never a crash, and no count makes it allocate more
+// value or a depthcull::Error, never a crash, and no count makes it allocate more
 // than the input holds; what reads back keeps the reader's promises and
 // writes back byte for byte (the form has one encoding per value),
 // animations included.
@@ -12,10 +12,10 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view bytes(reinterpret_cast<const char*>(data), size);
-    depthcull::io::LoadedMeshes m;
+    depthcull::io::MeshesDocument m;
     try {
         m = depthcull::io::meshes_from_binary(bytes, "fuzz.bin");
-    } catch (const depthcull::io::Error&) {
+    } catch (const depthcull::Error&) {
         return 0;
     }
     for (const depthcull::Draw& d : m.meshes.draws) {

@@ -1,5 +1,5 @@
 // Fuzzes the PNG decoder (io::decode_png, libpng underneath): every input
-// is an RGBA8 image within the size limits or an io::Error, never a crash
+// is an RGBA8 image within the size limits or a depthcull::Error, never a crash
 // or a libpng longjmp out of our frames; what decodes encodes and decodes
 // back to the same texels. Seeds: fuzz/corpus/png/.
 #include <cstdlib>
@@ -11,7 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     depthcull::Image image;
     try {
         image = depthcull::io::decode_png(data, size, "fuzz.png");
-    } catch (const depthcull::io::Error&) {
+    } catch (const depthcull::Error&) {
         return 0;
     }
     if (image.width <= 0 || image.height <= 0 || image.width > depthcull::kMaxImageSide || image.height > depthcull::kMaxImageSide)

@@ -1,5 +1,5 @@
 // Fuzzes our scene JSON reader (io::load_scene over bytes): every input is
-// a scene that keeps the reader's promises (fuzz_common.h) or an io::Error.
+// a scene that keeps the reader's promises (fuzz_common.h) or a depthcull::Error.
 // The scene is read as examples/fuzz.json, so the paths it names resolve
 // like the bundled example's (art/*.png, atlas/sheet.json). Seeds:
 // fuzz/corpus/scene_json/.
@@ -13,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     depthcull::Scene scene;
     try {
         scene = depthcull::io::load_scene_bytes(text, DEPTHCULL_SOURCE_DIR "/examples/fuzz.json");
-    } catch (const depthcull::io::Error&) {
+    } catch (const depthcull::Error&) {
         return 0;
     }
     fuzz::check_scene(scene);

@@ -2,7 +2,7 @@
 // input is an atlas whose frames are found by name and, once
 // check_atlas_pages has passed them against a page of the stated size (the
 // reader checks frames against the decoded page, not meta.size), lie inside
-// it, and place where they belong, or an io::Error.
+// it, and place where they belong, or a depthcull::Error.
 // Seeds: fuzz/corpus/texturepacker/.
 #include <array>
 #include <cmath>
@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             sizes.push_back(page.width > 0 ? std::array<int, 2>{page.width, page.height}
                                            : std::array<int, 2>{depthcull::kMaxImageSide, depthcull::kMaxImageSide});
         depthcull::io::check_atlas_pages(atlas, sizes);
-    } catch (const depthcull::io::Error&) {
+    } catch (const depthcull::Error&) {
         return 0;
     }
     for (const depthcull::io::AtlasFrame& f : atlas.frames) {

@@ -1,6 +1,6 @@
 // Fuzzes the Tiled map reader (io::load_scene over a .tmx's bytes, gzipped
 // or not): every input is a scene that keeps the reader's promises
-// (fuzz_common.h) or an io::Error. The map is read as
+// (fuzz_common.h) or a depthcull::Error. The map is read as
 // tests/data/tiled/fuzz.tmx, so the tilesets, templates and images it
 // names resolve to the test data there. Seeds: fuzz/corpus/tiled_map/.
 #include <string_view>
@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     depthcull::Scene scene;
     try {
         scene = depthcull::io::load_scene_bytes(bytes, DEPTHCULL_SOURCE_DIR "/tests/data/tiled/fuzz.tmx");
-    } catch (const depthcull::io::Error&) {
+    } catch (const depthcull::Error&) {
         return 0;
     }
     fuzz::check_scene(scene);

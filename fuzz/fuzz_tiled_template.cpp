@@ -1,5 +1,5 @@
 // Fuzzes the Tiled object template reader (.tx): every input is a scene
-// that keeps the reader's promises (fuzz_common.h) or an io::Error.
+// that keeps the reader's promises (fuzz_common.h) or a depthcull::Error.
 // Templates are reached only through a map naming them by path, so each
 // input is written to t.tx in a private directory holding a fixed map that
 // places three objects from it (as is, resized, and with its own gid) and
@@ -42,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     depthcull::Scene scene;
     try {
         scene = depthcull::io::load_scene(dir + "/m.tmx");
-    } catch (const depthcull::io::Error&) {
+    } catch (const depthcull::Error&) {
         return 0;
     }
     fuzz::check_scene(scene);

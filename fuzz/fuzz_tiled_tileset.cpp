@@ -1,6 +1,6 @@
 // Fuzzes the external Tiled tileset reader (.tsx, gzipped or not): every
 // input is a tileset whose tiles all lie inside their images, or an
-// io::Error. Read as tests/data/tiled/fuzz.tsx, so the images it names
+// depthcull::Error. Read as tests/data/tiled/fuzz.tsx, so the images it names
 // resolve to the test data there. Seeds: fuzz/corpus/tiled_tileset/.
 #include <algorithm>
 #include <string_view>
@@ -23,7 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         ts = depthcull::io::guarded("fuzz.tsx", [&] {
             return tiled::tileset_from_bytes(bytes, DEPTHCULL_SOURCE_DIR "/tests/data/tiled/fuzz.tsx", 1, table);
         });
-    } catch (const depthcull::io::Error&) {
+    } catch (const depthcull::Error&) {
         return 0;
     }
     // Every tile a gid can name (the first 4096 and the named ones) lies

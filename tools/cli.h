@@ -1,6 +1,6 @@
 // The depthcull command line: one file per subcommand, each adding itself
-// to the app. Errors are thrown as CliError (or io::Error) and printed by
-// main() as one line. Exit status (README, "Exit status"): 0 success,
+// to the app. Errors are thrown as depthcull::Error (CliError is one) and
+// printed by main() as one line. Exit status (README, "Exit status"): 0 success,
 // 1 an error in the input or output, 2 a usage error.
 #pragma once
 
@@ -13,14 +13,17 @@
 #include <CLI/CLI.hpp>
 
 #include "depthcull/analyze.h"
+#include "depthcull/error.h"
 #include "depthcull/io.h"
 #include "depthcull/pipeline.h"
 #include "depthcull/scene.h"
 
 namespace depthcull::cli {
 
-struct CliError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+// A command's own error (an option that does not fit the input): the
+// library's one exception, so main() catches one type.
+struct CliError : depthcull::Error {
+    using depthcull::Error::Error;
 };
 // A command line that asks for nothing sensible: exit status 2, as CLI11's
 // own usage errors.

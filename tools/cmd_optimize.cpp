@@ -145,17 +145,17 @@ void run_optimize(OptimizeArgs& args) {
         std::fprintf(stderr, "depthcull: warning: %s: %" PRId64 " depth levels need a 24-bit depth buffer (16-bit holds %" PRId64 ")\n",
                      args.scene.c_str(), meshes.stats.depth_levels, kMaxDepthLevels16);
 
-    // stats.seconds in the files: the reconstruction's wall time, or 0.
-    const double written_seconds = args.timing ? seconds.reconstruction : 0.0;
+    // The files' document; stats.seconds is the reconstruction's wall time,
+    // measured here, or 0 (--no-timing): the writers read no clock.
+    io::MeshesDocument document = io::meshes_document(prepared.scene, std::move(meshes));
+    if (args.timing) document.seconds = seconds.reconstruction;
     if (!args.binary.empty())
-        outputs.stage(args.binary, [&](const io::WriteBytes& write) {
-            io::stream_meshes_binary(write, prepared.scene, meshes, args.binary, written_seconds);
-        });
+        outputs.stage(args.binary, [&](const io::WriteBytes& write) { io::stream_meshes_binary(write, document, args.binary); });
     // No -o on a terminal: 100 KB of JSON on the screen helps nobody; say
     // where it goes instead (-o - still prints it; a pipe gets it as before).
     if (hold_back) {
         std::size_t bytes = 0; // counted as it is made, not built
-        io::stream_meshes_json([&bytes](std::string_view piece) { bytes += piece.size(); }, prepared.scene, meshes, "", written_seconds);
+        io::stream_meshes_json([&bytes](std::string_view piece) { bytes += piece.size(); }, document, "");
         std::fprintf(stderr,
                      "depthcull: optimize: the meshes JSON (%zu KB) is not printed on a terminal: give -o MESHES.json and/or "
                      "--binary MESHES.bin to write it, -o - to print it, or pipe stdout\n",
@@ -163,7 +163,7 @@ void run_optimize(OptimizeArgs& args) {
     } else if (json) {
         // Streamed: a large scene's meshes JSON is never one string.
         const std::string path = args.output == "-" ? std::string() : args.output;
-        outputs.stage(json_path, [&](const io::WriteBytes& write) { io::stream_meshes_json(write, prepared.scene, meshes, path, written_seconds); });
+        outputs.stage(json_path, [&](const io::WriteBytes& write) { io::stream_meshes_json(write, document, path); });
     }
     outputs.commit();
 
@@ -177,14 +177,14 @@ void run_optimize(OptimizeArgs& args) {
         const Viewport& vp = prepared.scene.viewport;
         const bool overdraw = vp.width > 0 && vp.height > 0 && vp.width <= kMaxImageSide && vp.height <= kMaxImageSide;
         OverdrawFigures od;
-        if (overdraw) od = overdraw_figures(prepared, meshes);
-        const std::string text = figures(prepared, overpaint, rects, meshes.stats, overdraw ? &od : nullptr, seconds);
+        if (overdraw) od = overdraw_figures(prepared, document.meshes);
+        const std::string text = figures(prepared, overpaint, rects, document.meshes.stats, overdraw ? &od : nullptr, seconds);
         bool json_on_stdout = !hold_back && args.binary.empty() && (args.output.empty() || args.output == "-");
         std::fputs(text.c_str(), json_on_stdout ? stderr : stdout);
     } else if (!args.quiet) {
         std::fprintf(stderr, "depthcull: %s: draw calls %" PRId64 " -> %" PRId64 ", triangles %" PRId64 " -> %" PRId64 ", depth levels %" PRId64 "\n",
-                     args.scene.c_str(), overpaint.draw_calls, meshes.stats.draw_calls, overpaint.triangles,
-                     meshes.stats.triangles, meshes.stats.depth_levels);
+                     args.scene.c_str(), overpaint.draw_calls, document.meshes.stats.draw_calls, overpaint.triangles,
+                     document.meshes.stats.triangles, document.meshes.stats.depth_levels);
     }
 }
 

@@ -5,6 +5,7 @@
 #include <new>
 
 #include "cli.h"
+#include "depthcull/error.h"
 #include "depthcull/io.h"
 
 int main(int argc, char** argv) {
@@ -48,7 +49,13 @@ int main(int argc, char** argv) {
                      depthcull::cli::g_command_line.c_str(), static_cast<unsigned long long>(depthcull::limits::kMaxDecodedBytes >> 20),
                      static_cast<unsigned long long>(depthcull::kMaxAnalysisBytes >> 20));
         return 1;
+    } catch (const depthcull::Error& e) {
+        // io's, the pipeline's, the GL renderer's (render::Error) and the
+        // commands' (CliError): one line naming the file.
+        std::fprintf(stderr, "depthcull: error: %s\n", e.what());
+        return 1;
     } catch (const std::exception& e) {
+        // Anything unforeseen (a library's own type): the same one line.
         std::fprintf(stderr, "depthcull: error: %s\n", e.what());
         return 1;
     }

@@ -208,7 +208,7 @@ typedef struct dc_draw {
 typedef struct dc_meshes_stats {
     int64_t elements, draw_calls, triangles, depth_levels, graph_edges;
     int64_t depth_bits; /* depth buffer bits the z values need (<= 16 fits a 16-bit buffer) */
-    double seconds;     /* reconstruction wall time: dc_reconstruct's own, or the file's (0: not measured) */
+    double seconds;     /* reconstruction wall time: dc_reconstruct's own, or the file's (0: not measured); never written back */
 } dc_meshes_stats;
 
 typedef struct dc_meshes_info {
@@ -280,7 +280,11 @@ DC_API dc_status dc_meshes_animated_run(const dc_meshes* meshes, size_t i, dc_an
 typedef enum dc_format { DC_FORMAT_JSON = 0, DC_FORMAT_BINARY = 1 } dc_format;
 
 /* Flags of the writers. */
-#define DC_WRITE_NO_TIMING 1u /* write stats.seconds as 0, so outputs compare byte for byte */
+/* Kept for source compatibility: every write now does what it asked for.
+ * Files the C API writes say stats.seconds 0 (a timing is not part of a
+ * file the library writes: the same meshes are the same bytes on every
+ * run); dc_meshes_info_get still reports the time. */
+#define DC_WRITE_NO_TIMING 1u
 
 /* Either form, told apart by the binary magic. */
 DC_API dc_status dc_meshes_read_file(const char* path, dc_meshes** out);

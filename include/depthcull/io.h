@@ -1,9 +1,9 @@
 // depthcull: file formats and files. Everything here may do I/O and throws
-// depthcull::io::Error, whose message is one line naming the file and what
-// is wrong with it ("scene.json: element 3: unknown image id \"rok\"").
-// io::Error is the only exception that leaves these functions: parser
-// errors, std::bad_alloc and the like are mapped to it. The limits on what
-// is read are in depthcull/limits.h.
+// depthcull::Error (depthcull/error.h), whose message is one line naming
+// the file and what is wrong with it ("scene.json: element 3: unknown
+// image id \"rok\""). It is the only exception that leaves these
+// functions: parser errors, std::bad_alloc and the like are mapped to it.
+// The limits on what is read are in depthcull/limits.h.
 #pragma once
 
 #include <array>
@@ -17,15 +17,16 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "depthcull/error.h"
 #include "depthcull/image.h"
 #include "depthcull/limits.h"
 #include "depthcull/scene.h"
 
 namespace depthcull::io {
 
-struct Error : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+// The same type as depthcull::Error: io::Error is another spelling of it,
+// kept while code that names it (src/pipeline) moves over.
+using Error = depthcull::Error;
 
 // A library exception's text without nlohmann's "[json.exception.x.n] ".
 inline std::string exception_text(const std::exception& e) {
@@ -36,7 +37,7 @@ inline std::string exception_text(const std::exception& e) {
 }
 
 // fn(), with every exception that is not ours (std::bad_alloc, a library's
-// own types) turned into an io::Error naming `path`: the library throws
+// own types) turned into an Error naming `path`: the library throws
 // only its documented types.
 template <class F>
 auto guarded(const std::string& path, F&& fn) -> decltype(fn()) {
@@ -57,7 +58,7 @@ auto guarded(const std::string& path, F&& fn) -> decltype(fn()) {
     }
 }
 
-// io::Error when JSON `text` nests arrays / objects deeper than
+// An Error when JSON `text` nests arrays / objects deeper than
 // limits::kMaxNestingDepth (nlohmann's parser copes, but copying, dumping
 // and our walks of the document recurse), or when its parsed document
 // would take more than limits::kMaxDocumentBytes of memory, estimated in
@@ -66,7 +67,7 @@ auto guarded(const std::string& path, F&& fn) -> decltype(fn()) {
 // terminates the process when it runs out of memory freeing a partial one
 // (json_checks.cpp). Every JSON reader calls it before parsing.
 void check_json_document(std::string_view text, const std::string& path);
-// io::Error "<path>: not valid JSON at line L, column C (byte B): <what>"
+// An Error "<path>: not valid JSON at line L, column C (byte B): <what>"
 // for an exception nlohmann's parse threw over `text` (B counted from 0):
 // the one form of every JSON reader, quoting none of the file's bytes.
 [[noreturn]] void throw_json_error(const std::exception& e, std::string_view text, const std::string& path);
@@ -169,7 +170,7 @@ struct LoadOptions {
     Viewport viewport;
     // What a reader approximates or leaves out (a Tiled feature we do not
     // draw), one line each naming the file, the layer and the feature:
-    // passed to `warning` (nothing when empty), or an io::Error when
+    // passed to `warning` (nothing when empty), or an Error when
     // `strict`. Notes (`note`) say how to read the result (parallax layers
     // placed for this camera only) and never fail.
     std::function<void(const std::string&)> warning, note;
@@ -180,13 +181,13 @@ struct LoadOptions {
     // More insertion points for moving sprites (Scene::insertion_points;
     // the CLI's --insert-at): in a Tiled map, layer names (the point goes
     // after the layer's elements, as each object layer's does); in other
-    // scenes, element indices. One that names nothing is an io::Error.
+    // scenes, element indices. One that names nothing is an Error.
     std::vector<std::string> insert_at;
 };
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 // Warning lines (a reader's or decode_image's) as LoadOptions asks: each
 // distinct line once, in order, to options.warning; with options.strict
-// an io::Error "<first line> (--strict)" instead.
+// an Error "<first line> (--strict)" instead.
 void report_warnings(const std::vector<std::string>& lines, const LoadOptions& options);
 
 // Our scene JSON format, as load_scene reads it: viewport, filter, images
@@ -252,7 +253,7 @@ struct Atlas {
 Atlas load_texturepacker(const std::string& path);
 inline Atlas load_atlas(const std::string& path) { return load_texturepacker(path); }
 // Against the pages' real sizes (`sizes[k]` = {width, height} of
-// pages[k]'s image, from its header or its decode): io::Error for a frame
+// pages[k]'s image, from its header or its decode): an Error for a frame
 // whose texels lie outside its page; a warning line in atlas.warnings for
 // a page whose stated size (meta.size) differs.
 void check_atlas_pages(Atlas& atlas, const std::vector<std::array<int, 2>>& sizes);
@@ -308,27 +309,9 @@ std::string atlas_polygons_plist(const std::string& path, const Atlas& atlas, Im
 // transparent frame gets empty arrays (it draws nothing).
 std::string godot_polygon_scene(const AtlasFrame& frame, const std::vector<Polygon>& boundary, const std::string& texture_path);
 
-// ---- Optimized meshes out (docs/mesh-format.md)
-
-// The meshes JSON of `depthcull optimize`: viewport, images (ids, paths
-// relative to the directory of `output_path`), draws in drawing order,
-// stats. `seconds` is written as stats.seconds: the reconstruction's wall
-// time as the caller measured it (SceneMeshes holds no clock reading);
-// 0, the default, says "not measured" and keeps outputs byte-identical.
-std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
-void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds = 0); // atomic
-// The same content in the compact little-endian binary form.
-std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
-void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds = 0); // atomic
-// The same bytes, handed to `write` in pieces of about a MiB as they are
-// made: a large meshes file never sits in memory whole (write_meshes_json
-// and write_meshes_binary stream into their temporary file this way).
-void stream_meshes_json(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
-void stream_meshes_binary(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
-// The same writers over an image list alone: Draw::image indexes `images`;
-// no animations are written.
-std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
-std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds = 0);
+// ---- Meshes files (docs/mesh-format.md): what `depthcull optimize`
+// writes and a game loads, in two forms (JSON and a compact little-endian
+// binary) holding the same content.
 
 // A run of a draw's vertices that shows an animated element: an engine
 // maps their u, v from frame 0's rect to the current frame's
@@ -340,13 +323,54 @@ struct AnimatedRun {
     std::uint32_t animation = 0; // index into the animations
     friend bool operator==(const AnimatedRun&, const AnimatedRun&) = default;
 };
-// The runs of meshes made with ReconstructOptions::element_spans over an
-// animated scene, in draw order and vertex order within a draw: adjacent
-// spans of one element are one run. Throws io::Error (naming output_path)
-// when the scene is animated and a non-empty draw has no element spans.
-std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path);
 
-// ---- Optimized meshes back in: what a game loads (docs/mesh-format.md)
+// Everything a meshes file holds, in either form: what meshes_document
+// makes from a scene and what the readers give back. Writing a document
+// that was read gives the bytes that were read (the same form and output
+// path), and either form's document writes as the other form's bytes.
+struct MeshesDocument {
+    // id, path, width, height, colour key or fill. A reader resolves paths
+    // against the file's directory (as load_scene resolves a scene's);
+    // the writers write them relative to the output's.
+    std::vector<SceneImage> images;
+    // Draw::image indexes `images`. The files carry no element spans (a
+    // reader leaves Draw::element_spans empty); depth_denominator comes
+    // from stats.depth_bits. Viewport, depth test, filter, stats and the
+    // insertion points are the meshes'.
+    SceneMeshes meshes;
+    // The scene's animations (frame images index `images`) and the vertex
+    // runs that show them, in draw order; both empty for unanimated scenes.
+    std::vector<Animation> animations;
+    std::vector<AnimatedRun> animated;
+    // stats.seconds: the reconstruction's wall time, set by the caller that
+    // measured it (`depthcull optimize` without --no-timing); a reader
+    // gives the file's. 0, the default, says "not measured" and keeps
+    // outputs the same bytes on every run: no writer reads a clock.
+    double seconds = 0;
+};
+
+// The document of `scene` reconstructed as `meshes` (moved in: the draws
+// are not copied when the caller passes an rvalue): the scene's images and
+// animations, and the animated runs, from the element spans of meshes made
+// with ReconstructOptions::element_spans (adjacent spans of one element are
+// one run). An Error when the scene is animated and a non-empty draw has no
+// element spans. seconds is 0.
+MeshesDocument meshes_document(const Scene& scene, SceneMeshes meshes);
+
+// The JSON form: viewport, images (paths relative to the directory of
+// `output_path`: the cwd when it is empty or "-"), draws in drawing order,
+// stats, then the animations and insertion points when there are some.
+// Per form, one writer of each kind: the bytes whole; the same bytes
+// handed to `write` in pieces of about a MiB as they are made (a large
+// meshes file never sits in memory whole); a file written atomically
+// (write_file_atomic), streamed into its temporary.
+std::string meshes_to_json(const MeshesDocument& document, const std::string& output_path);
+void stream_meshes_json(const WriteBytes& write, const MeshesDocument& document, const std::string& output_path);
+void write_meshes_json(const std::string& path, const MeshesDocument& document);
+// The binary form, the same content.
+std::string meshes_to_binary(const MeshesDocument& document, const std::string& output_path);
+void stream_meshes_binary(const WriteBytes& write, const MeshesDocument& document, const std::string& output_path);
+void write_meshes_binary(const std::string& path, const MeshesDocument& document);
 
 // Limits of the mesh readers, checked before anything is allocated for
 // them: a hostile file cannot make a reader allocate more than it holds.
@@ -359,43 +383,18 @@ inline constexpr std::size_t kMaxMeshAnimations = std::size_t(1) << 20;
 inline constexpr std::size_t kMaxMeshAnimationFrames = std::size_t(1) << 16; // per animation
 inline constexpr std::size_t kMaxMeshInsertionPoints = std::size_t(1) << 16;
 
-struct LoadedMeshes {
-    // id, path (resolved against the meshes file's directory, as
-    // load_scene resolves a scene's paths), width, height.
-    std::vector<SceneImage> images;
-    // Draw::image indexes `images`. Draw::element_spans stay empty: the
-    // formats do not carry them. depth_denominator comes from stats.depth_bits.
-    SceneMeshes meshes;
-    // The scene's animations (frame images index `images`) and the vertex
-    // runs that show them, in draw order; both empty for unanimated scenes.
-    std::vector<Animation> animations;
-    std::vector<AnimatedRun> animated;
-    // The file's stats.seconds: the reconstruction time its writer
-    // measured (0: not measured). dc_reconstruct sets it to its own.
-    double seconds = 0;
-};
-// The writers over what a reader gave, animations and seconds included:
-// meshes_to_binary(meshes_from_json(text, ...), ...) is what the writer
-// wrote as binary for the same scene. timing = false writes 0 for seconds.
-std::string meshes_to_json(const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
-std::string meshes_to_binary(const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
-void stream_meshes_json(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
-void stream_meshes_binary(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing = true);
-
 // A meshes file in either form, told apart by the binary magic "DCMESH".
-// Bad files throw io::Error naming the file and the place: a byte offset
+// Bad files throw an Error naming the file and the place: a byte offset
 // (binary) or a JSON path ("draws[3].indices[7]"). Checked: the formats'
 // shapes and known enums, the limits above, every float finite, z in
 // [0, 1], indices below their draw's vertex count and a multiple of 3,
 // draws naming existing images.
-LoadedMeshes read_meshes(const std::string& path);
-LoadedMeshes read_meshes_json(const std::string& path);
-LoadedMeshes read_meshes_binary(const std::string& path);
-// From memory: `name` names the source in errors; relative image paths are
-// resolved against `base_dir` (kept as written when it is empty), so
-// meshes_to_json(meshes_from_json(text, name).images, ..., "") == text.
-LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir = "");
-LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir = "");
+MeshesDocument read_meshes(const std::string& path);
+// From memory, one reader per form: `name` names the source in errors; relative
+// image paths are resolved against `base_dir` (kept as written when it is
+// empty), so meshes_to_json(meshes_from_json(text, name), "") == text.
+MeshesDocument meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir = "");
+MeshesDocument meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir = "");
 // True when `bytes` starts with the binary form's magic.
 bool is_binary_meshes(std::string_view bytes);
 

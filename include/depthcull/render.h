@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "depthcull/cost.h"
+#include "depthcull/error.h"
 #include "depthcull/image.h"
 #include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
@@ -23,9 +24,11 @@
 namespace depthcull::render {
 
 // GL failures after a context exists (shader compile, framebuffer
-// incomplete, texture too large): one-line messages.
-struct Error : std::runtime_error {
-    using std::runtime_error::runtime_error;
+// incomplete, texture too large): one-line messages. A depthcull::Error,
+// so a caller that stops on any error catches the one type; callers that
+// add the scene's name catch this one.
+struct Error : depthcull::Error {
+    using depthcull::Error::Error;
 };
 
 // ---- Comparing frames

@@ -27,7 +27,7 @@ namespace depthcull::io {
 //  - /dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N, and "" or "-":
 //    `descriptor`, this process's own descriptor N (a shell's `> file` or
 //    `>> file` behind it is honoured, not replaced);
-//  - a directory, a block device or a socket: refused (io::Error).
+//  - a directory, a block device or a socket: refused (depthcull::Error).
 struct OutputTarget {
     enum Kind { file, in_place, descriptor };
     Kind kind = file;
@@ -36,7 +36,7 @@ struct OutputTarget {
     int fd = -1;        // descriptor
     bool is_fifo = false;
 };
-// Throws io::Error naming `path`: a refused kind, a file name over NAME_MAX
+// Throws depthcull::Error naming `path`: a refused kind, a file name over NAME_MAX
 // (255 bytes), a symlink loop, a descriptor not open.
 OutputTarget resolve_output(const std::string& path);
 // Whether two outputs may name one file: writing a character device
@@ -58,10 +58,10 @@ public:
 
     // The bytes `produce` hands its writer, in order, into `path`'s
     // temporary; if `produce` throws, that temporary is removed and the
-    // error passes on. A failed write: io::Error "PATH: write failed (...)".
+    // error passes on. A failed write: Error "PATH: write failed (...)".
     void stage(const std::string& path, const std::function<void(const WriteBytes&)>& produce);
     void stage(const std::string& path, std::string_view bytes);
-    // Renames and copies, in the order staged; io::Error on a failure.
+    // Renames and copies, in the order staged; Error on a failure.
     void commit();
 
 private:

@@ -147,11 +147,11 @@ dc_status dc_scene_add_insertion_point(dc_scene* scene, int64_t levels) {
     });
 }
 
-size_t dc_meshes_insertion_point_count(const dc_meshes* meshes) { return meshes ? meshes->loaded.meshes.insertion_points.size() : 0; }
+size_t dc_meshes_insertion_point_count(const dc_meshes* meshes) { return meshes ? meshes->document.meshes.insertion_points.size() : 0; }
 
 dc_status dc_meshes_insertion_point(const dc_meshes* meshes, size_t i, dc_insertion_point* out) {
     if (!meshes || !out) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_insertion_point: meshes and out must not be NULL");
-    const auto& points = meshes->loaded.meshes.insertion_points;
+    const auto& points = meshes->document.meshes.insertion_points;
     if (i >= points.size()) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_insertion_point: index out of range");
     const InsertionPoint& p = points[i];
     *out = dc_insertion_point{p.element, p.levels, p.first_level, p.blend_draw};
@@ -163,12 +163,12 @@ dc_status dc_assemble_at(dc_assembler* assembler, const dc_meshes* static_meshes
     return guard("dc_assemble_at", [&] {
         if (!assembler || !static_meshes || !frame || (points && (!sprites || !counts)))
             return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble_at: arguments must not be NULL");
-        if (points > static_meshes->loaded.meshes.insertion_points.size())
+        if (points > static_meshes->document.meshes.insertion_points.size())
             return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble_at: more sprite lists than the meshes' insertion points");
         std::size_t total = 0;
         for (size_t k = 0; k < points; ++k) {
             if (counts[k] && !sprites[k]) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble_at: a sprite list must not be NULL");
-            if (std::int64_t(counts[k]) > static_meshes->loaded.meshes.insertion_points[k].levels || counts[k] > std::size_t(kMaxDepthLevels))
+            if (std::int64_t(counts[k]) > static_meshes->document.meshes.insertion_points[k].levels || counts[k] > std::size_t(kMaxDepthLevels))
                 return frame_status("dc_assemble_at", FrameStatus::too_many_sprites);
             total += counts[k];
         }
@@ -183,7 +183,7 @@ dc_status dc_assemble_at(dc_assembler* assembler, const dc_meshes* static_meshes
             frame->lists.emplace_back(frame->sprites.data() + at, counts[k]);
             at += counts[k];
         }
-        return frame_status("dc_assemble_at", assembler->assembler.assemble_at(static_meshes->loaded.meshes, frame->lists,
+        return frame_status("dc_assemble_at", assembler->assembler.assemble_at(static_meshes->document.meshes, frame->lists,
                                                                                Viewport{bounds.x, bounds.y, bounds.width, bounds.height},
                                                                                &frame->frame));
     });

@@ -38,7 +38,13 @@ struct dc_frame {
 };
 
 struct dc_meshes {
-    depthcull::io::LoadedMeshes loaded;
+    // What the mesh files hold. Its seconds stay 0: files the C API writes
+    // carry no timing (the CLI alone writes one), so they are the same
+    // bytes on every run.
+    depthcull::io::MeshesDocument document;
+    // dc_meshes_info's stats.seconds: dc_reconstruct's wall time, or the
+    // stats.seconds of the file read.
+    double seconds = 0;
 };
 
 namespace depthcull::capi {
@@ -53,7 +59,7 @@ template <class Body>
 dc_status guard(const char* function, Body&& body) noexcept {
     try {
         return body();
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return fail(DC_ERROR_IO, e.what());
     } catch (const std::bad_alloc&) {
         return fail(DC_ERROR_OUT_OF_MEMORY, function, "out of memory");

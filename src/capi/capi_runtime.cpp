@@ -81,7 +81,7 @@ dc_status dc_renderer_set_textures(dc_renderer* renderer, const unsigned* gl_tex
 dc_status dc_renderer_set_meshes(dc_renderer* renderer, const dc_meshes* meshes) {
     return guard("dc_renderer_set_meshes", [&] {
         if (!renderer || !meshes) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_renderer_set_meshes: renderer and meshes must not be NULL");
-        return runtime_status("dc_renderer_set_meshes", renderer->renderer->set_meshes(meshes->loaded.meshes), *renderer->renderer);
+        return runtime_status("dc_renderer_set_meshes", renderer->renderer->set_meshes(meshes->document.meshes), *renderer->renderer);
     });
 }
 
@@ -104,7 +104,7 @@ dc_status dc_renderer_draw(dc_renderer* renderer, const dc_camera* camera, const
         }
         runtime::FrameCounts n;
         std::span<const Draw> draws;
-        if (dynamic) draws = dynamic->loaded.meshes.draws;
+        if (dynamic) draws = dynamic->document.meshes.draws;
         if (dc_status s = runtime_status("dc_renderer_draw", renderer->renderer->draw(c, draws, o, &n), *renderer->renderer)) return s;
         if (counts) *counts = dc_frame_counts{n.draw_calls, n.triangles, n.samples_passed};
         return DC_OK;

@@ -128,10 +128,10 @@ dc_status dc_reconstruct(const dc_scene* scene, const dc_reconstruct_options* op
         auto meshes = std::make_unique<dc_meshes>();
         // Timed here, at the edge: the core's values hold no clock readings.
         const auto start = std::chrono::steady_clock::now();
-        if (dc_status s = capi::reconstruct_status("dc_reconstruct", reconstruct_scene(scene->scene, raw(scene->analyses), r, &meshes->loaded.meshes)))
+        if (dc_status s = capi::reconstruct_status("dc_reconstruct", reconstruct_scene(scene->scene, raw(scene->analyses), r, &meshes->document.meshes)))
             return s;
-        meshes->loaded.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        meshes->loaded.images = scene->scene.images;
+        meshes->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        meshes->document.images = scene->scene.images;
         *out = meshes.release();
         return DC_OK;
     });
@@ -153,14 +153,14 @@ dc_status dc_add_dynamic_elements(const dc_meshes* static_meshes, const dc_scene
         // Only the dynamic draws: no static vertex is copied per frame.
         SceneMeshes result;
         if (dc_status s = capi::reconstruct_status("dc_add_dynamic_elements",
-                                                   add_dynamic_elements(static_meshes->loaded.meshes, scene->scene, dynamic, dynamic_analyses, &result)))
+                                                   add_dynamic_elements(static_meshes->document.meshes, scene->scene, dynamic, dynamic_analyses, &result)))
             return s;
-        frame->loaded.meshes = std::move(result);
-        frame->loaded.images = scene->scene.images;
+        frame->document.meshes = std::move(result);
+        frame->document.images = scene->scene.images;
         // Nothing of what the object held before (a frame may be any dc_meshes).
-        frame->loaded.animations.clear();
-        frame->loaded.animated.clear();
-        frame->loaded.seconds = 0;
+        frame->document.animations.clear();
+        frame->document.animated.clear();
+        frame->seconds = 0;
         return DC_OK;
     });
 }

@@ -17,20 +17,20 @@ namespace depthcull::io {
 Scene scene_json_from_text(std::string_view text, const std::string& path, const LoadOptions& options); // scene_json.cpp
 Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options); // tiled_map.cpp, gzipped or not
 // load_scene over bytes already read (the fuzz harnesses): the same
-// checks, and io::Error the only exception.
+// checks, and Error the only exception.
 Scene load_scene_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options = {}); // load_scene.cpp
 // load_texturepacker over the JSON's text.
 Atlas texturepacker_from_text(std::string_view text, const std::string& path); // texturepacker.cpp
 
 // Width and height from the PNG signature and IHDR chunk, without decoding;
-// io::Error when the file is missing, not a PNG, or over our size limits.
+// Error when the file is missing, not a PNG, or over our size limits.
 // With `files`, the file is read whole and kept there for the decode that
 // follows (while they keep files); otherwise only its first 24 bytes.
 void png_size(const std::string& path, int* width, int* height, ImageFiles* files = nullptr); // png.cpp
 // The same from a PNG's first bytes (24 suffice); `name` names it in errors.
 void png_size_from_bytes(std::string_view bytes, const std::string& name, int* width, int* height); // png.cpp
 // Up to `size` bytes from the start of a regular file, in one read;
-// io::Error "cannot open image <path> (...)" when it is missing or cannot
+// Error "cannot open image <path> (...)" when it is missing or cannot
 // be opened, and check_input_file's errors (directories, FIFOs, devices,
 // files over kMaxFileBytes) before anything is opened.
 std::string read_image_head(const std::string& path, std::size_t size); // file.cpp
@@ -40,7 +40,7 @@ bool is_sprite_source(const std::string& path);
 Scene load_sprite_folder(const std::string& path, const LoadOptions& options);
 // image_size (io.h): the same for any image load_image reads.
 
-// io::Error "<where>: ..." unless the viewport is finite, within
+// Error "<where>: ..." unless the viewport is finite, within
 // limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).
 void check_viewport(const Viewport& viewport, const std::string& where);
 
@@ -49,7 +49,7 @@ bool ends_with(const std::string& s, const std::string& suffix);
 // cocos2d-x sprite frames (.plist, formats 2 and 3) as an Atlas (cocos2d_plist.cpp).
 Atlas load_cocos2d_plist(const std::string& path);
 
-// io::Error unless `path` is a regular file within kMaxFileBytes.
+// Error unless `path` is a regular file within kMaxFileBytes.
 void check_input_file(const std::string& path); // file.cpp
 
 // check_json_document and throw_json_error (the checks every JSON reader
@@ -72,7 +72,7 @@ void check_documents_held(std::uint64_t bytes, const std::string& path);
 std::uint32_t parse_colour_key(const std::string& text, const std::string& where);
 // colour_key_text: io.h.
 
-// Whether `text` is UTF-8 (JSON's encoding); check_utf8 throws io::Error
+// Whether `text` is UTF-8 (JSON's encoding); check_utf8 throws Error
 // "<where>: '<text>' is not valid UTF-8 ..." when it is not. Paths and
 // names come from file systems and XML, which allow other bytes.
 void check_utf8(const std::string& text, const std::string& where);

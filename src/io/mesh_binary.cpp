@@ -34,8 +34,10 @@ struct Out {
     }
 };
 
-void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds,
-            const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
+void binary_document(Sink& sink, const MeshesDocument& document, const std::string& output_path) {
+    const std::vector<SceneImage>& images = document.images;
+    const SceneMeshes& meshes = document.meshes;
+    const std::vector<Animation>& animations = document.animations;
     Out o{sink};
     o.raw("DCMESH\0\0", 8);
     o.put(std::uint32_t(1)); // format version
@@ -58,7 +60,7 @@ void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes
     o.put(std::uint32_t(meshes.draws.size()));
     const SceneStats& st = meshes.stats;
     for (std::int64_t v : {st.elements, st.draw_calls, st.triangles, st.depth_levels, st.depth_bits, st.graph_edges}) o.put(v);
-    o.put(seconds);
+    o.put(document.seconds);
     for (const SceneImage& img : images) {
         o.str(img.id);
         o.str(output_relative_path(img.path, output_path));
@@ -86,7 +88,7 @@ void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes
         }
         // Per draw its runs: grouped by draw (the writers and readers keep
         // them in draw order already; stable, so vertex order stays).
-        std::vector<AnimatedRun> sorted = runs;
+        std::vector<AnimatedRun> sorted = document.animated;
         std::stable_sort(sorted.begin(), sorted.end(), [](const AnimatedRun& a, const AnimatedRun& b) { return a.draw < b.draw; });
         std::size_t r = 0;
         for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
@@ -111,28 +113,16 @@ void binary(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes
 
 } // namespace
 
-std::string meshes_to_binary(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    return run_document(binary, nullptr, images, meshes, output_path, seconds);
+std::string meshes_to_binary(const MeshesDocument& document, const std::string& output_path) {
+    return run_document(binary_document, nullptr, document, output_path);
 }
 
-std::string meshes_to_binary(const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    return run_document(binary, nullptr, loaded, output_path, timing);
+void stream_meshes_binary(const WriteBytes& write, const MeshesDocument& document, const std::string& output_path) {
+    run_document(binary_document, &write, document, output_path);
 }
 
-std::string meshes_to_binary(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    return run_document(binary, nullptr, scene, meshes, output_path, seconds);
-}
-
-void stream_meshes_binary(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    run_document(binary, &write, loaded, output_path, timing);
-}
-
-void stream_meshes_binary(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    run_document(binary, &write, scene, meshes, output_path, seconds);
-}
-
-void write_meshes_binary(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds) {
-    write_file_atomic(path, [&](const WriteBytes& write) { stream_meshes_binary(write, scene, meshes, path, seconds); });
+void write_meshes_binary(const std::string& path, const MeshesDocument& document) {
+    write_file_atomic(path, [&](const WriteBytes& write) { stream_meshes_binary(write, document, path); });
 }
 
 } // namespace depthcull::io

@@ -70,7 +70,7 @@ struct Reader {
     }
 };
 
-void read_header(Reader& in, LoadedMeshes& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* colour_keys, bool* animations,
+void read_header(Reader& in, MeshesDocument& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* colour_keys, bool* animations,
                  bool* points) {
     if (in.bytes.size() < 8 || !is_binary_meshes(in.bytes)) in.fail(0, "not a depthcull binary meshes file (no \"DCMESH\" magic)");
     in.pos = 8;
@@ -184,7 +184,7 @@ Draw read_draw(Reader& in, std::size_t image_count, std::size_t* total_vertices,
 // The animation section (flags bit 3): frames of one size naming existing
 // images, then per draw its runs inside the draw's vertices naming existing
 // animations.
-void read_animations(Reader& in, LoadedMeshes& out) {
+void read_animations(Reader& in, MeshesDocument& out) {
     const std::size_t draws = out.meshes.draws.size();
     const std::size_t at = in.pos;
     const auto count = in.get<std::uint32_t>("the animation count");
@@ -281,9 +281,9 @@ void read_insertion_points(Reader& in, SceneMeshes& m) {
     if (std::string problem = insertion_levels_problem(m); !problem.empty()) in.fail(at, problem);
 }
 
-LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
+MeshesDocument read_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
     Reader in{bytes, name};
-    LoadedMeshes out;
+    MeshesDocument out;
     std::uint32_t image_count = 0, draw_count = 0;
     bool colour_keys = false, animations = false, points = false;
     read_header(in, out, &image_count, &draw_count, &colour_keys, &animations, &points);
@@ -307,15 +307,11 @@ LoadedMeshes read_binary(std::string_view bytes, const std::string& name, const 
 
 bool is_binary_meshes(std::string_view bytes) { return bytes.substr(0, 8) == std::string_view("DCMESH\0\0", 8); }
 
-LoadedMeshes meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
+MeshesDocument meshes_from_binary(std::string_view bytes, const std::string& name, const std::string& base_dir) {
     return guarded(name, [&] { return read_binary(bytes, name, base_dir); });
 }
 
-LoadedMeshes read_meshes_binary(const std::string& path) {
-    return meshes_from_binary(read_file(path), path, std::filesystem::path(path).parent_path().string());
-}
-
-LoadedMeshes read_meshes(const std::string& path) {
+MeshesDocument read_meshes(const std::string& path) {
     const std::string bytes = read_file(path);
     const std::string base = std::filesystem::path(path).parent_path().string();
     return is_binary_meshes(bytes) ? meshes_from_binary(bytes, path, base) : meshes_from_json(bytes, path, base);

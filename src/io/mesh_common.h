@@ -58,31 +58,20 @@ private:
     const WriteBytes* write_;
 };
 
-// A format's whole document into a Sink (mesh_json.cpp's json_document,
-// mesh_binary.cpp's binary): images, meshes, paths relative to
-// output_path, stats.seconds, then the animations when there are some.
-using MeshDocument = void (*)(Sink&, const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path,
-                              double seconds, const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs);
+// A form's whole document into a Sink (mesh_json.cpp's json_document,
+// mesh_binary.cpp's binary_document): images, meshes, paths relative to
+// output_path, stats, then the animations and insertion points when there
+// are some.
+using DocumentWriter = void (*)(Sink&, const MeshesDocument& document, const std::string& output_path);
 
-// Runs a document whole (write null: the returned string) or streamed to
-// `write` (the string comes back empty): every public writer of both
-// formats is one of these.
-inline std::string run_document(MeshDocument document, const WriteBytes* write, const std::vector<SceneImage>& images,
-                                const SceneMeshes& meshes, const std::string& output_path, double seconds,
-                                const std::vector<Animation>& animations = {}, const std::vector<AnimatedRun>& runs = {}) {
+// Runs a form's writer whole (write null: the returned string) or streamed
+// to `write` (the string comes back empty): each form's three public
+// writers are this.
+inline std::string run_document(DocumentWriter writer, const WriteBytes* write, const MeshesDocument& document, const std::string& output_path) {
     Sink sink(write);
-    document(sink, images, meshes, output_path, seconds, animations, runs);
+    writer(sink, document, output_path);
     sink.flush();
     return std::move(sink.bytes);
-}
-inline std::string run_document(MeshDocument document, const WriteBytes* write, const Scene& scene, const SceneMeshes& meshes,
-                                const std::string& output_path, double seconds) {
-    return run_document(document, write, scene.images, meshes, output_path, seconds, scene.animations, animated_runs(scene, meshes, output_path));
-}
-inline std::string run_document(MeshDocument document, const WriteBytes* write, const LoadedMeshes& loaded, const std::string& output_path,
-                                bool timing) {
-    return run_document(document, write, loaded.images, loaded.meshes, output_path, timing ? loaded.seconds : 0.0, loaded.animations,
-                        loaded.animated);
 }
 
 // image_path (absolute or relative to the cwd) as the mesh and scene
@@ -117,7 +106,7 @@ inline const char* vertex_float_problem(std::size_t k, float v) {
     return nullptr;
 }
 
-// io::Error unless the stated stats.depth_levels covers the levels the
+// Error unless the stated stats.depth_levels covers the levels the
 // draws' z values use and fits the depth mapping (at most D / 2 levels,
 // and kMaxDepthLevels): add_dynamic_elements puts new elements above them,
 // and a file's word must not put them behind or overflow (issue 21).

@@ -69,8 +69,9 @@ void append_animations(Sink& sink, const std::vector<Animation>& animations, con
 // The whole document into `sink` (flushed as it fills; the caller flushes
 // the rest). Animations only when there are some, so other files are as
 // they were before animations existed.
-void json_document(Sink& sink, const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path,
-                   double seconds, const std::vector<Animation>& animations, const std::vector<AnimatedRun>& runs) {
+void json_document(Sink& sink, const MeshesDocument& document, const std::string& output_path) {
+    const std::vector<SceneImage>& images = document.images;
+    const SceneMeshes& meshes = document.meshes;
     std::string& s = sink.bytes;
     s += "{\"viewport\": {\"x\": ";
     append_double(s, meshes.viewport.x);
@@ -152,9 +153,9 @@ void json_document(Sink& sink, const std::vector<SceneImage>& images, const Scen
     s += ", \"graph_edges\": ";
     append_int(s, st.graph_edges);
     s += ", \"seconds\": ";
-    append_double(s, seconds);
+    append_double(s, document.seconds);
     s += "}";
-    if (!animations.empty()) append_animations(sink, animations, runs);
+    if (!document.animations.empty()) append_animations(sink, document.animations, document.animated);
     if (!meshes.insertion_points.empty()) {
         // Where moving sprites go (FrameAssembler::assemble_at); only when
         // there are some, so other files are as before.
@@ -176,19 +177,15 @@ void json_document(Sink& sink, const std::vector<SceneImage>& images, const Scen
     s += "}\n";
 }
 
-} // namespace
-
-std::string meshes_to_json(const std::vector<SceneImage>& images, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    return run_document(json_document, nullptr, images, meshes, output_path, seconds);
-}
-
-std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path) {
+// The animated runs of `meshes` (made with element spans) over `scene`:
+// adjacent spans of one element are one run.
+std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes) {
     std::vector<AnimatedRun> runs;
     if (scene.animations.empty()) return runs;
     for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
         const Draw& draw = meshes.draws[d];
         if (draw.element_spans.empty() && draw.vertex_count() > 0)
-            throw Error(output_path + ": meshes of an animated scene need their element spans (ReconstructOptions::element_spans)");
+            throw Error("meshes of an animated scene need their element spans (ReconstructOptions::element_spans)");
         const std::vector<ElementSpan>& spans = draw.element_spans;
         for (std::size_t j = 0; j < spans.size();) {
             // Adjacent spans of one element are one run.
@@ -205,24 +202,27 @@ std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& me
     return runs;
 }
 
-std::string meshes_to_json(const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    return run_document(json_document, nullptr, scene, meshes, output_path, seconds);
+} // namespace
+
+MeshesDocument meshes_document(const Scene& scene, SceneMeshes meshes) {
+    MeshesDocument document;
+    document.images = scene.images;
+    document.animations = scene.animations;
+    document.animated = animated_runs(scene, meshes);
+    document.meshes = std::move(meshes);
+    return document;
 }
 
-std::string meshes_to_json(const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    return run_document(json_document, nullptr, loaded, output_path, timing);
+std::string meshes_to_json(const MeshesDocument& document, const std::string& output_path) {
+    return run_document(json_document, nullptr, document, output_path);
 }
 
-void stream_meshes_json(const WriteBytes& write, const LoadedMeshes& loaded, const std::string& output_path, bool timing) {
-    run_document(json_document, &write, loaded, output_path, timing);
+void stream_meshes_json(const WriteBytes& write, const MeshesDocument& document, const std::string& output_path) {
+    run_document(json_document, &write, document, output_path);
 }
 
-void stream_meshes_json(const WriteBytes& write, const Scene& scene, const SceneMeshes& meshes, const std::string& output_path, double seconds) {
-    run_document(json_document, &write, scene, meshes, output_path, seconds);
-}
-
-void write_meshes_json(const std::string& path, const Scene& scene, const SceneMeshes& meshes, double seconds) {
-    write_file_atomic(path, [&](const WriteBytes& write) { stream_meshes_json(write, scene, meshes, path, seconds); });
+void write_meshes_json(const std::string& path, const MeshesDocument& document) {
+    write_file_atomic(path, [&](const WriteBytes& write) { stream_meshes_json(write, document, path); });
 }
 
 std::string output_relative_path(const std::string& image_path, const std::string& output_path) {

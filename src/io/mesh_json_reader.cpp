@@ -4,7 +4,6 @@
 // text (at most 9 digits) reads back as the float it was written from
 // (tests/io/test_mesh_readers.cpp checks it over random bit patterns).
 #include <cfloat>
-#include <filesystem>
 #include <map>
 
 #include <nlohmann/json.hpp>
@@ -154,7 +153,7 @@ Draw read_draw(const Context& ctx, const json& v, const std::string& where, cons
 // "animations" and "animated" (docs/mesh-format.md): frames of one size
 // naming existing images, runs inside their draw's vertices naming
 // existing animations.
-void read_animations(const Context& ctx, const json& doc, LoadedMeshes* out) {
+void read_animations(const Context& ctx, const json& doc, MeshesDocument* out) {
     if (doc.contains("animations")) {
         const json& animations = array(ctx, doc["animations"], "animations", kMaxMeshAnimations);
         out->animations.reserve(animations.size());
@@ -209,7 +208,7 @@ void read_animations(const Context& ctx, const json& doc, LoadedMeshes* out) {
     }
 }
 
-// The stats and the writer's timing (LoadedMeshes::seconds) beside them.
+// The stats, and stats.seconds (MeshesDocument::seconds) beside them.
 SceneStats read_stats(const Context& ctx, const json& v, double* seconds) {
     object(ctx, v, "stats");
     SceneStats st;
@@ -246,7 +245,7 @@ void read_insertion_points(const Context& ctx, const json& doc, SceneMeshes* m) 
     if (std::string problem = insertion_levels_problem(*m); !problem.empty()) ctx.fail("insertion_points", problem);
 }
 
-LoadedMeshes read_json(std::string_view text, const std::string& name, const std::string& base_dir) {
+MeshesDocument read_json(std::string_view text, const std::string& name, const std::string& base_dir) {
     const Context ctx{name};
     json doc;
     // Deep nesting would overflow the parser's stack: refuse it first.
@@ -257,7 +256,7 @@ LoadedMeshes read_json(std::string_view text, const std::string& name, const std
         throw_json_error(e, text, name); // byte offsets from 0, as the binary reader's
     }
     if (!doc.is_object()) ctx.fail("top level", "expected a JSON object with \"images\" and \"draws\"");
-    LoadedMeshes out;
+    MeshesDocument out;
     out.meshes.viewport = read_viewport(ctx, field(ctx, doc, "", "viewport"));
     const json& depth_test = field(ctx, doc, "", "depth_test");
     if (!depth_test.is_boolean()) ctx.fail("depth_test", "must be true or false");
@@ -289,12 +288,8 @@ LoadedMeshes read_json(std::string_view text, const std::string& name, const std
 
 } // namespace
 
-LoadedMeshes meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir) {
+MeshesDocument meshes_from_json(std::string_view text, const std::string& name, const std::string& base_dir) {
     return guarded(name, [&] { return read_json(text, name, base_dir); });
-}
-
-LoadedMeshes read_meshes_json(const std::string& path) {
-    return meshes_from_json(read_file(path), path, std::filesystem::path(path).parent_path().string());
 }
 
 } // namespace depthcull::io

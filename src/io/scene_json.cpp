@@ -4,7 +4,7 @@
 //     "images": [ {"id", "path"} | {"id", "atlas"} ],   // paths relative to the scene file
 //     "elements": [ {"image", "rect"?, "frame"?, "transform"?, "color"?, "blend"?} ],
 //     "insertion_points": [element index, ...] }   // optional: where moving sprites go
-// Unknown fields are ignored. Every bad value is an io::Error naming the
+// Unknown fields are ignored. Every bad value is an Error naming the
 // file and the element (or image) index; nothing is half-loaded.
 #include <algorithm>
 #include <array>

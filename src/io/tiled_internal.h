@@ -216,7 +216,7 @@ struct Emitter {
 // none (or frames of different sizes, which is warned about).
 int animation_of(Emitter& out, const Tileset& tileset, std::uint32_t local, const std::string& where);
 
-// One warning line naming the place and the feature (io::Error with
+// One warning line naming the place and the feature (Error with
 // LoadOptions::strict); each distinct line once per map.
 void warn(Emitter& out, const std::string& line);
 void note(Emitter& out, const std::string& line);

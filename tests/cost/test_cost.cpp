@@ -59,7 +59,7 @@ TEST(Profiles, BadFilesGetOneLineErrors) {
     auto error_of = [](const std::string& text) {
         try {
             pipeline::profile_from_json(text, "p.json");
-        } catch (const io::Error& e) {
+        } catch (const depthcull::Error& e) {
             return std::string(e.what());
         }
         return std::string();
@@ -77,7 +77,7 @@ TEST(Profiles, BadFilesGetOneLineErrors) {
     negative.insert(negative.find("\"draw_call_us\": ") + 16, "-");
     EXPECT_NE(error_of(negative).find("draw_call_us"), std::string::npos);
     for (const std::string& e : {error_of("{"), error_of(missing), error_of(negative)}) EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-    EXPECT_THROW(pipeline::resolve_target("nosuchprofile"), io::Error);
+    EXPECT_THROW(pipeline::resolve_target("nosuchprofile"), depthcull::Error);
 }
 
 TEST(Features, CountsPassesAndRejection) {

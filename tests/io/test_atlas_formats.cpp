@@ -25,7 +25,7 @@ std::string packed(const std::string& name) { return test::source_path("tests/da
 std::string error_of(const std::function<void()>& fn) {
     try {
         fn();
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "(no error)";

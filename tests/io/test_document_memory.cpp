@@ -200,7 +200,7 @@ TEST(DocumentMemory, MeshReadersRefuseDepthLevelsTheDrawsContradict) {
         return R"({"viewport": {"x": 0, "y": 0, "width": 8, "height": 8}, "depth_test": true, "images": [{"id": "a", "path": "a.png", "width": 4, "height": 4}], "draws": [{"image": "a", "pass": "blend", "blend": "alpha", "vertices": [0, 0, 0.5, 0, 0, 1, 1, 1, 1, 4, 0, 0.5, 1, 0, 1, 1, 1, 1, 0, 4, 0.5, 0, 1, 1, 1, 1, 1], "indices": [0, 1, 2]}], "stats": {"elements": 1, "draw_calls": 1, "triangles": 1, "depth_levels": )" +
                levels + R"(, "depth_bits": 10, "graph_edges": 0, "seconds": 0}})";
     };
-    io::LoadedMeshes good = io::meshes_from_json(mesh("64"), "m.json");
+    io::MeshesDocument good = io::meshes_from_json(mesh("64"), "m.json");
     EXPECT_EQ(good.meshes.stats.depth_levels, 64);
     EXPECT_TRUE(has(io_error([&] { io::meshes_from_json(mesh("1"), "m.json"); }), "m.json: stats depth_levels 1 is lower than the 64 levels"));
     EXPECT_TRUE(has(io_error([&] { io::meshes_from_json(mesh("9223372036854775807"), "m.json"); }), "more than the depth mapping resolves"));

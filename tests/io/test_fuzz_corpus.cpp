@@ -1,7 +1,7 @@
 // The fuzz harnesses' seed corpora (fuzz/corpus/<harness>/: small real
 // files and the inputs that once crashed a reader) replayed through the
 // same readers in every build, sanitized or not: each input reads or fails
-// with io::Error, nothing else. And the regressions the fuzzers found.
+// with depthcull::Error, nothing else. And the regressions the fuzzers found.
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -29,7 +29,7 @@ std::string slurp(const fs::path& path) {
 }
 
 // fn(bytes, name) for every seed of `harness`; any exception but
-// io::Error fails.
+// depthcull::Error fails.
 template <class F>
 void replay(const std::string& harness, F&& fn) {
     int seeds = 0;
@@ -38,7 +38,7 @@ void replay(const std::string& harness, F&& fn) {
         ++seeds;
         try {
             fn(bytes, e.path().filename().string());
-        } catch (const io::Error&) {
+        } catch (const depthcull::Error&) {
         } catch (const std::exception& ex) {
             ADD_FAILURE() << e.path() << ": " << typeid(ex).name() << ": " << ex.what();
         }
@@ -129,12 +129,12 @@ TEST(FuzzRegressions, BinaryMeshesWithAnEmptyDrawRead) {
     meshes.viewport = {0, 0, 8, 8};
     meshes.draws.push_back({});
     meshes.draws.back().image = 0;
-    const io::LoadedMeshes back = io::meshes_from_binary(io::meshes_to_binary(images, meshes, ""), "empty.bin");
+    const io::MeshesDocument back = io::meshes_from_binary(io::meshes_to_binary({.images = images, .meshes = meshes}, ""), "empty.bin");
     ASSERT_EQ(back.meshes.draws.size(), 1u);
     EXPECT_TRUE(back.meshes.draws[0].vertices.empty());
     EXPECT_TRUE(back.meshes.draws[0].indices.empty());
     const std::string crash = slurp(kCorpus / "mesh_binary" / "crash-empty-draw-memcpy.bin");
-    EXPECT_THROW(io::meshes_from_binary(crash, "crash.bin"), io::Error);
+    EXPECT_THROW(io::meshes_from_binary(crash, "crash.bin"), depthcull::Error);
 }
 
 // fuzz_mesh_binary: flags bit 1 (colour keys) set while no image had a
@@ -148,7 +148,7 @@ TEST(FuzzRegressions, BinaryMeshesWithAnEmptyDrawRead) {
 // fuzz/corpus/mesh_binary/crash-unnormal-relative-path.bin.
 TEST(FuzzRegressions, RelativePathsWrittenForTheCwdAreKeptAsGiven) {
     const std::string crash = slurp(kCorpus / "mesh_binary" / "crash-unnormal-relative-path.bin");
-    const io::LoadedMeshes m = io::meshes_from_binary(crash, "crash.bin");
+    const io::MeshesDocument m = io::meshes_from_binary(crash, "crash.bin");
     EXPECT_EQ(m.images[1].path, "..tatr//iles.png");
     EXPECT_EQ(io::meshes_to_binary(m, ""), crash);
     EXPECT_EQ(io::meshes_from_json(io::meshes_to_json(m, ""), "m.json").images[1].path, "..tatr//iles.png");
@@ -164,7 +164,7 @@ TEST(FuzzRegressions, BinaryColourKeyWordsHaveOneEncoding) {
     try {
         io::meshes_from_binary(crash, "crash.bin");
         ADD_FAILURE() << "read";
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         EXPECT_NE(std::string(e.what()).find("crash.bin: byte"), std::string::npos) << e.what();
     }
     std::vector<SceneImage> images{{"a", "a.png", 4, 4}};
@@ -172,23 +172,23 @@ TEST(FuzzRegressions, BinaryColourKeyWordsHaveOneEncoding) {
     images[0].trans = 0x00ff00;
     SceneMeshes meshes;
     meshes.viewport = {0, 0, 8, 8};
-    std::string bytes = io::meshes_to_binary(images, meshes, "");
-    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "k.bin").images, meshes, ""), bytes);
+    std::string bytes = io::meshes_to_binary({.images = images, .meshes = meshes}, "");
+    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "k.bin"), ""), bytes);
     // The key word is the file's last 4 bytes here (no draws): drop bit 24.
     bytes[bytes.size() - 1] = 0;
-    EXPECT_THROW(io::meshes_from_binary(bytes, "k.bin"), io::Error);
+    EXPECT_THROW(io::meshes_from_binary(bytes, "k.bin"), depthcull::Error);
 }
 
 // fuzz_mesh_json: a number too large for a double ("9e625610943") made
 // nlohmann throw out_of_range past the reader, which caught parse_error
-// only: a raw library exception instead of io::Error.
+// only: a raw library exception instead of depthcull::Error.
 // fuzz/corpus/mesh_json/crash-number-overflow.json.
 TEST(FuzzRegressions, MeshJsonNumberOverflowIsAnIoError) {
     for (const std::string& text : {std::string(R"({"viewport": {"x": 1e400}})"), slurp(kCorpus / "mesh_json" / "crash-number-overflow.json")}) {
         try {
             io::meshes_from_json(text, "m.json");
             ADD_FAILURE() << "read " << text;
-        } catch (const io::Error& e) {
+        } catch (const depthcull::Error& e) {
             const std::string message = e.what();
             EXPECT_EQ(message.rfind("m.json: ", 0), 0u) << message;
             EXPECT_EQ(message.find("[json.exception"), std::string::npos) << message;

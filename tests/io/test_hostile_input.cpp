@@ -1,6 +1,6 @@
 // Hostile and broken input (issue 11): each class of file that crashed us,
 // ran away with memory or leaked a foreign exception is generated here and
-// must load or fail with one io::Error naming the file and the limit.
+// must load or fail with one depthcull::Error naming the file and the limit.
 // Every test failed before its fix; none asserts a time (speed lives in
 // benchmarks), but each would have taken gigabytes or crashed.
 #include <gtest/gtest.h>
@@ -176,7 +176,7 @@ TEST(HostileErrors, InvalidUtf8PathsAreOurErrorWhenWrittenAsJson) {
     scene.images.push_back({"tile", "/tmp/bad\xff\xfe.png", 8, 8});
     std::string message = io_error([&] { io::scene_to_json_text(scene, "out.json"); });
     EXPECT_TRUE(has(message, "out.json") && has(message, "not valid UTF-8")) << message;
-    message = io_error([&] { io::meshes_to_json(scene, SceneMeshes{}, "out.json"); });
+    message = io_error([&] { io::meshes_to_json(io::meshes_document(scene, SceneMeshes{}), "out.json"); });
     EXPECT_TRUE(has(message, "out.json") && has(message, "not valid UTF-8")) << message;
     scene.images[0].path = "/tmp/caf\xc3\xa9.png"; // valid: written as is
     EXPECT_NO_THROW(io::scene_to_json_text(scene, "out.json"));

@@ -51,7 +51,7 @@ Reconstructed reconstructed(const std::string& path, std::int64_t levels = 50) {
 std::string error_of(const std::function<void()>& f) {
     try {
         f();
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "no error";
@@ -158,10 +158,10 @@ TEST(InsertionPoints, MeshesRoundTripInBothForms) {
     ASSERT_EQ(r.meshes.insertion_points.size(), 2u);
     std::filesystem::create_directories(dir.path("out"));
     const std::string jpath = dir.path("out/m.json"), bpath = dir.path("out/m.bin");
-    io::write_meshes_json(jpath, r.p.scene, r.meshes);
-    io::write_meshes_binary(bpath, r.p.scene, r.meshes);
-    const io::LoadedMeshes j = io::read_meshes(jpath), b = io::read_meshes(bpath);
-    for (const io::LoadedMeshes* m : {&j, &b}) {
+    io::write_meshes_json(jpath, io::meshes_document(r.p.scene, r.meshes));
+    io::write_meshes_binary(bpath, io::meshes_document(r.p.scene, r.meshes));
+    const io::MeshesDocument j = io::read_meshes(jpath), b = io::read_meshes(bpath);
+    for (const io::MeshesDocument* m : {&j, &b}) {
         EXPECT_EQ(m->meshes.insertion_points, r.meshes.insertion_points);
         EXPECT_EQ(m->meshes.depth_denominator, r.meshes.depth_denominator);
         EXPECT_EQ(m->meshes.stats, r.meshes.stats);
@@ -180,8 +180,8 @@ TEST(InsertionPoints, MeshesWithoutPointsAreAsBefore) {
     Dir dir;
     const Reconstructed r = reconstructed(twelve_elements(dir, ""));
     EXPECT_TRUE(r.meshes.insertion_points.empty());
-    EXPECT_EQ(io::meshes_to_json(r.p.scene, r.meshes, "").find("insertion_points"), std::string::npos);
-    const std::string bytes = io::meshes_to_binary(r.p.scene, r.meshes, "");
+    EXPECT_EQ(io::meshes_to_json(io::meshes_document(r.p.scene, r.meshes), "").find("insertion_points"), std::string::npos);
+    const std::string bytes = io::meshes_to_binary(io::meshes_document(r.p.scene, r.meshes), "");
     std::uint32_t flags = 0;
     std::memcpy(&flags, bytes.data() + 12, 4);
     EXPECT_EQ(flags & 16u, 0u);
@@ -191,7 +191,7 @@ TEST(InsertionPoints, MeshesWithoutPointsAreAsBefore) {
 TEST(InsertionPoints, JsonErrorsNameThePath) {
     Dir dir;
     const Reconstructed r = reconstructed(twelve_elements(dir));
-    const std::string text = io::meshes_to_json(r.p.scene, r.meshes, "");
+    const std::string text = io::meshes_to_json(io::meshes_document(r.p.scene, r.meshes), "");
     const InsertionPoint& p0 = r.meshes.insertion_points[0];
     const InsertionPoint& p1 = r.meshes.insertion_points[1];
     ASSERT_NO_THROW(io::meshes_from_json(text, "m.json"));
@@ -232,14 +232,14 @@ TEST(InsertionPoints, JsonErrorsNameThePath) {
     // Meshes without depth values cannot have points.
     SceneMeshes flat = overpaint_meshes(r.p.scene);
     flat.insertion_points = {{4, 1, 0, std::uint32_t(flat.draws.size())}};
-    const std::string error = error_of([&] { io::meshes_from_json(io::meshes_to_json(r.p.scene.images, flat, ""), "m.json"); });
+    const std::string error = error_of([&] { io::meshes_from_json(io::meshes_to_json(io::MeshesDocument{.images = r.p.scene.images, .meshes = flat}, ""), "m.json"); });
     EXPECT_NE(error.find("insertion points need depth values"), std::string::npos) << error;
 }
 
 TEST(InsertionPoints, BinaryErrorsNameTheByte) {
     Dir dir;
     const Reconstructed r = reconstructed(twelve_elements(dir));
-    const std::string b = io::meshes_to_binary(r.p.scene, r.meshes, "");
+    const std::string b = io::meshes_to_binary(io::meshes_document(r.p.scene, r.meshes), "");
     ASSERT_NO_THROW(io::meshes_from_binary(b, "m.bin"));
     // The section: count, then two points of 32 bytes.
     const std::size_t count = b.size() - 4 - 2 * 32, p0 = count + 4, p1 = p0 + 32;

@@ -39,11 +39,11 @@ TEST(MeshOutput, MeshAndSceneWritersRelativiseImagePathsAlike) {
     SceneMeshes m = optimize(p);
     std::filesystem::create_directories(dir.path("out"));
     for (const std::string& out : {dir.path("out/x.json"), std::string("/depthcull-no-such-dir/x.json")}) {
-        nlohmann::json mesh = nlohmann::json::parse(io::meshes_to_json(p.scene, m, out));
+        nlohmann::json mesh = nlohmann::json::parse(io::meshes_to_json(io::meshes_document(p.scene, m), out));
         nlohmann::json scene = nlohmann::json::parse(io::scene_to_json_text(p.scene, out));
         EXPECT_EQ(mesh["images"][0]["path"], scene["images"][0]["path"]);
     }
-    nlohmann::json far = nlohmann::json::parse(io::meshes_to_json(p.scene, m, "/depthcull-no-such-dir/x.json"));
+    nlohmann::json far = nlohmann::json::parse(io::meshes_to_json(io::meshes_document(p.scene, m), "/depthcull-no-such-dir/x.json"));
     EXPECT_EQ(far["images"][0]["path"], std::filesystem::absolute(dir.path("art/blob.png")).lexically_normal().generic_string());
 }
 
@@ -52,7 +52,7 @@ TEST(MeshOutput, JsonHasTheDocumentedShape) {
     pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});
     SceneMeshes m = optimize(p);
     std::filesystem::create_directories(dir.path("out"));
-    io::write_meshes_json(dir.path("out/meshes.json"), p.scene, m);
+    io::write_meshes_json(dir.path("out/meshes.json"), io::meshes_document(p.scene, m));
     nlohmann::json j = nlohmann::json::parse(io::read_file(dir.path("out/meshes.json")));
     EXPECT_EQ(j["viewport"]["width"], 64);
     EXPECT_EQ(j["images"][0]["id"], "blob");
@@ -77,7 +77,7 @@ TEST(MeshOutput, BinaryHeaderAndSize) {
     SceneDir dir("mesh_bin");
     pipeline::PreparedScene p = pipeline::prepare_scene(write_scene(dir), {});
     SceneMeshes m = optimize(p);
-    std::string b = io::meshes_to_binary(p.scene, m, dir.path("meshes.bin"));
+    std::string b = io::meshes_to_binary(io::meshes_document(p.scene, m), dir.path("meshes.bin"));
     ASSERT_GT(b.size(), 8u);
     EXPECT_EQ(std::memcmp(b.data(), "DCMESH\0\0", 8), 0);
     std::uint32_t images = 0, draws = 0;
@@ -99,11 +99,12 @@ TEST(MeshOutput, ByteIdenticalWhateverTheThreadCount) {
     four.threads = 4;
     pipeline::PreparedScene a = pipeline::prepare_scene(scene, one), b = pipeline::prepare_scene(scene, four);
     std::string out = dir.path("m.json");
-    EXPECT_EQ(io::meshes_to_json(a.scene, optimize(a), out), io::meshes_to_json(b.scene, optimize(b), out));
-    EXPECT_EQ(io::meshes_to_binary(a.scene, optimize(a), out), io::meshes_to_binary(b.scene, optimize(b), out));
+    EXPECT_EQ(io::meshes_to_json(io::meshes_document(a.scene, optimize(a)), out), io::meshes_to_json(io::meshes_document(b.scene, optimize(b)), out));
+    EXPECT_EQ(io::meshes_to_binary(io::meshes_document(a.scene, optimize(a)), out), io::meshes_to_binary(io::meshes_document(b.scene, optimize(b)), out));
 }
 
-// The streaming writers give the string writers' bytes, in pieces of about
+// Each form's three writers give one document's bytes: the streaming
+// writers give the string writers' bytes, in pieces of about
 // a MiB (never the whole file at once: a 125 MB meshes JSON would be a
 // 125 MB string), and write_meshes_* write exactly those bytes.
 TEST(MeshOutput, StreamedWritersGiveTheSameBytesInBoundedPieces) {
@@ -119,6 +120,8 @@ TEST(MeshOutput, StreamedWritersGiveTheSameBytesInBoundedPieces) {
         for (std::size_t k = 0; k < indices; ++k) big.indices.push_back(big.indices[k] + std::uint32_t(n));
     }
     m.draws.push_back(big);
+    io::MeshesDocument document = io::meshes_document(p.scene, std::move(m));
+    document.seconds = 0.5;
     const std::string out = dir.path("m.json");
     for (const bool binary : {false, true}) {
         std::string streamed;
@@ -128,8 +131,8 @@ TEST(MeshOutput, StreamedWritersGiveTheSameBytesInBoundedPieces) {
             ++pieces;
             largest = std::max(largest, piece.size());
         };
-        binary ? io::stream_meshes_binary(collect, p.scene, m, out, 0.5) : io::stream_meshes_json(collect, p.scene, m, out, 0.5);
-        const std::string whole = binary ? io::meshes_to_binary(p.scene, m, out, 0.5) : io::meshes_to_json(p.scene, m, out, 0.5);
+        binary ? io::stream_meshes_binary(collect, document, out) : io::stream_meshes_json(collect, document, out);
+        const std::string whole = binary ? io::meshes_to_binary(document, out) : io::meshes_to_json(document, out);
         EXPECT_EQ(streamed, whole) << binary;
         EXPECT_GT(whole.size(), std::size_t(8) << 20) << binary;
         EXPECT_GT(pieces, binary ? 2u : 8u) << binary;
@@ -138,7 +141,7 @@ TEST(MeshOutput, StreamedWritersGiveTheSameBytesInBoundedPieces) {
         if (!binary) {
             EXPECT_LT(largest, (std::size_t(1) << 20) + 4096);
         }
-        binary ? io::write_meshes_binary(out, p.scene, m, 0.5) : io::write_meshes_json(out, p.scene, m, 0.5);
+        binary ? io::write_meshes_binary(out, document) : io::write_meshes_json(out, document);
         EXPECT_EQ(io::read_file(out), whole) << binary;
     }
 }

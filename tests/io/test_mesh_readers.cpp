@@ -16,7 +16,13 @@ namespace {
 struct Optimized {
     pipeline::PreparedScene prepared;
     SceneMeshes meshes;
-    double seconds = 0.125; // the writer's stats.seconds (exact in both forms)
+    double seconds = 0.125; // the document's stats.seconds (exact in both forms)
+    // What `depthcull optimize` writes for these meshes, timed.
+    io::MeshesDocument document() const {
+        io::MeshesDocument d = io::meshes_document(prepared.scene, meshes);
+        d.seconds = seconds;
+        return d;
+    }
 };
 
 Optimized optimized_scene(const SceneDir& dir) {
@@ -76,12 +82,11 @@ TEST(MeshReaders, JsonRoundTripIsByteIdenticalWithEqualValues) {
     Optimized o = optimized_scene(dir);
     std::filesystem::create_directories(dir.path("out"));
     const std::string path = dir.path("out/meshes.json");
-    io::write_meshes_json(path, o.prepared.scene, o.meshes, o.seconds);
-    io::LoadedMeshes loaded = io::read_meshes_json(path);
+    io::write_meshes_json(path, o.document());
+    io::MeshesDocument loaded = io::read_meshes(path);
     expect_same_meshes(o.meshes, loaded.meshes);
     expect_same_images(o.prepared.scene.images, loaded.images);
     EXPECT_EQ(loaded.seconds, o.seconds);
-    EXPECT_EQ(io::meshes_to_json(loaded.images, loaded.meshes, path, loaded.seconds), io::read_file(path));
     EXPECT_EQ(io::meshes_to_json(loaded, path), io::read_file(path));
     for (const Draw& d : loaded.meshes.draws) EXPECT_TRUE(d.element_spans.empty());
 }
@@ -91,41 +96,41 @@ TEST(MeshReaders, BinaryRoundTripIsByteIdenticalWithEqualValues) {
     Optimized o = optimized_scene(dir);
     std::filesystem::create_directories(dir.path("out"));
     const std::string path = dir.path("out/meshes.bin");
-    io::write_meshes_binary(path, o.prepared.scene, o.meshes, o.seconds);
-    io::LoadedMeshes loaded = io::read_meshes_binary(path);
+    io::write_meshes_binary(path, o.document());
+    io::MeshesDocument loaded = io::read_meshes(path);
     expect_same_meshes(o.meshes, loaded.meshes);
     expect_same_images(o.prepared.scene.images, loaded.images);
     EXPECT_EQ(loaded.seconds, o.seconds);
-    EXPECT_EQ(io::meshes_to_binary(loaded.images, loaded.meshes, path, loaded.seconds), io::read_file(path));
     EXPECT_EQ(io::meshes_to_binary(loaded, path), io::read_file(path));
 }
 
 TEST(MeshReaders, ReadMeshesTellsTheFormsApartAndTheyAgree) {
     SceneDir dir("mesh_read_any");
     Optimized o = optimized_scene(dir);
-    io::write_meshes_json(dir.path("m.json"), o.prepared.scene, o.meshes, o.seconds);
-    io::write_meshes_binary(dir.path("m.bin"), o.prepared.scene, o.meshes, o.seconds);
-    io::LoadedMeshes j = io::read_meshes(dir.path("m.json")), b = io::read_meshes(dir.path("m.bin"));
+    io::write_meshes_json(dir.path("m.json"), o.document());
+    io::write_meshes_binary(dir.path("m.bin"), o.document());
+    io::MeshesDocument j = io::read_meshes(dir.path("m.json")), b = io::read_meshes(dir.path("m.bin"));
     expect_same_meshes(j.meshes, b.meshes);
     expect_same_images(j.images, b.images);
     EXPECT_EQ(j.seconds, b.seconds);
     // Converting one form into the other gives what the writer gives.
     EXPECT_EQ(io::meshes_to_binary(j, dir.path("m.bin")), io::read_file(dir.path("m.bin")));
-    // timing = false writes 0 (what the writer writes without a time).
-    EXPECT_EQ(io::meshes_to_binary(j, dir.path("m.bin"), false), io::meshes_to_binary(o.prepared.scene, o.meshes, dir.path("m.bin")));
+    // Seconds 0 writes what a document made without a time writes.
+    j.seconds = 0;
+    EXPECT_EQ(io::meshes_to_binary(j, dir.path("m.bin")), io::meshes_to_binary(io::meshes_document(o.prepared.scene, o.meshes), dir.path("m.bin")));
 }
 
 TEST(MeshReaders, FromMemoryKeepsPathsAsWritten) {
     SceneDir dir("mesh_read_mem");
     Optimized o = optimized_scene(dir);
-    const std::string text = io::meshes_to_json(o.prepared.scene, o.meshes, dir.path("sub/m.json"));
-    io::LoadedMeshes m = io::meshes_from_json(text, "memory");
+    const std::string text = io::meshes_to_json(o.document(), dir.path("sub/m.json"));
+    io::MeshesDocument m = io::meshes_from_json(text, "memory");
     EXPECT_EQ(m.images[0].path, "../art/blob.png");
     EXPECT_EQ(io::meshes_to_json(m, ""), text);
-    io::LoadedMeshes based = io::meshes_from_json(text, "memory", "/assets/sub");
+    io::MeshesDocument based = io::meshes_from_json(text, "memory", "/assets/sub");
     EXPECT_EQ(based.images[0].path, "/assets/art/blob.png");
-    const std::string bytes = io::meshes_to_binary(o.prepared.scene, o.meshes, dir.path("sub/m.bin"));
-    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory").images, io::meshes_from_binary(bytes, "memory").meshes, ""), bytes);
+    const std::string bytes = io::meshes_to_binary(o.document(), dir.path("sub/m.bin"));
+    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory"), ""), bytes);
 }
 
 void expect_same_animations(const std::vector<Animation>& a, const std::vector<Animation>& b) {
@@ -168,14 +173,15 @@ TEST(MeshReaders, AnimationsRoundTripInBothForms) {
     SceneDir dir("mesh_read_anim");
     Optimized o = animated_scene(dir);
     ASSERT_EQ(o.prepared.scene.animations.size(), 1u);
-    const std::vector<io::AnimatedRun> runs = io::animated_runs(o.prepared.scene, o.meshes, "");
+    const io::MeshesDocument document = o.document();
+    const std::vector<io::AnimatedRun>& runs = document.animated;
     ASSERT_FALSE(runs.empty());
     std::filesystem::create_directories(dir.path("out"));
     const std::string jpath = dir.path("out/m.json"), bpath = dir.path("out/m.bin");
-    io::write_meshes_json(jpath, o.prepared.scene, o.meshes, o.seconds);
-    io::write_meshes_binary(bpath, o.prepared.scene, o.meshes, o.seconds);
-    const io::LoadedMeshes j = io::read_meshes(jpath), b = io::read_meshes(bpath);
-    for (const io::LoadedMeshes* m : {&j, &b}) {
+    io::write_meshes_json(jpath, document);
+    io::write_meshes_binary(bpath, document);
+    const io::MeshesDocument j = io::read_meshes(jpath), b = io::read_meshes(bpath);
+    for (const io::MeshesDocument* m : {&j, &b}) {
         expect_same_meshes(o.meshes, m->meshes);
         expect_same_images(o.prepared.scene.images, m->images);
         expect_same_animations(m->animations, o.prepared.scene.animations);
@@ -192,10 +198,77 @@ TEST(MeshReaders, AnimationsRoundTripInBothForms) {
     EXPECT_EQ(flags & 8u, 8u);
     // Unanimated scenes: no section, no flag (files as before).
     Optimized plain = optimized_scene(dir);
-    std::memcpy(&flags, io::meshes_to_binary(plain.prepared.scene, plain.meshes, "").data() + 12, 4);
+    EXPECT_TRUE(plain.document().animated.empty());
+    std::memcpy(&flags, io::meshes_to_binary(plain.document(), "").data() + 12, 4);
     EXPECT_EQ(flags & 8u, 0u);
-    EXPECT_EQ(io::meshes_to_binary(plain.prepared.scene, plain.meshes, ""), io::meshes_to_binary(plain.prepared.scene.images, plain.meshes, ""));
-    EXPECT_TRUE(io::meshes_from_binary(io::meshes_to_binary(plain.prepared.scene, plain.meshes, ""), "m.bin").animations.empty());
+    EXPECT_TRUE(io::meshes_from_binary(io::meshes_to_binary(plain.document(), ""), "m.bin").animations.empty());
+}
+
+// One document, three writers per form: a document read back from a file
+// writes that file's bytes again, whichever writer (bytes, streamed
+// pieces, atomic file) and whichever form it was read from, animations
+// and stats.seconds included.
+TEST(MeshReaders, DocumentReadFromAFileWritesTheSameBytes) {
+    SceneDir dir("mesh_read_same");
+    Optimized o = animated_scene(dir);
+    std::filesystem::create_directories(dir.path("out"));
+    const std::string jpath = dir.path("out/m.json"), bpath = dir.path("out/m.bin");
+    io::write_meshes_json(jpath, o.document());
+    io::write_meshes_binary(bpath, o.document());
+    const std::string json = io::read_file(jpath), binary = io::read_file(bpath);
+    ASSERT_NE(json.find("\"seconds\": 0.125}"), std::string::npos);
+    ASSERT_NE(json.find("\"animated\""), std::string::npos);
+    for (const std::string& from : {jpath, bpath}) {
+        const io::MeshesDocument read = io::read_meshes(from);
+        EXPECT_EQ(read.seconds, 0.125) << from;
+        EXPECT_EQ(io::meshes_to_json(read, jpath), json) << from;
+        EXPECT_EQ(io::meshes_to_binary(read, bpath), binary) << from;
+        std::string streamed_json, streamed_binary;
+        io::stream_meshes_json([&](std::string_view piece) { streamed_json += piece; }, read, jpath);
+        io::stream_meshes_binary([&](std::string_view piece) { streamed_binary += piece; }, read, bpath);
+        EXPECT_EQ(streamed_json, json) << from;
+        EXPECT_EQ(streamed_binary, binary) << from;
+        // Written again in the same directory: the same bytes (paths are
+        // relative to the output's directory).
+        io::write_meshes_json(dir.path("out/again.json"), read);
+        io::write_meshes_binary(dir.path("out/again.bin"), read);
+        EXPECT_EQ(io::read_file(dir.path("out/again.json")), json) << from;
+        EXPECT_EQ(io::read_file(dir.path("out/again.bin")), binary) << from;
+    }
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to); // below
+
+// stats.seconds stays in both forms: what a writer given no time writes is
+// 0, and files that hold a time (`depthcull optimize` without --no-timing,
+// and every file written before timings left the writers' parameters)
+// still read, report it, and write it back as they were.
+TEST(MeshReaders, OldFilesWithSecondsStillRead) {
+    SceneDir dir("mesh_read_seconds");
+    Optimized o = optimized_scene(dir);
+    const io::MeshesDocument untimed = io::meshes_document(o.prepared.scene, o.meshes);
+    EXPECT_EQ(untimed.seconds, 0);
+    const std::string json = io::meshes_to_json(untimed, ""), binary = io::meshes_to_binary(untimed, "");
+    ASSERT_NE(json.find("\"seconds\": 0}"), std::string::npos);
+    double zero = -1;
+    std::memcpy(&zero, binary.data() + 96, 8); // header: stats.seconds at bytes 96..103
+    EXPECT_EQ(zero, 0.0);
+
+    const std::string old_json = replaced(json, "\"seconds\": 0}", "\"seconds\": 3.75}");
+    std::string old_binary = binary;
+    const double seconds = 3.75;
+    std::memcpy(old_binary.data() + 96, &seconds, 8);
+    for (const std::string& old : {old_json, old_binary}) {
+        const bool is_binary = io::is_binary_meshes(old);
+        io::MeshesDocument read = is_binary ? io::meshes_from_binary(old, "old.bin") : io::meshes_from_json(old, "old.json");
+        EXPECT_EQ(read.seconds, 3.75) << is_binary;
+        expect_same_meshes(o.meshes, read.meshes);
+        EXPECT_EQ(is_binary ? io::meshes_to_binary(read, "") : io::meshes_to_json(read, ""), old) << is_binary;
+        read.seconds = 0;
+        EXPECT_EQ(is_binary ? io::meshes_to_binary(read, "") : io::meshes_to_json(read, ""), is_binary ? binary : json) << is_binary;
+    }
+    // A JSON file without the field reads as not measured.
+    EXPECT_EQ(io::meshes_from_json(replaced(json, ", \"seconds\": 0}", "}"), "old.json").seconds, 0);
 }
 
 // A colour key (Tiled's trans) is part of the image: both forms carry it,
@@ -207,14 +280,14 @@ TEST(MeshReaders, FilterRoundTripsInBothForms) {
     Optimized o = optimized_scene(dir);
     EXPECT_EQ(o.meshes.filter, Filter::nearest);
     std::uint32_t flags = 0;
-    std::memcpy(&flags, io::meshes_to_binary(o.prepared.scene, o.meshes, "").data() + 12, 4);
+    std::memcpy(&flags, io::meshes_to_binary(o.document(), "").data() + 12, 4);
     EXPECT_EQ(flags & 4u, 0u);
-    EXPECT_NE(io::meshes_to_json(o.prepared.scene, o.meshes, "").find("\"filter\": \"nearest\""), std::string::npos);
+    EXPECT_NE(io::meshes_to_json(o.document(), "").find("\"filter\": \"nearest\""), std::string::npos);
     o.meshes.filter = Filter::linear;
-    const std::string text = io::meshes_to_json(o.prepared.scene, o.meshes, "");
+    const std::string text = io::meshes_to_json(o.document(), "");
     EXPECT_NE(text.find("\"filter\": \"linear\""), std::string::npos);
     expect_same_meshes(o.meshes, io::meshes_from_json(text, "memory").meshes);
-    const std::string bytes = io::meshes_to_binary(o.prepared.scene, o.meshes, "");
+    const std::string bytes = io::meshes_to_binary(o.document(), "");
     std::memcpy(&flags, bytes.data() + 12, 4);
     EXPECT_EQ(flags & 4u, 4u);
     expect_same_meshes(o.meshes, io::meshes_from_binary(bytes, "memory").meshes);
@@ -227,29 +300,30 @@ TEST(MeshReaders, FilterRoundTripsInBothForms) {
 TEST(MeshReaders, ColourKeysRoundTripInBothForms) {
     SceneDir dir("mesh_read_keys");
     Optimized o = optimized_scene(dir);
-    const std::string plain = io::meshes_to_binary(o.prepared.scene, o.meshes, "");
+    const std::string plain = io::meshes_to_binary(o.document(), "");
     std::uint32_t flags = 0;
     std::memcpy(&flags, plain.data() + 12, 4);
     EXPECT_EQ(flags & 2u, 0u);
-    std::vector<SceneImage> keyed = o.prepared.scene.images;
+    io::MeshesDocument document = o.document();
+    std::vector<SceneImage>& keyed = document.images;
     keyed[0].has_trans = true;
     keyed[0].trans = 0xff00ff;
-    const std::string text = io::meshes_to_json(keyed, o.meshes, "");
+    const std::string text = io::meshes_to_json(document, "");
     EXPECT_NE(text.find("\"trans\": \"ff00ff\""), std::string::npos);
     // Written for stdout: paths relative to the working directory (when it
     // shares a directory with the images; absolute otherwise), so they are
     // read back against it, wherever the tests run.
     const std::string cwd = std::filesystem::current_path().string();
     expect_same_images(keyed, io::meshes_from_json(text, "memory", cwd).images);
-    const std::string bytes = io::meshes_to_binary(keyed, o.meshes, "");
+    const std::string bytes = io::meshes_to_binary(document, "");
     expect_same_images(keyed, io::meshes_from_binary(bytes, "memory", cwd).images);
-    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory").images, o.meshes, ""), bytes);
+    EXPECT_EQ(io::meshes_to_binary(io::meshes_from_binary(bytes, "memory"), ""), bytes);
     std::string bad = text;
     bad.replace(bad.find("ff00ff"), 6, "ff00fg");
     try {
         io::meshes_from_json(bad, "bad.json");
         ADD_FAILURE() << "a bad colour key was read";
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
     }
 }
@@ -282,7 +356,7 @@ const char* kSmallJson = R"({"viewport": {"x": 0, "y": 0, "width": 8, "height": 
 std::string json_error(const std::string& text) {
     try {
         io::meshes_from_json(text, "m.json");
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "no error";
@@ -327,7 +401,7 @@ TEST(MeshReaders, JsonErrorsNameThePath) {
 std::string binary_error(const std::string& bytes) {
     try {
         io::meshes_from_binary(bytes, "m.bin");
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "no error";
@@ -340,8 +414,8 @@ std::string patched(std::string bytes, std::size_t at, T v) {
 }
 
 TEST(MeshReaders, BinaryErrorsNameTheByte) {
-    const io::LoadedMeshes small = io::meshes_from_json(kSmallJson, "m.json");
-    const std::string b = io::meshes_to_binary(small.images, small.meshes, "");
+    const io::MeshesDocument small = io::meshes_from_json(kSmallJson, "m.json");
+    const std::string b = io::meshes_to_binary(small, "");
     ASSERT_NO_THROW(io::meshes_from_binary(b, "m.bin"));
     // Header 104 bytes; image "a"/"a.png": 4+1+4+5 = 14, padded to 16, sizes at 120; draw header at 128, vertices at 144.
     ASSERT_EQ(b.size(), 264u);
@@ -389,7 +463,7 @@ std::string small_animated_json() {
 
 TEST(MeshReaders, AnimationErrorsNameThePlace) {
     const std::string text = small_animated_json();
-    const io::LoadedMeshes small = io::meshes_from_json(text, "m.json");
+    const io::MeshesDocument small = io::meshes_from_json(text, "m.json");
     ASSERT_EQ(small.animated.size(), 1u);
     const std::string b = io::meshes_to_binary(small, "");
     ASSERT_NO_THROW(io::meshes_from_binary(b, "m.bin"));
@@ -438,20 +512,20 @@ TEST(MeshReaders, AnimationErrorsNameThePlace) {
 }
 
 // A few thousand random byte edits of both forms: every outcome is a value
-// or an io::Error (the fuzz harnesses in fuzz/ run this without bound).
+// or a depthcull::Error (the fuzz harnesses in fuzz/ run this without bound).
 TEST(MeshReaders, RandomEditsNeverCrash) {
-    const io::LoadedMeshes small = io::meshes_from_json(kSmallJson, "m.json");
-    const std::string forms[] = {kSmallJson, io::meshes_to_binary(small.images, small.meshes, "")};
+    const io::MeshesDocument small = io::meshes_from_json(kSmallJson, "m.json");
+    const std::string forms[] = {kSmallJson, io::meshes_to_binary(small, "")};
     std::mt19937 rng(7);
     for (const std::string& form : forms) {
         for (int i = 0; i < 3000; ++i) {
             std::string s = form;
             for (int k = 0; k < 1 + int(rng() % 4); ++k) s[rng() % s.size()] = char(rng());
             try {
-                io::LoadedMeshes m = io::is_binary_meshes(s) ? io::meshes_from_binary(s, "x") : io::meshes_from_json(s, "x");
+                io::MeshesDocument m = io::is_binary_meshes(s) ? io::meshes_from_binary(s, "x") : io::meshes_from_json(s, "x");
                 for (const Draw& d : m.meshes.draws)
                     for (std::uint32_t index : d.indices) ASSERT_LT(index, d.vertex_count());
-            } catch (const io::Error&) {
+            } catch (const depthcull::Error&) {
             }
         }
     }
@@ -465,7 +539,7 @@ TEST(MeshReaders, FuzzSeedsAreValidMeshes) {
     for (const char* dir : {"mesh_json", "mesh_binary"}) {
         for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(DEPTHCULL_SOURCE_DIR) / "fuzz/corpus" / dir)) {
             if (entry.path().filename().string().rfind("crash-", 0) == 0) continue;
-            io::LoadedMeshes m = io::read_meshes(entry.path().string());
+            io::MeshesDocument m = io::read_meshes(entry.path().string());
             EXPECT_FALSE(m.meshes.draws.empty()) << entry.path();
             ++seeds;
         }
@@ -473,7 +547,7 @@ TEST(MeshReaders, FuzzSeedsAreValidMeshes) {
     EXPECT_GE(seeds, 4);
     // Both forms of a seed hold the same meshes.
     const std::string root = std::string(DEPTHCULL_SOURCE_DIR) + "/fuzz/corpus/";
-    io::LoadedMeshes j = io::read_meshes(root + "mesh_json/two_draws.json"), b = io::read_meshes(root + "mesh_binary/two_draws.bin");
+    io::MeshesDocument j = io::read_meshes(root + "mesh_json/two_draws.json"), b = io::read_meshes(root + "mesh_binary/two_draws.bin");
     expect_same_meshes(j.meshes, b.meshes);
 }
 

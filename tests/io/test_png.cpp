@@ -79,19 +79,19 @@ TEST(Png, CorruptAndMissingFilesGiveOneLineErrors) {
     try {
         io::load_png(path);
         FAIL();
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         std::string m = e.what();
         EXPECT_NE(m.find(path), std::string::npos);
         EXPECT_EQ(m.find('\n'), std::string::npos);
     }
-    EXPECT_THROW(io::load_png("/nonexistent/x.png"), io::Error);
+    EXPECT_THROW(io::load_png("/nonexistent/x.png"), depthcull::Error);
 }
 
 TEST(Png, TruncatedFileIsAnError) {
     Image img = test::ascii_image({"####", "####", "####"});
     std::string bytes = io::encode_png(img.view());
     bytes.resize(bytes.size() - 20);
-    EXPECT_THROW(io::decode_png(bytes.data(), bytes.size(), "t.png"), io::Error);
+    EXPECT_THROW(io::decode_png(bytes.data(), bytes.size(), "t.png"), depthcull::Error);
 }
 
 TEST(AtomicWrite, ReplacesAndLeavesNoTemporaries) {
@@ -105,7 +105,7 @@ TEST(AtomicWrite, ReplacesAndLeavesNoTemporaries) {
     int files = 0;
     for (auto& e : std::filesystem::directory_iterator(dir)) (void)e, ++files;
     EXPECT_EQ(files, 1);
-    EXPECT_THROW(io::write_file_atomic((dir / "missing" / "x").string(), "x"), io::Error);
+    EXPECT_THROW(io::write_file_atomic((dir / "missing" / "x").string(), "x"), depthcull::Error);
 }
 
 // Output written in pieces as it is made: the pieces in order, and a
@@ -123,9 +123,9 @@ TEST(AtomicWrite, StreamedPiecesOrAFailingProducerLeaveNoHalfFile) {
     EXPECT_THROW(io::write_file_atomic(path,
                                        [](const io::WriteBytes& write) {
                                            write("half");
-                                           throw io::Error("out.txt: made up");
+                                           throw depthcull::Error("out.txt: made up");
                                        }),
-                 io::Error);
+                 depthcull::Error);
     EXPECT_EQ(io::read_file(path), "one two");
     int files = 0;
     for (auto& e : std::filesystem::directory_iterator(dir)) (void)e, ++files;

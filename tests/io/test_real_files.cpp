@@ -36,7 +36,7 @@ template <class F>
 std::string error_of(F&& f) {
     try {
         f();
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "(no error)";

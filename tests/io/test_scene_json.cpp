@@ -17,7 +17,7 @@ std::string load_error(const SceneDir& dir, const std::string& text) {
     std::string path = dir.write("scene.json", text);
     try {
         io::load_scene(path);
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "";
@@ -77,7 +77,7 @@ TEST(SceneJson, ImageFilesAreReadOnceAndDecodedFromMemory) {
         EXPECT_EQ(decoded.width, from_disk[i].width) << i;
         EXPECT_EQ(decoded.rgba, from_disk[i].rgba) << i;
     }
-    EXPECT_THROW(io::load_scene_image(s.images[0]), io::Error);
+    EXPECT_THROW(io::load_scene_image(s.images[0]), depthcull::Error);
 }
 
 // Past its budget ImageFiles keeps nothing more: the loader reads such a
@@ -173,7 +173,7 @@ TEST(SceneJson, AtlasFramesResolveThroughTexturePacker) {
     try {
         io::load_scene(bad);
         ADD_FAILURE() << "expected an error";
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         EXPECT_NE(std::string(e.what()).find("element 1: atlas \"sheet\" has no frame \"nope.png\""), std::string::npos) << e.what();
     }
 }

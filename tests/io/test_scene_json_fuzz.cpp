@@ -1,5 +1,5 @@
 // The scene reader on random, mostly wrong, field values: it either loads
-// a valid scene or throws io::Error with a one-line message; it never
+// a valid scene or throws depthcull::Error with a one-line message; it never
 // crashes or lets another exception out.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -46,7 +46,7 @@ RC_GTEST_PROP(SceneJsonFuzz, OnlyCleanErrors, ()) {
             RC_ASSERT(view.contains(e.rect));
             RC_ASSERT(!e.rect.empty());
         }
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         RC_ASSERT(std::string(e.what()).find('\n') == std::string::npos);
     }
 }

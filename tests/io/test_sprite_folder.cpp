@@ -42,7 +42,7 @@ TEST(SpriteFolder, AFolderWithoutPngsIsAnError) {
     try {
         io::load_scene(dir.path("empty"));
         FAIL() << "loaded";
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         EXPECT_NE(std::string(e.what()).find("no PNG images"), std::string::npos) << e.what();
     }
 }

@@ -68,7 +68,7 @@ TEST(StagedFiles, TemporariesFitNameMax) {
     const fs::path dir = scratch("long");
     io::write_file_atomic((dir / std::string(250, 'x')).string(), "ok");
     EXPECT_EQ(read(dir / std::string(250, 'x')), "ok");
-    EXPECT_THROW(io::resolve_output((dir / std::string(256, 'x')).string()), io::Error);
+    EXPECT_THROW(io::resolve_output((dir / std::string(256, 'x')).string()), depthcull::Error);
 }
 
 TEST(StagedFiles, KindsOfOutput) {
@@ -83,7 +83,7 @@ TEST(StagedFiles, KindsOfOutput) {
     EXPECT_EQ(io::resolve_output("-").kind, io::OutputTarget::descriptor);
     EXPECT_EQ(io::resolve_output("/dev/stdout").fd, 1);
     EXPECT_EQ(io::resolve_output("/proc/self/fd/2").fd, 2);
-    EXPECT_THROW(io::resolve_output((dir / "d").string()), io::Error);
+    EXPECT_THROW(io::resolve_output((dir / "d").string()), depthcull::Error);
     io::write_file_atomic((dir / "link").string(), "new");
     EXPECT_TRUE(fs::is_symlink(dir / "link"));
     EXPECT_EQ(read(dir / "real"), "new");

@@ -32,7 +32,7 @@ std::string write_temp(const std::string& name, const std::string& text) {
 std::string load_error(const std::string& path) {
     try {
         io::load_texturepacker(path);
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "(no error)";
@@ -226,7 +226,7 @@ TEST(TexturePackerPolygons, RoundTripCoversEveryTexel) {
     }
 }
 
-// Corrupted atlases never crash: each mutation loads or throws io::Error.
+// Corrupted atlases never crash: each mutation loads or throws depthcull::Error.
 TEST(TexturePacker, MutatedAtlasesFailCleanly) {
     std::mt19937 rng(777);
     for (const char* name : {"sheet.json", "sheet-array.json"}) {
@@ -250,7 +250,7 @@ TEST(TexturePacker, MutatedAtlasesFailCleanly) {
                     EXPECT_FALSE(f.frame.empty());
                     EXPECT_GE(f.frame.x, 0);
                 }
-            } catch (const io::Error& e) {
+            } catch (const depthcull::Error& e) {
                 EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
             }
         }

@@ -55,7 +55,7 @@ std::string layer_xml(const std::string& data_xml) { return "<layer name=\"groun
 std::string load_error(const std::string& path) {
     try {
         io::load_scene(path);
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "(no error)";
@@ -362,7 +362,7 @@ TEST(TiledErrors, MissingFilesAndUnsupportedMaps) {
 }
 
 // Corrupted maps never crash or hang: each byte-level mutation of a valid
-// map loads or throws io::Error.
+// map loads or throws depthcull::Error.
 TEST(TiledErrors, MutatedMapsFailCleanly) {
     std::mt19937 rng(12345);
     for (const char* name : {"csv.tmx", "zlib.tmx", "gzip.tmx", "objects.tmx", "iso.tmx"}) {
@@ -392,7 +392,7 @@ TEST(TiledErrors, MutatedMapsFailCleanly) {
             try {
                 Scene s = io::load_scene(m.path);
                 EXPECT_LE(s.elements.size(), 64u) << name << " round " << round;
-            } catch (const io::Error& e) {
+            } catch (const depthcull::Error& e) {
                 EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
             }
         }

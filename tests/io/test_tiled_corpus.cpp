@@ -37,7 +37,7 @@ void import_all(const std::string& package, int expected_refusals) {
                 const SceneImage& image = s.images[std::size_t(e.image)];
                 ASSERT_TRUE((ImageView{nullptr, image.width, image.height, 0}.contains(e.rect))) << path << ": " << image.path;
             }
-        } catch (const io::Error& e) {
+        } catch (const depthcull::Error& e) {
             std::string message = e.what();
             ++refused;
             EXPECT_NE(message.find("maps are not supported"), std::string::npos) << message;

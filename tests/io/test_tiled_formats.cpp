@@ -35,7 +35,7 @@ struct TempDir : test::SceneDir {
 std::string error_of(const std::function<void()>& fn) {
     try {
         fn();
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     }
     return "(no error)";
@@ -227,11 +227,12 @@ TEST(TiledLayers, BackgroundFillTravelsInBothMeshForms) {
     images[1].has_fill = true;
     images[1].fill = 0x3b97d3;
     images[1].width = images[1].height = kFillImageSide;
-    SceneMeshes meshes;
-    meshes.viewport = {0, 0, 12, 8};
-    std::string text = io::meshes_to_json(images, meshes, "");
+    io::MeshesDocument document;
+    document.images = images;
+    document.meshes.viewport = {0, 0, 12, 8};
+    std::string text = io::meshes_to_json(document, "");
     EXPECT_NE(text.find("{\"id\": \"background\", \"path\": \"\", \"width\": 16, \"height\": 16, \"fill\": \"3b97d3\"}"), std::string::npos) << text;
-    for (const io::LoadedMeshes& back : {io::meshes_from_json(text, "m.json"), io::meshes_from_binary(io::meshes_to_binary(images, meshes, ""), "m.bin")}) {
+    for (const io::MeshesDocument& back : {io::meshes_from_json(text, "m.json"), io::meshes_from_binary(io::meshes_to_binary(document, ""), "m.bin")}) {
         ASSERT_EQ(back.images.size(), 2u);
         EXPECT_FALSE(back.images[0].has_fill);
         EXPECT_TRUE(back.images[1].has_fill);
@@ -315,7 +316,7 @@ TEST(TiledAnimation, OneAnalysisCoversEveryFrame) {
     ReconstructOptions spans;
     spans.element_spans = true; // the meshes JSON's "animated" runs
     reconstruct_scene(s, p.analysis, spans, &meshes);
-    std::string mesh_text = io::meshes_to_json(s, meshes, "");
+    std::string mesh_text = io::meshes_to_json(io::meshes_document(s, meshes), "");
     auto doc = nlohmann::json::parse(mesh_text);
     ASSERT_EQ(doc["animations"].size(), 1u);
     EXPECT_EQ(doc["animations"][0]["frames"][1], nlohmann::json::parse(R"({"image": 0, "rect": [16, 0, 16, 16], "duration": 250})"));
@@ -385,7 +386,7 @@ TEST(TiledLayers, BlendModesWarn) {
     EXPECT_EQ(warnings[0], map + ": layer 'g': layer blend mode 'multiply' is drawn as normal");
 }
 
-// Mutated JSON maps, JSON tilesets and plists: a scene or one io::Error
+// Mutated JSON maps, JSON tilesets and plists: a scene or one depthcull::Error
 // line, never a crash or another exception.
 TEST(TiledJson, MutatedFilesFailCleanly) {
     std::mt19937 rng(4242);
@@ -419,7 +420,7 @@ TEST(TiledJson, MutatedFilesFailCleanly) {
                 if (c.name == "c.plist") io::load_atlas(path);
                 else if (c.name == "tiles.tsj") io::load_scene(tsx_map);
                 else io::load_scene(path);
-            } catch (const io::Error& e) {
+            } catch (const depthcull::Error& e) {
                 EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
             }
         }

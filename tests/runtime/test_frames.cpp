@@ -311,7 +311,7 @@ TEST_P(Frames, CorpusMapsWithMovingSpritesInTheGameLayer) {
                 pipeline::PrepareOptions options;
                 options.cache_dir = pipeline::default_cache_dir();
                 p = pipeline::prepare_scene(path, options);
-            } catch (const io::Error&) {
+            } catch (const depthcull::Error&) {
                 continue;
             }
             if (p.scene.insertion_points.empty() || p.scene.elements.empty()) continue;

@@ -48,8 +48,8 @@ TEST(FramesFromFiles, SpritesAtTheLoadedInsertionPointsEqualOverpaint) {
     const std::vector<ImageView> views = p.views();
     const Viewport view = p.scene.viewport;
     for (const bool binary : {false, true}) {
-        const io::LoadedMeshes loaded = binary ? io::meshes_from_binary(io::meshes_to_binary(p.scene, built, ""), "m.bin")
-                                               : io::meshes_from_json(io::meshes_to_json(p.scene, built, ""), "m.json");
+        const io::MeshesDocument loaded = binary ? io::meshes_from_binary(io::meshes_to_binary(io::meshes_document(p.scene, built), ""), "m.bin")
+                                                 : io::meshes_from_json(io::meshes_to_json(io::meshes_document(p.scene, built), ""), "m.json");
         ASSERT_EQ(loaded.meshes.insertion_points, built.insertion_points);
         std::mt19937 rng(23);
         for (int f = 0; f < 4; ++f) {
@@ -134,7 +134,7 @@ TEST(MovingSpritesCorpus, EveryMapWithAnObjectLayer1000Sprites60Frames) {
             pipeline::PrepareOptions options;
             options.cache_dir = pipeline::default_cache_dir();
             p = pipeline::prepare_scene(path, options);
-        } catch (const io::Error&) {
+        } catch (const depthcull::Error&) {
             continue;
         }
         if (p.scene.insertion_points.empty() || p.scene.elements.empty()) continue;

@@ -99,7 +99,7 @@ TEST_P(PixelIdentity, EveryCorpusCamera) {
                 pipeline::PrepareOptions options;
                 options.cache_dir = pipeline::default_cache_dir();
                 p = pipeline::prepare_scene(path, options);
-            } catch (const io::Error&) {
+            } catch (const depthcull::Error&) {
                 continue; // maps depthcull refuses (hexagonal, staggered) are listed by bench-corpus
             }
             const Viewport whole = p.scene.viewport;

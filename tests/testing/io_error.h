@@ -1,6 +1,6 @@
 #pragma once
 // What the io-layer tests ask of a failure: the one-line message of the
-// io::Error a call throws, and whether a message says a given thing.
+// depthcull::Error a call throws, and whether a message says a given thing.
 
 #include <exception>
 #include <string>
@@ -11,16 +11,16 @@
 
 namespace depthcull::test {
 
-// The message of the io::Error that fn throws; fails the test when it
+// The message of the depthcull::Error that fn throws; fails the test when it
 // throws anything else or nothing.
 template <class F>
 std::string io_error(F&& fn) {
     try {
         fn();
-    } catch (const io::Error& e) {
+    } catch (const depthcull::Error& e) {
         return e.what();
     } catch (const std::exception& e) {
-        ADD_FAILURE() << "not an io::Error: " << e.what();
+        ADD_FAILURE() << "not a depthcull::Error: " << e.what();
         return {};
     }
     ADD_FAILURE() << "no error";
