@@ -192,6 +192,7 @@ private:
         std::vector<double> xxyy;
         std::vector<float> uv_lanes;
         std::int32_t opaque_key = 0; // the opaque pass's key of its picture (texture * 4 + blend)
+        std::uint32_t vertex_count = 0, index_count = 0; // xy.size() / 2; the indices used (3 more are held)
     };
     static constexpr std::uint32_t kNone = 0xffffffffu;
     // Templates per texel margin: kTexelMargin * 2^b for bucket b. A sprite

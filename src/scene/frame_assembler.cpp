@@ -35,6 +35,8 @@
 #else
 #define DEPTHCULL_STREAM_VERTICES 0
 #endif
+// SSE2 also for the overlap grid (FrameAssembler::run).
+#define DEPTHCULL_SSE2_GRID DEPTHCULL_STREAM_VERTICES
 
 namespace {
 // Frames whose vertices take more than this stream them past the caches
@@ -50,11 +52,11 @@ namespace {
 
 // v - v is 0 for a finite v, NaN otherwise: one test, no branch per number.
 bool finite_sprite(const Sprite& s) {
-    double t = 0;
-    for (double v : s.transform) t += v - v;
-    float c = 0;
-    for (float v : s.color) c += v - v;
-    return t == 0 && c == 0;
+    const auto& m = s.transform;
+    const auto& c = s.color;
+    const double t = ((m[0] - m[0]) + (m[1] - m[1])) + ((m[2] - m[2]) + (m[3] - m[3])) + ((m[4] - m[4]) + (m[5] - m[5]));
+    const float f = ((c[0] - c[0]) + (c[1] - c[1])) + ((c[2] - c[2]) + (c[3] - c[3]));
+    return t == 0 && f == 0;
 }
 
 } // namespace
@@ -99,6 +101,10 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
             t.uv.insert(t.uv.end(), {t.uv[t.uv.size() - 2], t.uv[t.uv.size() - 1]});
         }
         const std::size_t n = t.xy.size() / 2;
+        t.vertex_count = std::uint32_t(n);
+        t.index_count = std::uint32_t(t.indices.size());
+        // Room for place_indices' last 4 (read, never used).
+        t.indices.resize(t.indices.size() + 3);
         t.xxyy.resize(4 * n);
         for (std::size_t k = 0; k < n; ++k)
             t.xxyy[4 * k] = t.xxyy[4 * k + 1] = t.xy[2 * k], t.xxyy[4 * k + 2] = t.xxyy[4 * k + 3] = t.xy[2 * k + 1];
@@ -111,8 +117,8 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
         *id = std::uint32_t(templates_.size());
         templates_.push_back(std::move(t));
     };
-    auto vertex_count = [&](std::uint32_t id) { return id == kNone ? 0 : templates_[id].xy.size() / 2; };
-    auto index_count = [&](std::uint32_t id) { return id == kNone ? 0 : templates_[id].indices.size(); };
+    auto vertex_count = [&](std::uint32_t id) { return id == kNone ? 0 : std::size_t(templates_[id].vertex_count); };
+    auto index_count = [&](std::uint32_t id) { return id == kNone ? 0 : std::size_t(templates_[id].index_count); };
     Draw unused;
     p.has_boundary = !a->boundary.empty();
     p.has_opaque = !a->opaque.empty();
@@ -214,7 +220,7 @@ void FrameAssembler::reserve(std::size_t sprites, AssembledFrame* out) {
     key_count_.reserve(keys);
     key_nearest_.reserve(keys);
     key_order_.reserve(keys);
-    cell_top_.reserve(std::size_t(std::max(options_.max_cells, 1)));
+    cell_top_.reserve(std::size_t(std::max(options_.max_cells, 1)) + 3);
     ranges_.reserve(16);
     point_batch_.reserve(17);
     if (out) {
@@ -355,6 +361,35 @@ void emit_groups(const double* xxyy, const float* uv_lanes, std::size_t groups, 
 }
 #endif
 
+// A template's indices plus a sprite's first vertex, `count` of them at
+// `to`. With SSE2, 4 at a time, the last 4 ending at `count` (rewriting a
+// few, the same): no loop tail. Templates hold 3 indices more than they
+// use, so reading 4 at a time stays inside.
+inline void place_indices(const std::uint32_t* from, std::uint32_t count, std::uint32_t base, std::uint32_t* to) {
+#if DEPTHCULL_STREAM_VERTICES
+    if (count >= 4) {
+        const __m128i add = _mm_set1_epi32(int(base));
+        std::uint32_t k = 0;
+        for (; k + 4 <= count; k += 4)
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(to + k),
+                             _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(from + k)), add));
+        if (k < count)
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(to + count - 4),
+                             _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(from + count - 4)), add));
+        return;
+    }
+#endif
+    for (std::uint32_t k = 0; k < count; ++k) to[k] = base + from[k];
+}
+
+#if DEPTHCULL_SSE2_GRID
+// SSE2 has no pmaxsd.
+inline __m128i max_epi32(__m128i a, __m128i b) {
+    const __m128i greater = _mm_cmpgt_epi32(a, b);
+    return _mm_or_si128(_mm_and_si128(greater, a), _mm_andnot_si128(greater, b));
+}
+#endif
+
 } // namespace
 
 // One pass over the sprites in painter's order plans each, writes its
@@ -404,8 +439,9 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     while (std::ceil(w / cell) * std::ceil(h / cell) > max_cells) cell *= 2;
     const int cols = int(std::ceil(w / cell)), rows = int(std::ceil(h / cell));
     const double inv = 1 / cell;
-    // int(c) is floor(c) for c >= 0, and c < 0 clamps to 0 anyway.
-    auto clamp_cell = [](double c, int n) { return c < 0 ? 0 : c >= n ? n - 1 : int(c); };
+    // int(c) is floor(c) for c >= 0, and c < 0 clamps to 0 anyway; NaN
+    // (a huge transform's inf - inf) gives 0. No branch (minsd, maxsd).
+    auto clamp_cell = [](double c, int n) { return int(std::max(0.0, std::min(c, double(n - 1)))); };
 
     // depth_z with the reciprocal: within a double rounding of its
     // quotient, so at most a float ulp (2^-24 below 1) off, while levels lie
@@ -413,7 +449,7 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     const double inverse = 1 / double(denominator_);
     auto z_of = [&](std::int64_t level, bool opaque) { return float(double(2 * level + (opaque ? 2 : 1)) * inverse); };
     auto emit = [&](const Template& t, const Sprite& s, float z, float* v) {
-        const std::size_t count = t.xy.size() / 2;
+        const std::size_t count = t.vertex_count;
 #if DEPTHCULL_STREAM_VERTICES
         // Templates hold whole groups of 4 vertices (to_template pads
         // them), so every group starts 16-byte aligned.
@@ -428,7 +464,8 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     for (const Range& range : ranges_) {
         // Each point batches on its own (its draws go between other static draws).
         point_batch_.push_back(std::uint32_t(batch_key_.size()));
-        cell_top_.assign(std::size_t(cols) * std::size_t(rows), -1);
+        // 3 cells more: a box's rows are read 4 cells at a time.
+        cell_top_.assign(std::size_t(cols) * std::size_t(rows) + 3, -1);
         last_batch_of_key_.assign(keys, -1);
         std::int32_t all_top = -1, wide_top = -1;
         for (std::size_t i = range.first; i < range.end; ++i) {
@@ -447,8 +484,8 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
                                                                                          : pic.plain;
             const Template* opaque = q.opaque_template == kNone ? nullptr : &templates_[q.opaque_template];
             const Template* blend = q.blend_template == kNone ? nullptr : &templates_[q.blend_template];
-            const std::size_t opaque_vertices = opaque ? opaque->xy.size() / 2 : 0;
-            const std::size_t count = opaque_vertices + (blend ? blend->xy.size() / 2 : 0);
+            const std::size_t opaque_vertices = opaque ? opaque->vertex_count : 0;
+            const std::size_t count = opaque_vertices + (blend ? blend->vertex_count : 0);
             if ((vertex_end + count) * kVertexFloats > vertices.size()) { // grows (until warmed up)
                 vertices.resize(vertex_end * kVertexFloats);
                 vertices.resize((vertex_end + count) * kVertexFloats);
@@ -459,9 +496,9 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
             if (opaque) {
                 emit(*opaque, s, z_of(level, true), v);
                 const auto key = std::size_t(opaque->opaque_key);
-                key_count_[key] += std::int32_t(opaque->indices.size());
+                key_count_[key] += std::int32_t(opaque->index_count);
                 key_nearest_[key] = std::int64_t(i); // levels grow with i
-                opaque_indices += opaque->indices.size();
+                opaque_indices += opaque->index_count;
             }
             if (!blend) continue;
             emit(*blend, s, z_of(level, false), v + opaque_vertices * kVertexFloats);
@@ -480,6 +517,29 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
             const int cy1 = clamp_cell((centre.y + ey - bounds.y) * inv, rows);
             const bool wide = std::int64_t(cx1 - cx0 + 1) * (cy1 - cy0 + 1) > options_.cell_budget;
             std::int32_t top = all_top;
+#if DEPTHCULL_SSE2_GRID
+            // Boxes of up to 4 x 4 cells (most sprites) without a branch
+            // per cell: 4 rows of 4 cells, lanes past the box masked (-1
+            // read, the cell's own value written back), rows past it
+            // repeating its last.
+            const bool small = !wide && cx1 - cx0 < 4 && cy1 - cy0 < 4;
+            std::int32_t* box[4];
+            __m128i in_box = _mm_setzero_si128();
+            if (small) {
+                in_box = _mm_cmplt_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(cx1 - cx0 + 1));
+                const __m128i outside = _mm_andnot_si128(in_box, _mm_set1_epi32(-1));
+                __m128i row[4];
+                for (int k = 0; k < 4; ++k) {
+                    box[k] = cell_top_.data() + std::size_t(std::min(cy0 + k, cy1)) * std::size_t(cols) + std::size_t(cx0);
+                    row[k] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(box[k]));
+                }
+                __m128i most = _mm_or_si128(max_epi32(max_epi32(row[0], row[1]), max_epi32(row[2], row[3])), outside);
+                most = max_epi32(most, _mm_set1_epi32(wide_top));
+                most = max_epi32(most, _mm_shuffle_epi32(most, _MM_SHUFFLE(1, 0, 3, 2)));
+                most = max_epi32(most, _mm_shuffle_epi32(most, _MM_SHUFFLE(2, 3, 0, 1)));
+                top = _mm_cvtsi128_si32(most);
+            } else
+#endif
             if (!wide) {
                 top = wide_top;
                 for (int cy = cy0; cy <= cy1; ++cy) {
@@ -501,14 +561,24 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
                 last_batch_of_key_[std::size_t(p.key)] = b;
             }
             q.batch = b;
-            batch_count_[std::size_t(b)] += std::int32_t(blend->indices.size());
-            blend_indices += blend->indices.size();
+            batch_count_[std::size_t(b)] += std::int32_t(blend->index_count);
+            blend_indices += blend->index_count;
+            // b is at least every batch its cells hold (at least top).
             all_top = std::max(all_top, b);
+#if DEPTHCULL_SSE2_GRID
+            if (small) {
+                const __m128i batch = _mm_and_si128(in_box, _mm_set1_epi32(b));
+                for (std::int32_t* row : box) {
+                    const __m128i old = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row));
+                    _mm_storeu_si128(reinterpret_cast<__m128i*>(row), _mm_or_si128(batch, _mm_andnot_si128(in_box, old)));
+                }
+            } else
+#endif
             if (wide) wide_top = std::max(wide_top, b);
             else
                 for (int cy = cy0; cy <= cy1; ++cy) {
                     std::int32_t* row = cell_top_.data() + std::size_t(cy) * std::size_t(cols);
-                    for (int cx = cx0; cx <= cx1; ++cx) row[cx] = std::max(row[cx], b);
+                    for (int cx = cx0; cx <= cx1; ++cx) row[cx] = b;
                 }
         }
     }
@@ -522,10 +592,8 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     out->indices.resize(opaque_indices + blend_indices);
     std::uint32_t* indices = out->indices.data();
     auto place = [&](const Template& t, std::uint32_t base, std::int32_t& cursor) {
-        const std::uint32_t* tx = t.indices.data();
-        std::uint32_t* ix = indices + cursor;
-        for (std::size_t k = 0, count = t.indices.size(); k < count; ++k) ix[k] = base + tx[k];
-        cursor += std::int32_t(t.indices.size());
+        place_indices(t.indices.data(), t.index_count, base, indices + cursor);
+        cursor += std::int32_t(t.index_count);
     };
 
     // The opaque pass, front to back: keys by their nearest sprite,
@@ -572,10 +640,10 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
         if (p.opaque_template != kNone) {
             const Template& t = templates_[p.opaque_template];
             std::int32_t& end = key_count_[std::size_t(t.opaque_key)];
-            end -= std::int32_t(t.indices.size());
+            end -= std::int32_t(t.index_count);
             std::int32_t cursor = end;
             place(t, base, cursor);
-            base += std::uint32_t(t.xy.size() / 2);
+            base += t.vertex_count;
         }
         if (p.blend_template != kNone) place(templates_[p.blend_template], base, batch_count_[std::size_t(p.batch)]);
     }
