@@ -439,9 +439,12 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     while (std::ceil(w / cell) * std::ceil(h / cell) > max_cells) cell *= 2;
     const int cols = int(std::ceil(w / cell)), rows = int(std::ceil(h / cell));
     const double inv = 1 / cell;
-    // int(c) is floor(c) for c >= 0, and c < 0 clamps to 0 anyway; NaN
-    // (a huge transform's inf - inf) gives 0. No branch (minsd, maxsd).
-    auto clamp_cell = [](double c, int n) { return int(std::max(0.0, std::min(c, double(n - 1)))); };
+    // int(c) is floor(c) for c >= 0, and c < 0 clamps to 0 anyway. No
+    // branch (minsd, maxsd). NaN (a huge transform's inf - inf) gives the
+    // first cell as the low end of a box, the last as the high end: the
+    // whole grid.
+    auto low_cell = [](double c, int n) { return int(std::max(0.0, std::min(c, double(n - 1)))); };
+    auto high_cell = [](double c, int n) { return int(std::min(double(n - 1), std::max(c, 0.0))); };
 
     // depth_z with the reciprocal: within a double rounding of its
     // quotient, so at most a float ulp (2^-24 below 1) off, while levels lie
@@ -511,10 +514,10 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
             const double hx = (x1 - x0) / 2, hy = (y1 - y0) / 2;
             const Vec2 centre = apply(m, {x0 + hx, y0 + hy});
             const double ex = std::abs(m[0]) * hx + std::abs(m[2]) * hy + 1, ey = std::abs(m[1]) * hx + std::abs(m[3]) * hy + 1;
-            const int cx0 = clamp_cell((centre.x - ex - bounds.x) * inv, cols);
-            const int cx1 = clamp_cell((centre.x + ex - bounds.x) * inv, cols);
-            const int cy0 = clamp_cell((centre.y - ey - bounds.y) * inv, rows);
-            const int cy1 = clamp_cell((centre.y + ey - bounds.y) * inv, rows);
+            const int cx0 = low_cell((centre.x - ex - bounds.x) * inv, cols);
+            const int cx1 = high_cell((centre.x + ex - bounds.x) * inv, cols);
+            const int cy0 = low_cell((centre.y - ey - bounds.y) * inv, rows);
+            const int cy1 = high_cell((centre.y + ey - bounds.y) * inv, rows);
             const bool wide = std::int64_t(cx1 - cx0 + 1) * (cy1 - cy0 + 1) > options_.cell_budget;
             std::int32_t top = all_top;
 #if DEPTHCULL_SSE2_GRID
