@@ -401,7 +401,8 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     plan_.resize(n);
     // The last frame's size tells whether this one outgrows the caches
     // (the stores differ, the vertices written do not).
-    const bool stream = out->vertices.size() * sizeof(float) > kStreamBytes;
+    // (Used only with SSE2: the WebAssembly build has it unused.)
+    [[maybe_unused]] const bool stream = out->vertices.size() * sizeof(float) > kStreamBytes;
     // The vertices are written at a cursor into the whole capacity
     // (uninitialized, so this stores nothing), cut to size at the end: no
     // resize per template.
