@@ -185,7 +185,7 @@ private:
         std::vector<double> xy;   // texel positions relative to the rect's top-left
         std::vector<float> uv;    // texture coordinates 0..1
         std::vector<std::uint32_t> indices;
-        // The same vertices for emit's SIMD path: per vertex {x, x, y, y}
+        // The same vertices for emit_groups (SSE2): per vertex {x, x, y, y}
         // (a transform row multiplies them whole); per group of 4 vertices
         // the texture coordinates in the lanes of the group's 9 float
         // vectors 0, 1, 3, 5 and 7 (zero elsewhere): 20 floats.
@@ -199,7 +199,7 @@ private:
     // scaled below 1/8 needs a wider margin (texel_margin.cpp) and takes the
     // bucket of the next power of two up to half a texel.
     static constexpr int kMarginBuckets = 5;
-    struct Picture { // template ids are indices into templates_
+    struct Picture { // template ids index templates_ (add_image sets absent ones to kNone)
         int texture = 0;
         Rect rect;
         std::uint32_t plain = kNone;                     // boundary polygons, for transforms that snap exactly
