@@ -185,41 +185,46 @@ private:
         std::vector<double> xy;   // texel positions relative to the rect's top-left
         std::vector<float> uv;    // texture coordinates 0..1
         std::vector<std::uint32_t> indices;
+        // The same vertices for emit_groups (SSE2): per vertex {x, x, y, y}
+        // (a transform row multiplies them whole); per group of 4 vertices
+        // the texture coordinates in the lanes of the group's 9 float
+        // vectors 0, 1, 3, 5 and 7 (zero elsewhere): 20 floats.
+        std::vector<double> xxyy;
+        std::vector<float> uv_lanes;
+        std::int32_t opaque_key = 0; // the opaque pass's key of its picture (texture * 4 + blend)
+        std::uint32_t vertex_count = 0, index_count = 0; // xy.size() / 2; the indices used (3 more are held)
     };
+    static constexpr std::uint32_t kNone = 0xffffffffu;
     // Templates per texel margin: kTexelMargin * 2^b for bucket b. A sprite
     // scaled below 1/8 needs a wider margin (texel_margin.cpp) and takes the
     // bucket of the next power of two up to half a texel.
     static constexpr int kMarginBuckets = 5;
-    struct Picture {
+    struct Picture { // template ids index templates_ (add_image sets absent ones to kNone)
         int texture = 0;
         Rect rect;
-        Template plain;                    // boundary polygons, for transforms that snap exactly
-        Template boundary[kMarginBuckets]; // boundary polygons with their texel skirt
-        Template opaque[kMarginBuckets], quad;
+        std::uint32_t plain = kNone;                     // boundary polygons, for transforms that snap exactly
+        std::uint32_t boundary[kMarginBuckets] = {};     // boundary polygons with their texel skirt
+        std::uint32_t opaque[kMarginBuckets] = {}, quad = kNone;
         bool boundary_inside = false; // analysis boundary within the rect
         bool has_boundary = false, has_opaque = false;
         bool opaque_covers_all = false;
         bool bleeding_edges = false; // ImageAnalysis::bleeding_edges: turned or scaled, it draws its rect
         double bx0 = 0, by0 = 0, bx1 = 0, by1 = 0; // what it draws, texels relative to the rect
     };
-    struct Plan { // per sprite, this frame
-        std::int32_t picture;
-        std::int32_t key;
-        std::int8_t boundary; // 0 none, 1 analysis, 2 rect
-        std::int8_t opaque;   // 0 none, 1 analysis, 2 rect
-        std::int8_t margin;   // the templates' bucket
-        bool blended;
-        std::int32_t batch;
-        std::uint32_t opaque_base, blend_base; // the sprite's first vertex in the frame, per pass
-        const Template* opaque_template;
-        const Template* blend_template;
+    // Per sprite, this frame: what the index pass needs (16 bytes: the
+    // frame reads and writes it once per sprite).
+    struct Plan {
+        std::uint32_t base;          // the sprite's first vertex (opaque template, then blend template)
+        std::int32_t batch;          // its blend batch
+        std::uint32_t opaque_template, blend_template; // ids, or kNone
     };
+    struct SpriteShape; // plan_sprite's answer
 
-    FrameStatus plan_sprite(const Sprite& s, Plan& p);
-    static std::uint32_t emit(const Template& t, const Sprite& s, float z, bool stream, AssembledFrame* out);
+    FrameStatus plan_sprite(const Sprite& s, SpriteShape& p) const;
     FrameStatus run(const Viewport& bounds, AssembledFrame* out);
 
     AssemblerOptions options_;
+    std::vector<Template> templates_;
     std::vector<Picture> images_;
     std::vector<std::vector<int>> animations_;
     int max_texture_ = -1;

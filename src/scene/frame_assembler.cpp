@@ -35,10 +35,12 @@
 #else
 #define DEPTHCULL_STREAM_VERTICES 0
 #endif
+// SSE2 also for the overlap grid (FrameAssembler::run).
+#define DEPTHCULL_SSE2_GRID DEPTHCULL_STREAM_VERTICES
 
 namespace {
 // Frames whose vertices take more than this stream them past the caches
-// (FrameAssembler::emit); smaller ones stay cached for the upload.
+// (emit_groups); smaller ones stay cached for the upload.
 constexpr std::size_t kStreamBytes = std::size_t(8) << 20;
 } // namespace
 
@@ -48,12 +50,13 @@ using namespace detail;
 
 namespace {
 
+// v - v is 0 for a finite v, NaN otherwise: one test, no branch per number.
 bool finite_sprite(const Sprite& s) {
-    for (double v : s.transform)
-        if (!std::isfinite(v)) return false;
-    for (float c : s.color)
-        if (!std::isfinite(c)) return false;
-    return true;
+    const auto& m = s.transform;
+    const auto& c = s.color;
+    const double t = ((m[0] - m[0]) + (m[1] - m[1])) + ((m[2] - m[2]) + (m[3] - m[3])) + ((m[4] - m[4]) + (m[5] - m[5]));
+    const float f = ((c[0] - c[0]) + (c[1] - c[1])) + ((c[2] - c[2]) + (c[3] - c[3]));
+    return t == 0 && f == 0;
 }
 
 } // namespace
@@ -72,10 +75,13 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
     Picture p;
     p.texture = image.texture;
     p.rect = image.rect;
+    std::fill(std::begin(p.boundary), std::end(p.boundary), kNone);
+    std::fill(std::begin(p.opaque), std::end(p.opaque), kNone);
     const double iw = 1.0 / image.texture_width, ih = 1.0 / image.texture_height;
     // Vertices at the same texel position are one vertex (the same
     // position and texture coordinate, so drawn alike).
-    auto to_template = [&](const TexelMesh& m, Template& t) {
+    auto to_template = [&](const TexelMesh& m, std::uint32_t* id) {
+        Template t;
         std::map<std::pair<double, double>, std::uint32_t> index_of;
         for (std::uint32_t k : m.indices) {
             const Vec2 v = m.points[k];
@@ -88,13 +94,31 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
             }
             t.indices.push_back(it->second);
         }
-        // Whole groups of 4 vertices (emit's streaming stores), padded with
+        // Whole groups of 4 vertices (emit's vector stores), padded with
         // copies of the last one, which no index names.
         while (t.xy.size() % 8 != 0) {
             t.xy.insert(t.xy.end(), {t.xy[t.xy.size() - 2], t.xy[t.xy.size() - 1]});
             t.uv.insert(t.uv.end(), {t.uv[t.uv.size() - 2], t.uv[t.uv.size() - 1]});
         }
+        const std::size_t n = t.xy.size() / 2;
+        t.vertex_count = std::uint32_t(n);
+        t.index_count = std::uint32_t(t.indices.size());
+        // Room for place_indices' last 4 (read, never used).
+        t.indices.resize(t.indices.size() + 3);
+        t.xxyy.resize(4 * n);
+        for (std::size_t k = 0; k < n; ++k)
+            t.xxyy[4 * k] = t.xxyy[4 * k + 1] = t.xy[2 * k], t.xxyy[4 * k + 2] = t.xxyy[4 * k + 3] = t.xy[2 * k + 1];
+        // Vectors 0, 1, 3, 5, 7 of a group hold u0 | v0 | u1 v1 | u2 v2 | u3 v3
+        // (the layout in emit_group).
+        static constexpr int kLane[8] = {3, 4, 8, 9, 13, 14, 18, 19};
+        t.uv_lanes.assign(n / 4 * 20, 0.0f);
+        for (std::size_t g = 0; g < n / 4; ++g)
+            for (int k = 0; k < 8; ++k) t.uv_lanes[20 * g + std::size_t(kLane[k])] = t.uv[8 * g + std::size_t(k)];
+        *id = std::uint32_t(templates_.size());
+        templates_.push_back(std::move(t));
     };
+    auto vertex_count = [&](std::uint32_t id) { return id == kNone ? 0 : std::size_t(templates_[id].vertex_count); };
+    auto index_count = [&](std::uint32_t id) { return id == kNone ? 0 : std::size_t(templates_[id].index_count); };
     Draw unused;
     p.has_boundary = !a->boundary.empty();
     p.has_opaque = !a->opaque.empty();
@@ -118,28 +142,30 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
             const auto base = std::uint32_t(m.points.size());
             m.points.insert(m.points.end(), skirt.points.begin(), skirt.points.end());
             for (std::uint32_t t : skirt.indices) m.indices.push_back(base + t);
-            to_template(m, p.boundary[b]);
+            to_template(m, &p.boundary[b]);
         }
         if (p.has_opaque) {
             TexelMesh opaque;
             MeshBuilder builder(scene, 0, 0, margin);
             builder.capture(&opaque, true);
             builder.add_opaque(unused, 0, Shape::analysis, a, 0);
-            to_template(opaque, p.opaque[b]);
+            to_template(opaque, &p.opaque[b]);
+            templates_[p.opaque[b]].opaque_key = image.texture * 4 + int(Blend::alpha);
         }
-        most_vertices = std::max(most_vertices, p.boundary[b].xy.size() / 2 + p.opaque[b].xy.size() / 2);
-        most_indices = std::max(most_indices, p.boundary[b].indices.size() + p.opaque[b].indices.size());
+        // With the boundary template, or (edges that bleed) the quad.
+        most_vertices = std::max(most_vertices, std::max(vertex_count(p.boundary[b]), std::size_t(4)) + vertex_count(p.opaque[b]));
+        most_indices = std::max(most_indices, std::max(index_count(p.boundary[b]), std::size_t(6)) + index_count(p.opaque[b]));
     }
-    p.has_opaque = !p.opaque[0].indices.empty();
+    p.has_opaque = index_count(p.opaque[0]) > 0;
     if (p.has_boundary) {
         // Without a skirt (transforms that snap exactly), as MeshBuilder draws them.
         TexelMesh m;
         MeshBuilder plain(scene, 0, 0, 0);
         plain.capture(&m, true);
         plain.add_boundary(unused, 0, Shape::analysis, a, 0);
-        to_template(m, p.plain);
-        most_vertices = std::max(most_vertices, p.plain.xy.size() / 2 + p.opaque[0].xy.size() / 2);
-        most_indices = std::max(most_indices, p.plain.indices.size() + p.opaque[0].indices.size());
+        to_template(m, &p.plain);
+        most_vertices = std::max(most_vertices, vertex_count(p.plain) + vertex_count(p.opaque[0]));
+        most_indices = std::max(most_indices, index_count(p.plain) + index_count(p.opaque[0]));
         p.boundary_inside = true;
         for (const Polygon& poly : a->boundary)
             for (const Vec2& v : poly)
@@ -150,7 +176,8 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
     {
         const Polygon r = rect_polygon(image.rect);
         TexelMesh quad{{r.begin(), r.end()}, {0, 1, 2, 0, 2, 3}};
-        to_template(quad, p.quad);
+        to_template(quad, &p.quad);
+        templates_[p.quad].opaque_key = image.texture * 4 + int(Blend::opaque);
     }
     p.bleeding_edges = a->bleeding_edges;
     p.opaque_covers_all = a->stats.nontransparent_texels > 0 && a->stats.opaque_covered_texels == a->stats.nontransparent_texels;
@@ -159,11 +186,13 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
     p.bx0 = 0, p.by0 = 0, p.bx1 = image.rect.w, p.by1 = image.rect.h;
     if (p.has_boundary && p.boundary_inside) {
         p.bx0 = p.by0 = INFINITY, p.bx1 = p.by1 = -INFINITY;
-        for (const Template& t : p.boundary)
-            for (std::size_t k = 0; k + 1 < t.xy.size(); k += 2) {
-                p.bx0 = std::min(p.bx0, t.xy[k]), p.bx1 = std::max(p.bx1, t.xy[k]);
-                p.by0 = std::min(p.by0, t.xy[k + 1]), p.by1 = std::max(p.by1, t.xy[k + 1]);
+        for (std::uint32_t id : p.boundary) {
+            const std::vector<double>& xy = templates_[id].xy;
+            for (std::size_t k = 0; k + 1 < xy.size(); k += 2) {
+                p.bx0 = std::min(p.bx0, xy[k]), p.bx1 = std::max(p.bx1, xy[k]);
+                p.by0 = std::min(p.by0, xy[k + 1]), p.by1 = std::max(p.by1, xy[k + 1]);
             }
+        }
     }
     max_vertices_ = std::max(max_vertices_, most_vertices);
     max_indices_ = std::max(max_indices_, most_indices);
@@ -191,7 +220,7 @@ void FrameAssembler::reserve(std::size_t sprites, AssembledFrame* out) {
     key_count_.reserve(keys);
     key_nearest_.reserve(keys);
     key_order_.reserve(keys);
-    cell_top_.reserve(std::size_t(std::max(options_.max_cells, 1)));
+    cell_top_.reserve(std::size_t(std::max(options_.max_cells, 1)) + 3);
     ranges_.reserve(16);
     point_batch_.reserve(17);
     if (out) {
@@ -202,7 +231,16 @@ void FrameAssembler::reserve(std::size_t sprites, AssembledFrame* out) {
     }
 }
 
-inline FrameStatus FrameAssembler::plan_sprite(const Sprite& s, Plan& p) {
+struct FrameAssembler::SpriteShape {
+    const Picture* picture;
+    std::int32_t key;     // texture * 4 + blend
+    std::int8_t boundary; // 0 none, 1 analysis, 2 rect
+    std::int8_t opaque;   // 0 none, 1 analysis, 2 rect
+    std::int8_t margin;   // the templates' bucket
+    bool blended;
+};
+
+inline FrameStatus FrameAssembler::plan_sprite(const Sprite& s, SpriteShape& p) const {
     int picture = s.image;
     if (s.animation >= 0) {
         if (std::size_t(s.animation) >= animations_.size()) return FrameStatus::bad_sprite;
@@ -213,9 +251,8 @@ inline FrameStatus FrameAssembler::plan_sprite(const Sprite& s, Plan& p) {
     if (picture < 0 || std::size_t(picture) >= images_.size() || !finite_sprite(s) || int(s.blend) < 0 || int(s.blend) > 3)
         return FrameStatus::bad_sprite;
     const Picture& pic = images_[std::size_t(picture)];
-    p.picture = picture;
+    p.picture = &pic;
     p.key = pic.texture * 4 + int(s.blend);
-    p.batch = -1;
     p.opaque = 0;
     p.margin = 0;
     p.blended = false;
@@ -254,56 +291,106 @@ inline FrameStatus FrameAssembler::plan_sprite(const Sprite& s, Plan& p) {
     return FrameStatus::ok;
 }
 
-std::uint32_t FrameAssembler::emit(const Template& t, const Sprite& s, float z, bool stream, AssembledFrame* out) {
-    const auto base = std::uint32_t(out->vertices.size() / kVertexFloats);
-    const std::size_t n = t.xy.size() / 2;
-    const std::size_t first = out->vertices.size();
-    out->vertices.resize(first + n * kVertexFloats);
+namespace {
+
+// A template's vertices transformed for one sprite, kVertexFloats each
+// (x y z u v r g b a): apply()'s operations, so the same roundings.
+void emit_scalar(const double* xy, const float* uv, std::size_t n, const Sprite& s, float z, float* v) {
     // Locals: the stores through v (floats) could otherwise alias the
     // sprite's colour, reloaded for every vertex.
     const double a = s.transform[0], b = s.transform[1], c = s.transform[2], d = s.transform[3], e = s.transform[4],
                  f = s.transform[5];
     const float r = s.color[0], g = s.color[1], bl = s.color[2], al = s.color[3];
-    const double* xy = t.xy.data();
-    const float* uv = t.uv.data();
-    float* v = out->vertices.data() + first;
-    std::size_t k = 0;
-#if !DEPTHCULL_STREAM_VERTICES
-    (void)stream;
-#else
-    // Streaming stores for frames too big for the caches: their vertices
-    // are written once and read by the upload, so they bypass the cache
-    // rather than read each line in first (half the memory traffic; a frame
-    // of 100,000 sprites writes 40 MB). Templates hold whole groups of 4
-    // vertices (to_template pads them), so every group starts 16-byte
-    // aligned and fills whole lines in order.
-    if (stream && n % 4 == 0 && reinterpret_cast<std::uintptr_t>(v) % 16 == 0)
-        for (; k < n; k += 4, v += 4 * kVertexFloats) {
-            float px[4], py[4];
-            for (std::size_t j = 0; j < 4; ++j) {
-                const double x = xy[2 * (k + j)], y = xy[2 * (k + j) + 1];
-                px[j] = float(a * x + c * y + e), py[j] = float(b * x + d * y + f);
-            }
-            const float* w = uv + 2 * k;
-            _mm_stream_ps(v + 0, _mm_setr_ps(px[0], py[0], z, w[0]));
-            _mm_stream_ps(v + 4, _mm_setr_ps(w[1], r, g, bl));
-            _mm_stream_ps(v + 8, _mm_setr_ps(al, px[1], py[1], z));
-            _mm_stream_ps(v + 12, _mm_setr_ps(w[2], w[3], r, g));
-            _mm_stream_ps(v + 16, _mm_setr_ps(bl, al, px[2], py[2]));
-            _mm_stream_ps(v + 20, _mm_setr_ps(z, w[4], w[5], r));
-            _mm_stream_ps(v + 24, _mm_setr_ps(g, bl, al, px[3]));
-            _mm_stream_ps(v + 28, _mm_setr_ps(py[3], z, w[6], w[7]));
-            _mm_stream_ps(v + 32, _mm_setr_ps(r, g, bl, al));
-        }
-#endif
-    for (; k < n; ++k, v += kVertexFloats) {
+    for (std::size_t k = 0; k < n; ++k, v += kVertexFloats) {
         const double x = xy[2 * k], y = xy[2 * k + 1];
-        // apply(): the same operations, so the same roundings.
         v[0] = float(a * x + c * y + e), v[1] = float(b * x + d * y + f), v[2] = z, v[3] = uv[2 * k], v[4] = uv[2 * k + 1];
         v[5] = r, v[6] = g, v[7] = bl, v[8] = al;
     }
-    return base;
 }
+
+#if DEPTHCULL_STREAM_VERTICES
+// The same with SSE2, a group of 4 vertices (36 floats, 9 aligned vectors)
+// at a time. Per vertex one multiply of {x, x} by {a, b} and of {y, y} by
+// {c, d}, added, plus {e, f}: each lane apply()'s a*x + c*y + e in its
+// order (no FMA on baseline x86-64), so the same floats. The lanes that
+// hold no x or y are per sprite (z, colour) or per template (uv, in
+// Template::uv_lanes), or-ed in: no shuffles but one shift per vertex.
+//
+// Streaming stores for frames too big for the caches: their vertices
+// are written once and read by the upload, so they bypass the cache
+// rather than read each line in first (half the memory traffic; a frame
+// of 100,000 sprites writes 40 MB).
+template <bool kStream>
+inline void put(float* p, __m128 x) {
+    if constexpr (kStream) _mm_stream_ps(p, x);
+    else _mm_store_ps(p, x);
+}
+
+template <bool kStream>
+void emit_groups(const double* xxyy, const float* uv_lanes, std::size_t groups, const Sprite& s, float z, float* v) {
+    const __m128d ab = _mm_setr_pd(s.transform[0], s.transform[1]), cd = _mm_setr_pd(s.transform[2], s.transform[3]),
+                  ef = _mm_setr_pd(s.transform[4], s.transform[5]);
+    const float r = s.color[0], g = s.color[1], b = s.color[2], al = s.color[3];
+    // Vertices x y z u v r g b a; a group's vectors:
+    //   x0 y0 z u0 | v0 r g b | al x1 y1 z | u1 v1 r g | b al x2 y2 |
+    //   z u2 v2 r | g b al x3 | y3 z u3 v3 | r g b al
+    const __m128 s0 = _mm_setr_ps(0, 0, z, 0), s1 = _mm_setr_ps(0, r, g, b), s2 = _mm_setr_ps(al, 0, 0, z),
+                 s3 = _mm_setr_ps(0, 0, r, g), s4 = _mm_setr_ps(b, al, 0, 0), s5 = _mm_setr_ps(z, 0, 0, r),
+                 s6 = _mm_setr_ps(g, b, al, 0), s7 = _mm_setr_ps(0, z, 0, 0), s8 = _mm_setr_ps(r, g, b, al);
+    auto shift = [](__m128 x, auto bytes) { // lanes up (bytes > 0) or down
+        if constexpr (decltype(bytes)::value > 0) return _mm_castsi128_ps(_mm_slli_si128(_mm_castps_si128(x), decltype(bytes)::value));
+        else return _mm_castsi128_ps(_mm_srli_si128(_mm_castps_si128(x), -decltype(bytes)::value));
+    };
+    for (std::size_t k = 0; k < groups; ++k, xxyy += 16, uv_lanes += 20, v += 4 * kVertexFloats) {
+        // {x, y, 0, 0} of vertex j
+        auto position = [&](int j) {
+            const __m128d x = _mm_mul_pd(_mm_loadu_pd(xxyy + 4 * j), ab), y = _mm_mul_pd(_mm_loadu_pd(xxyy + 4 * j + 2), cd);
+            return _mm_cvtpd_ps(_mm_add_pd(_mm_add_pd(x, y), ef));
+        };
+        const __m128 p0 = position(0), p1 = position(1), p2 = position(2), p3 = position(3);
+        put<kStream>(v + 0, _mm_or_ps(_mm_or_ps(s0, _mm_loadu_ps(uv_lanes)), p0));
+        put<kStream>(v + 4, _mm_or_ps(s1, _mm_loadu_ps(uv_lanes + 4)));
+        put<kStream>(v + 8, _mm_or_ps(s2, shift(p1, std::integral_constant<int, 4>{})));
+        put<kStream>(v + 12, _mm_or_ps(s3, _mm_loadu_ps(uv_lanes + 8)));
+        put<kStream>(v + 16, _mm_or_ps(s4, shift(p2, std::integral_constant<int, 8>{})));
+        put<kStream>(v + 20, _mm_or_ps(s5, _mm_loadu_ps(uv_lanes + 12)));
+        put<kStream>(v + 24, _mm_or_ps(s6, shift(p3, std::integral_constant<int, 12>{})));
+        put<kStream>(v + 28, _mm_or_ps(_mm_or_ps(s7, _mm_loadu_ps(uv_lanes + 16)), shift(p3, std::integral_constant<int, -4>{})));
+        put<kStream>(v + 32, s8);
+    }
+}
+#endif
+
+// A template's indices plus a sprite's first vertex, `count` of them at
+// `to`. With SSE2, 4 at a time, the last 4 ending at `count` (rewriting a
+// few, the same): no loop tail. Templates hold 3 indices more than they
+// use, so reading 4 at a time stays inside.
+inline void place_indices(const std::uint32_t* from, std::uint32_t count, std::uint32_t base, std::uint32_t* to) {
+#if DEPTHCULL_STREAM_VERTICES
+    if (count >= 4) {
+        const __m128i add = _mm_set1_epi32(int(base));
+        std::uint32_t k = 0;
+        for (; k + 4 <= count; k += 4)
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(to + k),
+                             _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(from + k)), add));
+        if (k < count)
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(to + count - 4),
+                             _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(from + count - 4)), add));
+        return;
+    }
+#endif
+    for (std::uint32_t k = 0; k < count; ++k) to[k] = base + from[k];
+}
+
+#if DEPTHCULL_SSE2_GRID
+// SSE2 has no pmaxsd.
+inline __m128i max_epi32(__m128i a, __m128i b) {
+    const __m128i greater = _mm_cmpgt_epi32(a, b);
+    return _mm_or_si128(_mm_and_si128(greater, a), _mm_andnot_si128(greater, b));
+}
+#endif
+
+} // namespace
 
 // One pass over the sprites in painter's order plans each, writes its
 // vertices (sprites and vertices read and written in sequence) and finds
@@ -314,8 +401,23 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     plan_.resize(n);
     // The last frame's size tells whether this one outgrows the caches
     // (the stores differ, the vertices written do not).
-    const bool stream = out->vertices.size() * sizeof(float) > kStreamBytes;
-    out->vertices.clear();
+    // (Used only with SSE2: the WebAssembly build has it unused.)
+    [[maybe_unused]] const bool stream = out->vertices.size() * sizeof(float) > kStreamBytes;
+    // The vertices are written at a cursor into the whole capacity
+    // (uninitialized, so this stores nothing), cut to size at the end: no
+    // resize per template.
+    auto& vertices = out->vertices;
+    vertices.clear();
+    vertices.resize(vertices.capacity());
+    std::size_t vertex_end = 0; // vertices written
+    auto fail = [&](FrameStatus st) {
+#if DEPTHCULL_STREAM_VERTICES
+        _mm_sfence();
+#endif
+        out->vertices.clear();
+        out->stats = {};
+        return st;
+    };
     out->indices.clear();
     out->draws.clear();
     out->points.clear();
@@ -338,45 +440,72 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     while (std::ceil(w / cell) * std::ceil(h / cell) > max_cells) cell *= 2;
     const int cols = int(std::ceil(w / cell)), rows = int(std::ceil(h / cell));
     const double inv = 1 / cell;
-    // int(c) is floor(c) for c >= 0, and c < 0 clamps to 0 anyway.
-    auto clamp_cell = [](double c, int n) { return c < 0 ? 0 : c >= n ? n - 1 : int(c); };
+    // int(c) is floor(c) for c >= 0, and c < 0 clamps to 0 anyway. No
+    // branch (minsd, maxsd). NaN (a huge transform's inf - inf) gives the
+    // first cell as the low end of a box, the last as the high end: the
+    // whole grid.
+    auto low_cell = [](double c, int n) { return int(std::max(0.0, std::min(c, double(n - 1)))); };
+    auto high_cell = [](double c, int n) { return int(std::min(double(n - 1), std::max(c, 0.0))); };
 
     // depth_z with the reciprocal: within a double rounding of its
     // quotient, so at most a float ulp (2^-24 below 1) off, while levels lie
     // 1/D >= 2^-23 apart: the order of every z, static ones included, holds.
     const double inverse = 1 / double(denominator_);
     auto z_of = [&](std::int64_t level, bool opaque) { return float(double(2 * level + (opaque ? 2 : 1)) * inverse); };
+    auto emit = [&](const Template& t, const Sprite& s, float z, float* v) {
+        const std::size_t count = t.vertex_count;
+#if DEPTHCULL_STREAM_VERTICES
+        // Templates hold whole groups of 4 vertices (to_template pads
+        // them), so every group starts 16-byte aligned.
+        if (reinterpret_cast<std::uintptr_t>(v) % 16 == 0) {
+            if (stream) emit_groups<true>(t.xxyy.data(), t.uv_lanes.data(), count / 4, s, z, v);
+            else emit_groups<false>(t.xxyy.data(), t.uv_lanes.data(), count / 4, s, z, v);
+            return;
+        }
+#endif
+        emit_scalar(t.xy.data(), t.uv.data(), count, s, z, v);
+    };
     for (const Range& range : ranges_) {
         // Each point batches on its own (its draws go between other static draws).
         point_batch_.push_back(std::uint32_t(batch_key_.size()));
-        cell_top_.assign(std::size_t(cols) * std::size_t(rows), -1);
+        // 3 cells more: a box's rows are read 4 cells at a time.
+        cell_top_.assign(std::size_t(cols) * std::size_t(rows) + 3, -1);
         last_batch_of_key_.assign(keys, -1);
         std::int32_t all_top = -1, wide_top = -1;
         for (std::size_t i = range.first; i < range.end; ++i) {
             const Sprite& s = range.sprites[i - range.first];
             const std::int64_t level = range.first_level + std::int64_t(i - range.first);
-            Plan& p = plan_[i];
-            if (FrameStatus st = plan_sprite(s, p); st != FrameStatus::ok) {
-#if DEPTHCULL_STREAM_VERTICES
-                _mm_sfence();
-#endif
-                out->vertices.clear();
-                out->stats = {};
-                return st;
+            SpriteShape p;
+            if (FrameStatus st = plan_sprite(s, p); st != FrameStatus::ok) return fail(st);
+            const Picture& pic = *p.picture;
+            Plan& q = plan_[i];
+            q.base = std::uint32_t(vertex_end);
+            q.batch = -1;
+            q.opaque_template = p.opaque == 0 ? kNone : p.opaque == 2 ? pic.quad : pic.opaque[p.margin];
+            q.blend_template = !p.blended            ? kNone
+                               : p.boundary == 2     ? pic.quad
+                               : s.blend != Blend::opaque && !snaps_exactly(s.transform) ? pic.boundary[p.margin]
+                                                                                         : pic.plain;
+            const Template* opaque = q.opaque_template == kNone ? nullptr : &templates_[q.opaque_template];
+            const Template* blend = q.blend_template == kNone ? nullptr : &templates_[q.blend_template];
+            const std::size_t opaque_vertices = opaque ? opaque->vertex_count : 0;
+            const std::size_t count = opaque_vertices + (blend ? blend->vertex_count : 0);
+            if ((vertex_end + count) * kVertexFloats > vertices.size()) { // grows (until warmed up)
+                vertices.resize(vertex_end * kVertexFloats);
+                vertices.resize((vertex_end + count) * kVertexFloats);
+                vertices.resize(vertices.capacity());
             }
-            const Picture& pic = images_[std::size_t(p.picture)];
-            if (p.opaque) {
-                p.opaque_template = p.opaque == 2 ? &pic.quad : &pic.opaque[p.margin];
-                p.opaque_base = emit(*p.opaque_template, s, z_of(level, true), stream, out);
-                key_count_[std::size_t(p.key)] += std::int32_t(p.opaque_template->indices.size());
-                key_nearest_[std::size_t(p.key)] = std::int64_t(i); // levels grow with i
-                opaque_indices += p.opaque_template->indices.size();
+            float* v = vertices.data() + vertex_end * kVertexFloats;
+            vertex_end += count;
+            if (opaque) {
+                emit(*opaque, s, z_of(level, true), v);
+                const auto key = std::size_t(opaque->opaque_key);
+                key_count_[key] += std::int32_t(opaque->index_count);
+                key_nearest_[key] = std::int64_t(i); // levels grow with i
+                opaque_indices += opaque->index_count;
             }
-            if (!p.blended) continue;
-            p.blend_template = p.boundary == 2                                                   ? &pic.quad
-                               : s.blend != Blend::opaque && !snaps_exactly(s.transform) ? &pic.boundary[p.margin]
-                                                                                             : &pic.plain;
-            p.blend_base = emit(*p.blend_template, s, z_of(level, false), stream, out);
+            if (!blend) continue;
+            emit(*blend, s, z_of(level, false), v + opaque_vertices * kVertexFloats);
             // The screen box of what it draws: its centre's image plus the
             // half extents' absolute images, and a pixel for GL's snapping
             // (and rounding): cells are conservative.
@@ -386,12 +515,35 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
             const double hx = (x1 - x0) / 2, hy = (y1 - y0) / 2;
             const Vec2 centre = apply(m, {x0 + hx, y0 + hy});
             const double ex = std::abs(m[0]) * hx + std::abs(m[2]) * hy + 1, ey = std::abs(m[1]) * hx + std::abs(m[3]) * hy + 1;
-            const int cx0 = clamp_cell((centre.x - ex - bounds.x) * inv, cols);
-            const int cx1 = clamp_cell((centre.x + ex - bounds.x) * inv, cols);
-            const int cy0 = clamp_cell((centre.y - ey - bounds.y) * inv, rows);
-            const int cy1 = clamp_cell((centre.y + ey - bounds.y) * inv, rows);
+            const int cx0 = low_cell((centre.x - ex - bounds.x) * inv, cols);
+            const int cx1 = high_cell((centre.x + ex - bounds.x) * inv, cols);
+            const int cy0 = low_cell((centre.y - ey - bounds.y) * inv, rows);
+            const int cy1 = high_cell((centre.y + ey - bounds.y) * inv, rows);
             const bool wide = std::int64_t(cx1 - cx0 + 1) * (cy1 - cy0 + 1) > options_.cell_budget;
             std::int32_t top = all_top;
+#if DEPTHCULL_SSE2_GRID
+            // Boxes of up to 4 x 4 cells (most sprites) without a branch
+            // per cell: 4 rows of 4 cells, lanes past the box masked (-1
+            // read, the cell's own value written back), rows past it
+            // repeating its last.
+            const bool small = !wide && cx1 - cx0 < 4 && cy1 - cy0 < 4;
+            std::int32_t* box[4];
+            __m128i in_box = _mm_setzero_si128();
+            if (small) {
+                in_box = _mm_cmplt_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(cx1 - cx0 + 1));
+                const __m128i outside = _mm_andnot_si128(in_box, _mm_set1_epi32(-1));
+                __m128i row[4];
+                for (int k = 0; k < 4; ++k) {
+                    box[k] = cell_top_.data() + std::size_t(std::min(cy0 + k, cy1)) * std::size_t(cols) + std::size_t(cx0);
+                    row[k] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(box[k]));
+                }
+                __m128i most = _mm_or_si128(max_epi32(max_epi32(row[0], row[1]), max_epi32(row[2], row[3])), outside);
+                most = max_epi32(most, _mm_set1_epi32(wide_top));
+                most = max_epi32(most, _mm_shuffle_epi32(most, _MM_SHUFFLE(1, 0, 3, 2)));
+                most = max_epi32(most, _mm_shuffle_epi32(most, _MM_SHUFFLE(2, 3, 0, 1)));
+                top = _mm_cvtsi128_si32(most);
+            } else
+#endif
             if (!wide) {
                 top = wide_top;
                 for (int cy = cy0; cy <= cy1; ++cy) {
@@ -412,15 +564,25 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
                 batch_count_.push_back(0);
                 last_batch_of_key_[std::size_t(p.key)] = b;
             }
-            p.batch = b;
-            batch_count_[std::size_t(b)] += std::int32_t(p.blend_template->indices.size());
-            blend_indices += p.blend_template->indices.size();
+            q.batch = b;
+            batch_count_[std::size_t(b)] += std::int32_t(blend->index_count);
+            blend_indices += blend->index_count;
+            // b is at least every batch its cells hold (at least top).
             all_top = std::max(all_top, b);
+#if DEPTHCULL_SSE2_GRID
+            if (small) {
+                const __m128i batch = _mm_and_si128(in_box, _mm_set1_epi32(b));
+                for (std::int32_t* row : box) {
+                    const __m128i old = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row));
+                    _mm_storeu_si128(reinterpret_cast<__m128i*>(row), _mm_or_si128(batch, _mm_andnot_si128(in_box, old)));
+                }
+            } else
+#endif
             if (wide) wide_top = std::max(wide_top, b);
             else
                 for (int cy = cy0; cy <= cy1; ++cy) {
                     std::int32_t* row = cell_top_.data() + std::size_t(cy) * std::size_t(cols);
-                    for (int cx = cx0; cx <= cx1; ++cx) row[cx] = std::max(row[cx], b);
+                    for (int cx = cx0; cx <= cx1; ++cx) row[cx] = b;
                 }
         }
     }
@@ -428,18 +590,14 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
 #if DEPTHCULL_STREAM_VERTICES
     _mm_sfence(); // streaming stores are ordered before whatever reads the frame
 #endif
-    if (opaque_indices + blend_indices > std::size_t(INT32_MAX)) { // draws count indices in 32 bits
-        out->vertices.clear();
-        out->stats = {};
-        return FrameStatus::too_many_sprites;
-    }
+    vertices.resize(vertex_end * kVertexFloats);
+    if (opaque_indices + blend_indices > std::size_t(INT32_MAX)) // draws count indices in 32 bits
+        return fail(FrameStatus::too_many_sprites);
     out->indices.resize(opaque_indices + blend_indices);
     std::uint32_t* indices = out->indices.data();
     auto place = [&](const Template& t, std::uint32_t base, std::int32_t& cursor) {
-        const std::uint32_t* tx = t.indices.data();
-        std::uint32_t* ix = indices + cursor;
-        for (std::size_t k = 0, count = t.indices.size(); k < count; ++k) ix[k] = base + tx[k];
-        cursor += std::int32_t(t.indices.size());
+        place_indices(t.indices.data(), t.index_count, base, indices + cursor);
+        cursor += std::int32_t(t.index_count);
     };
 
     // The opaque pass, front to back: keys by their nearest sprite,
@@ -482,13 +640,16 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
     // cursor, opaque ones backwards from each key's end.
     for (std::size_t i = 0; i < n; ++i) {
         const Plan& p = plan_[i];
-        if (p.opaque) {
-            std::int32_t& end = key_count_[std::size_t(p.key)];
-            end -= std::int32_t(p.opaque_template->indices.size());
+        std::uint32_t base = p.base;
+        if (p.opaque_template != kNone) {
+            const Template& t = templates_[p.opaque_template];
+            std::int32_t& end = key_count_[std::size_t(t.opaque_key)];
+            end -= std::int32_t(t.index_count);
             std::int32_t cursor = end;
-            place(*p.opaque_template, p.opaque_base, cursor);
+            place(t, base, cursor);
+            base += t.vertex_count;
         }
-        if (p.blended) place(*p.blend_template, p.blend_base, batch_count_[std::size_t(p.batch)]);
+        if (p.blend_template != kNone) place(templates_[p.blend_template], base, batch_count_[std::size_t(p.batch)]);
     }
     out->stats.draw_calls = std::int64_t(out->draws.size());
     out->stats.opaque_draws = std::int64_t(out->opaque_draws);

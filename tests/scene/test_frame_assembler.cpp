@@ -241,6 +241,19 @@ TEST(FrameAssembler, BadInputGetsAStatus) {
     EXPECT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite);
 }
 
+// A finite transform whose products overflow (inf - inf: a NaN screen
+// box) overlaps every cell, as it may draw anywhere: it once cast NaN to
+// int and read the grid far out of bounds.
+TEST(FrameAssembler, HugeTransformsOverlapTheWholeGrid) {
+    Pictures p;
+    AssembledFrame frame;
+    std::vector<Sprite> sprites{at(p.ball_id, 10, 10), at(p.block_id, 0, 0), at(p.ball_id, 600, 400)};
+    sprites[1].transform = {1e308, 1e308, -1e308, 1e308, 1e308, -1e308};
+    ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 640, 480}, &frame), FrameStatus::ok);
+    // The far ball may not join the first one's draw across it.
+    EXPECT_EQ(frame.stats.blend_batches, 3);
+}
+
 // A static scene with an insertion point: elements before it keep levels
 // below the reserved range, those after it lie above it, and no static
 // blend draw spans the point.
