@@ -11,6 +11,13 @@ void add_target_option(CLI::App& cmd, std::string& target) {
         ->type_name("PROFILE");
 }
 
+void add_target_stage_options(CLI::App& cmd, pipeline::PrepareOptions& prepare) {
+    cmd.add_flag("!--no-clip-hidden", prepare.clip_hidden,
+                 "With --target: do not clip hidden parts away at the opaque polygons in front (docs/ideal-frame.md)");
+    cmd.add_flag("!--no-merge-opaque", prepare.merge_opaque,
+                 "With --target: do not merge opaque tiles laid out as in their image into blocks (docs/ideal-frame.md)");
+}
+
 std::unique_ptr<pipeline::TargetPlan> apply_target(const std::string& target, const std::string& path, pipeline::PreparedScene& prepared,
                                              const pipeline::PrepareOptions& prepare, ReconstructOptions* reconstruct, bool quiet) {
     if (target.empty()) return nullptr;

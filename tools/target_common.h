@@ -13,6 +13,9 @@ namespace depthcull::cli {
 
 // --target NAME|FILE.json
 void add_target_option(CLI::App& command, std::string& target);
+// --no-clip-hidden, --no-merge-opaque: issue 25's stages of --target off
+// (PrepareOptions::clip_hidden, merge_opaque), to measure each alone.
+void add_target_stage_options(CLI::App& command, pipeline::PrepareOptions& prepare);
 
 // pipeline::apply_target for `target` (nothing when it is empty): prepared
 // and *reconstruct get the choice. Prints pipeline::target_summary on

@@ -320,6 +320,38 @@ TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
     }
 }
 
+// Issue 25's stages are options of the plan (PrepareOptions::clip_hidden,
+// merge_opaque; --no-clip-hidden, --no-merge-opaque), not environment
+// switches: each turns its stage off in the plan and nothing else.
+TEST(Target, StagesTurnOffByOption) {
+    pipeline::PrepareOptions options;
+    options.threads = 1;
+    const pipeline::PreparedScene prepared = pipeline::prepare_scene(std::string(DEPTHCULL_SOURCE_DIR) + "/examples/meadow.json", options);
+    CostProfile llvmpipe;
+    ASSERT_TRUE(builtin_profile("llvmpipe", &llvmpipe));
+    ASSERT_TRUE(clip_hidden_options(llvmpipe).enabled);
+    for (int clip = 0; clip < 2; ++clip)
+        for (int merge = 0; merge < 2; ++merge) {
+            pipeline::PrepareOptions o = options;
+            o.clip_hidden = clip;
+            o.merge_opaque = merge;
+            const pipeline::TargetPlan plan = pipeline::plan_target(prepared, o, llvmpipe, {});
+            EXPECT_EQ(plan.reconstruct.clip_hidden.enabled, bool(clip)) << clip << merge;
+            EXPECT_EQ(plan.reconstruct.merge_opaque, bool(merge)) << clip << merge;
+        }
+    if (cli().empty()) return;
+    for (const char* command : {"optimize", "render", "bench", "report"}) {
+        const std::string help = temp("stage-help.txt");
+        ASSERT_EQ(std::system((cli() + " " + command + " --help >" + help).c_str()), 0) << command;
+        const std::string text = slurp(help);
+        EXPECT_NE(text.find("--no-clip-hidden"), std::string::npos) << command;
+        EXPECT_NE(text.find("--no-merge-opaque"), std::string::npos) << command;
+    }
+    const std::string out = temp("stages-off.json");
+    EXPECT_EQ(std::system((cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --target llvmpipe "
+                           "--no-clip-hidden --no-merge-opaque -o " + out).c_str()), 0);
+}
+
 // analyze --target: per image the chosen budget (or the plain rect) and
 // MIN_OPAQUE_AREA from the profile, the same for any thread count.
 TEST(Target, AnalyzeReportsThePerImageChoice) {
