@@ -247,8 +247,9 @@ RC_GTEST_PROP(PixelIdentity, TiledObjectsTurnedFlippedScaledUnderLayerOffsets, (
 
 // Issue 25: hidden parts clipped at the opaque polygons in front (prices
 // that clip wherever anything is saved). Elements GL snaps exactly (quarter
-// turns, flips, power-of-two scales, positions on the 1/256 grid) are cut;
-// the others, turned and scaled anyhow, are drawn whole and hide them.
+// turns, flips, power-of-two scales, positions on the 1/256 grid) are cut
+// anywhere; the others, turned and scaled anyhow, hide them and are cut
+// only inside their rects (the next property).
 RC_GTEST_PROP(PixelIdentity, HiddenPartsClippedBehindTurnedScaledFlippedSprites, ()) {
     test::RenderScene rs = turned_scene_images();
     const int count = *rc::gen::inRange(10, 40);
