@@ -13,6 +13,7 @@
 #include "depthcull/target.h"
 #include "outputs.h"
 #include "progress.h"
+#include "target_common.h"
 
 namespace depthcull::cli {
 
@@ -66,7 +67,7 @@ void run_sprite_bench(const SpriteBenchArgs& args) {
     std::string target;
     CostProfile profile;
     if (!input.target.empty()) {
-        profile = pipeline::resolve_target(input.target);
+        profile = resolve_cli_target(input.target, args.quiet);
         options.target = &profile;
         target = profile.name;
     }

@@ -386,7 +386,7 @@ void run_analyze(const AnalyzeArgs& args) {
 void set_cache(AnalyzeArgs& args) {
     args.cache_dir = args.cache.directory();
     if (!args.target.empty()) {
-        args.profile = pipeline::resolve_target(args.target);
+        args.profile = resolve_cli_target(args.target, args.quiet);
         args.has_profile = true;
     }
 }

@@ -342,6 +342,7 @@ void run_bench(BenchArgs& args) {
                 // Same order: predict_modes predicted rt.modes' modes.
                 report::SceneReport& sr = run.scenes.back();
                 sr.target = r.target;
+                sr.limit_ms = r.limit_ms;
                 for (std::size_t mi = 0; mi < sr.rows.size() && mi < r.predicted.size(); ++mi) sr.rows[mi].predicted_ms = r.predicted[mi];
             }
             r.covered = run.scenes.back().covered;

@@ -14,6 +14,10 @@
 #include "progress.h"
 
 #if defined(DEPTHCULL_HAVE_RENDER) && defined(DEPTHCULL_HAVE_RUNTIME)
+#include "calibrate.h"
+#endif
+
+#if defined(DEPTHCULL_HAVE_RENDER) && defined(DEPTHCULL_HAVE_RUNTIME)
 #include "depthcull/render.h"
 #include "depthcull/runtime.h"
 #endif
@@ -133,18 +137,15 @@ CostProfile solve(const std::vector<Timing>& t, bool cpu, int w, int h, int n_dr
     return p;
 }
 
-void run_calibrate(const CalibrateArgs& args) {
-    if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
-    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
-    std::string error;
-    auto host = render::GlHost::create({args.platform}, render::GlApi::desktop, &error);
-    if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
-    const int w = args.quick ? 256 : 1024, h = args.quick ? 192 : 768;
-    const int frames = args.quick ? 3 : 41;
-    const int n_draws = args.quick ? 200 : 4000, n_tris = args.quick ? 2000 : 40000, n_slivers = args.quick ? 200 : 4000;
-    const int layers = args.quick ? 2 : 8;
-    const double sliver_len = args.quick ? 128 : 512, sliver_width = 1.0 / 16;
-    Bench bench(*host, frames);
+} // namespace
+
+CostProfile measure_profile(render::GlHost& host, bool quick, bool quiet, CostProfile* wall) {
+    const int w = quick ? 256 : 1024, h = quick ? 192 : 768;
+    const int frames = quick ? 3 : 41;
+    const int n_draws = quick ? 200 : 4000, n_tris = quick ? 2000 : 40000, n_slivers = quick ? 200 : 4000;
+    const int layers = quick ? 2 : 8;
+    const double sliver_len = quick ? 128 : 512, sliver_width = 1.0 / 16;
+    Bench bench(host, frames);
 
     std::vector<SceneMeshes> cases;
     cases.push_back(frame(w, h, false));         // empty
@@ -200,7 +201,7 @@ void run_calibrate(const CalibrateArgs& args) {
     }
     // Sliver fragments: rows crossed where the sliver is at least a pixel centre wide (about half its length).
     const double sliver_frags = sliver_len * sliver_width; // area of the sliver; 0.5 px tall over its length
-    Progress progress("calibrate", "microbenchmarks", cases.size(), args.quiet);
+    Progress progress("calibrate", "microbenchmarks", cases.size(), quiet);
     std::vector<Timing> t;
     // Two rounds, taking each case's lower median: a shared machine's load
     // falls on whichever case it hits.
@@ -209,7 +210,7 @@ void run_calibrate(const CalibrateArgs& args) {
         t.push_back(bench.time(m));
         progress.add();
     }
-    if (!args.quick)
+    if (!quick)
         for (std::size_t i = 0; i < cases.size(); ++i) {
             const Timing again = bench.time(cases[i]);
             t[i].cpu_ms = std::min(t[i].cpu_ms, again.cpu_ms);
@@ -217,13 +218,27 @@ void run_calibrate(const CalibrateArgs& args) {
         }
     progress.finish();
     CostProfile p = solve(t, true, w, h, n_draws, n_tris, n_slivers, sliver_len, sliver_frags, layers);
-    const CostProfile wall = solve(t, false, w, h, n_draws, n_tris, n_slivers, sliver_len, sliver_frags, layers);
-    p.name = args.name.empty() ? (host->is_software() ? "calibrated-software" : "calibrated") : args.name;
-    p.renderer = host->description() + ", LP_NUM_THREADS=" + (std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "");
-    p.source = std::string("depthcull calibrate") + (args.quick ? " --quick" : "") + ": process CPU ms, medians of " +
+    if (wall) *wall = solve(t, false, w, h, n_draws, n_tris, n_slivers, sliver_len, sliver_frags, layers);
+    p.name = host.is_software() ? "calibrated-software" : "calibrated";
+    p.renderer = host.description() + ", LP_NUM_THREADS=" + (std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "");
+    p.source = std::string("depthcull calibrate") + (quick ? " --quick" : "") + ": process CPU ms, medians of " +
                std::to_string(frames) + " frames per microbenchmark at " + std::to_string(w) + "x" + std::to_string(h);
     std::string what;
     if (!profile_is_complete(p, &what)) throw CliError("calibrate: the measured term " + what + " is not a finite number >= 0");
+    return p;
+}
+
+namespace {
+
+void run_calibrate(const CalibrateArgs& args) {
+    if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
+    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
+    std::string error;
+    auto host = render::GlHost::create({args.platform}, render::GlApi::desktop, &error);
+    if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
+    CostProfile wall;
+    CostProfile p = measure_profile(*host, args.quick, args.quiet, &wall);
+    if (!args.name.empty()) p.name = args.name;
     std::string text = pipeline::profile_to_json(p);
     // The wall-clock terms beside, for reference (not read back as terms).
     std::string wall_json = pipeline::profile_to_json(wall);

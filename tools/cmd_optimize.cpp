@@ -199,6 +199,7 @@ void add_optimize_command(CLI::App& app) {
     add_cache_options(*cmd, args->cache);
     add_reconstruct_options(*cmd, args->reconstruct);
     add_target_option(*cmd, args->target);
+    add_target_stage_options(*cmd, args->prepare);
     cmd->add_flag("!--no-opaque", args->opaque, "No opaque pass: boundary polygons only");
     cmd->add_flag("--cull", args->reconstruct.cull_to_viewport,
                   "Drop elements entirely outside the viewport (meshes for that one camera position)");

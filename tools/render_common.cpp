@@ -19,6 +19,7 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
     add_viewport_option(cmd, in.prepare.load);
     add_analysis_options(cmd, in.prepare.analyze);
     add_target_option(cmd, in.target);
+    add_target_stage_options(cmd, in.prepare);
     in.filter_option = cmd.get_option("--filter");
     cmd.add_option("-j,--threads", in.prepare.threads, "Worker threads for the analysis (0: all cores)")->capture_default_str();
     cmd.add_option("--gl", in.platform,
@@ -112,7 +113,11 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
         {"sort", in.reconstruct.sort == SortMethod::batch ? "batch" : in.reconstruct.sort == SortMethod::paper ? "paper" : "none"},
         {"cache", in.cache.off ? "off" : in.cache.directory()},
     };
-    if (!in.target.empty()) o.push_back({"target", in.target});
+    if (!in.target.empty()) {
+        o.push_back({"target", in.target});
+        o.push_back({"clip hidden parts", in.prepare.clip_hidden ? "where it pays" : "no (--no-clip-hidden)"});
+        o.push_back({"merge opaque tiles", in.prepare.merge_opaque ? "yes" : "no (--no-merge-opaque)"});
+    }
     if (in.prepare.load.has_viewport) {
         const Viewport& v = in.prepare.load.viewport;
         o.push_back({"viewport", str(v.x) + "," + str(v.y) + "," + std::to_string(v.width) + "," + std::to_string(v.height)});

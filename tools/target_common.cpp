@@ -1,20 +1,69 @@
 #include "target_common.h"
 
 #include <cstdio>
+#include <cstdlib>
+#include <map>
+
+#if defined(DEPTHCULL_HAVE_RENDER) && defined(DEPTHCULL_HAVE_RUNTIME)
+#include "calibrate.h"
+#include "depthcull/render.h"
+#endif
 
 namespace depthcull::cli {
 
+CostProfile resolve_cli_target(const std::string& target, bool quiet) {
+    if (target != "auto") return pipeline::resolve_target(target);
+    // Resolved once per process: bench and report plan every scene.
+    static std::map<std::string, CostProfile> resolved;
+    if (auto it = resolved.find(target); it != resolved.end()) return it->second;
+#if defined(DEPTHCULL_HAVE_RENDER) && defined(DEPTHCULL_HAVE_RUNTIME)
+    // llvmpipe reads LP_NUM_THREADS when the context is made: pinned as
+    // bench and calibrate pin it, so the renderer measured is the one drawn.
+    if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
+    std::string error;
+    auto host = render::GlHost::create({}, render::GlApi::desktop, &error);
+    if (!host)
+        throw CliError("--target auto: no OpenGL renderer found (" + error +
+                       "): give --target llvmpipe, ipad1 or a profile file from `depthcull calibrate`");
+    const std::string renderer = host->description();
+    const pipeline::AutoProfile found = pipeline::auto_profile(
+        renderer, pipeline::default_profile_cache_dir(),
+        [&] {
+            if (!quiet)
+                std::fprintf(stderr, "depthcull: --target auto: no profile for '%s' yet: calibrating it once (about a minute)\n",
+                             renderer.c_str());
+            return measure_profile(*host, false, quiet);
+        },
+        [](const std::string& line) { std::fprintf(stderr, "depthcull: warning: %s\n", line.c_str()); });
+    if (!quiet)
+        std::fprintf(stderr, "depthcull: --target auto: %s: profile %s (%s)\n", renderer.c_str(), found.profile.name.c_str(), found.how.c_str());
+    return resolved[target] = found.profile;
+#else
+    (void)quiet;
+    throw CliError("--target auto: this depthcull was built without the renderer (DEPTHCULL_BUILD_RENDER=OFF), so it cannot find the GL "
+                   "renderer: give --target llvmpipe, ipad1 or a profile file");
+#endif
+}
+
 void add_target_option(CLI::App& cmd, std::string& target) {
     cmd.add_option("--target", target,
-                   "Optimize for this renderer: a built-in profile (llvmpipe, ipad1) or a profile JSON from `depthcull calibrate` "
+                   "Optimize for this renderer: auto (the GL renderer found: its built-in profile, else one calibrated once and cached), "
+                   "a built-in profile (llvmpipe, ipad1) or a profile JSON from `depthcull calibrate` "
                    "(vertex budget, opaque polygons and hidden elements chosen for the lowest predicted frame time)")
         ->type_name("PROFILE");
+}
+
+void add_target_stage_options(CLI::App& cmd, pipeline::PrepareOptions& prepare) {
+    cmd.add_flag("!--no-clip-hidden", prepare.clip_hidden,
+                 "With --target: do not clip hidden parts away at the opaque polygons in front (docs/ideal-frame.md)");
+    cmd.add_flag("!--no-merge-opaque", prepare.merge_opaque,
+                 "With --target: do not merge opaque tiles laid out as in their image into blocks (docs/ideal-frame.md)");
 }
 
 std::unique_ptr<pipeline::TargetPlan> apply_target(const std::string& target, const std::string& path, pipeline::PreparedScene& prepared,
                                              const pipeline::PrepareOptions& prepare, ReconstructOptions* reconstruct, bool quiet) {
     if (target.empty()) return nullptr;
-    auto plan = std::make_unique<pipeline::TargetPlan>(pipeline::apply_target(prepared, prepare, pipeline::resolve_target(target), *reconstruct));
+    auto plan = std::make_unique<pipeline::TargetPlan>(pipeline::apply_target(prepared, prepare, resolve_cli_target(target, quiet), *reconstruct));
     if (!quiet) std::fprintf(stderr, "depthcull: %s\n", pipeline::target_summary(path, *plan).c_str());
     return plan;
 }

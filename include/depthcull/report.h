@@ -137,6 +137,9 @@ struct SceneReport {
     std::size_t images_not_shown = 0;
     std::string analysis; // e.g. "12 images analyzed, 30 from the cache"
     std::string target;   // --target profile name, when predicted_ms is given
+    // --target: the limit, the ideal frame's predicted ms (depthcull/cost.h
+    // limit_ms); with target, CPU / limit and CPU / overpaint are shown.
+    double limit_ms = -1; // negative: none
 };
 
 struct RunReport {

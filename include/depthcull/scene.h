@@ -256,9 +256,11 @@ inline constexpr double kTexelMargin = 1.0 / 32;
 // x perimeter_cost (units of the caller's choice; the cost model fills
 // them from a profile: clip_hidden_options in depthcull/cost.h). The cut
 // runs `margin` screen pixels inside the occluder, so GL's vertex snapping
-// never uncovers a pixel (src/scene/clip_hidden.cpp). Only elements whose
+// never uncovers a pixel (src/scene/clip_hidden.cpp). Elements whose
 // transform GL snaps exactly (power-of-two scales, quarter turns, flips,
-// 1/256-pixel moves) are clipped. Without Clipper (wasm builds) it does nothing.
+// 1/256-pixel moves) are clipped anywhere; others (turned, scaled anyhow)
+// only `margin` inside their rect and without holes. Without Clipper (wasm
+// builds) it does nothing.
 struct ClipHiddenOptions {
     bool enabled = false;
     double fragment_cost = 1;

@@ -4,6 +4,7 @@
 // file and the place.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,33 @@ CostProfile load_profile(const std::string& path);
 void save_profile(const std::string& path, const CostProfile& profile); // atomic
 // --target NAME|FILE: a built-in name ("llvmpipe", "ipad1") or a profile file.
 CostProfile resolve_target(const std::string& name_or_path);
+
+// ---- --target auto (issue 25): the profile of the GL renderer found.
+// `renderer` is the renderer's description (GL_RENDERER, GL_VERSION and the
+// EGL platform, render::GlHost::description()). In this order:
+// 1. a built-in profile the string names (Mesa's llvmpipe -> "llvmpipe");
+// 2. the profile cached for exactly that string in `cache_dir`
+//    (profile_cache_path), when it loads and its "renderer" is the string;
+// 3. calibrate()'s profile (depthcull calibrate's measurement), its
+//    renderer set to the string and written to the cache atomically.
+// A cache entry that does not load (a corrupt or hand-edited file) is
+// measured again and replaced, with one line to `warning`: the cache is
+// ours, as the analysis cache is. An empty cache_dir: nothing is cached.
+// *how says which (for the commands' one line). Throws io::Error when the
+// cache cannot be written (naming the file), or what calibrate throws.
+struct AutoProfile {
+    CostProfile profile;
+    std::string how; // "built-in", "cached in FILE", "calibrated, cached in FILE", "calibrated (not cached)"
+};
+AutoProfile auto_profile(const std::string& renderer, const std::string& cache_dir, const std::function<CostProfile()>& calibrate,
+                         const std::function<void(const std::string&)>& warning = nullptr);
+// The built-in profile a renderer description names (false: none).
+bool builtin_profile_for_renderer(const std::string& renderer, CostProfile* out);
+// $XDG_CACHE_HOME/depthcull/profiles, else ~/.cache/depthcull/profiles;
+// empty when neither can be found.
+std::string default_profile_cache_dir();
+// The cache file of a renderer: <cache_dir>/<64-bit FNV-1a of the string, hex>.json.
+std::string profile_cache_path(const std::string& cache_dir, const std::string& renderer);
 
 // The paper's Table 2 as tests/data/paper-table2.tsv holds it.
 std::vector<Table2Row> read_table2_tsv(const std::string& path);

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 
 #include "depthcull/target.h"
@@ -92,15 +91,12 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
 
 TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
                        const ReconstructOptions& reconstruct) {
-    // Issue 25: hidden parts clipped where the profile says it pays;
-    // DEPTHCULL_CLIP_HIDDEN=0 turns it off (to measure what it gains).
-    const char* env = std::getenv("DEPTHCULL_CLIP_HIDDEN");
-    const bool clip = !(env && std::string(env) == "0") && clip_hidden_options(profile).enabled;
-    // Opaque merging (issue 25) only takes triangles and edges away:
-    // always on with a target; DEPTHCULL_MERGE_OPAQUE=0 turns it off.
-    const char* merge_env = std::getenv("DEPTHCULL_MERGE_OPAQUE");
+    // Issue 25: hidden parts clipped where the profile says it pays, and
+    // opaque merging (it only takes triangles and edges away), each on
+    // unless options turn it off (--no-clip-hidden, --no-merge-opaque).
+    const bool clip = options.clip_hidden && clip_hidden_options(profile).enabled;
     ReconstructOptions base = reconstruct;
-    base.merge_opaque = !(merge_env && std::string(merge_env) == "0");
+    base.merge_opaque = options.merge_opaque;
     TargetPlan plan = plan_once(prepared, options, profile, base, clip, false);
     if (!clip) return plan;
     // Planned for clipping too (more opaque polygons, priced as hiding for

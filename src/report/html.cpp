@@ -169,7 +169,12 @@ std::string report_html(const RunReport& run) {
         h += "<table class=\"table2\"><tr><th>mode</th><th>draw calls</th><th>triangles</th><th>overdraw</th><th>ideal overdraw</th>"
              "<th>overdraw / ideal</th><th>ms per frame (wall)</th><th>ms per frame (CPU)</th>" +
              (r.target.empty() ? std::string() : "<th>predicted ms (--target " + html_escape(r.target) + ")</th>") +
+             (r.target.empty() ? std::string() : "<th>CPU / overpaint</th><th>CPU / limit</th>") +
              "<th>pixels differing from overpaint</th></tr>\n";
+        // CPU / overpaint against the overpaint row's CPU ms (when drawn and timed).
+        double overpaint_cpu = -1;
+        for (const ModeRow& m : r.rows)
+            if (m.mode == "overpaint") overpaint_cpu = m.cpu_ms;
         const char* names[] = {"overpaint", "meshes", "optimized"};
         const char* labels[] = {"overpaint", "meshes only", "optimized"};
         for (const ModeRow& m : r.rows) {
@@ -182,9 +187,16 @@ std::string report_html(const RunReport& run) {
                  (r.ideal_overdraw > 0 ? fmt("%.2f", m.overdraw / r.ideal_overdraw) : "-") + "</td><td class=\"n\">" +
                  (m.ms >= 0 ? fmt("%.3f", m.ms) : "-") + "</td><td class=\"n\">" + (m.cpu_ms >= 0 ? fmt("%.3f", m.cpu_ms) : "-") +
                  (r.target.empty() ? std::string() : "</td><td class=\"n\">" + (m.predicted_ms >= 0 ? fmt("%.3f", m.predicted_ms) : "-")) +
+                 (r.target.empty() ? std::string()
+                                   : "</td><td class=\"n\">" + (m.cpu_ms > 0 && overpaint_cpu > 0 ? fmt("%.3f", m.cpu_ms / overpaint_cpu) : "-") +
+                                         "</td><td class=\"n\">" + (m.cpu_ms > 0 && r.limit_ms > 0 ? fmt("%.3f", m.cpu_ms / r.limit_ms) : "-")) +
                  "</td><td class=\"n\">" + (m.pixels_differ >= 0 ? integer(m.pixels_differ) : "-") + "</td></tr>\n";
         }
         h += "</table>\n";
+        if (!r.target.empty() && r.limit_ms > 0)
+            h += "<p class=\"note\">The limit: " + fmt("%.3f", r.limit_ms) + " ms, the frame time --target " + html_escape(r.target) +
+                 " predicts for the ideal frame (exactly the ideal fragments, blended in one pass, one draw per texture, nothing "
+                 "rejected, two triangles per element that shows). CPU / limit: how far each mode is from it.</p>\n";
 
         h += "<h3>Frames</h3>\n<div class=\"pictures frames\">\n";
         std::int64_t differ = 0;

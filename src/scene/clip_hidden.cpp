@@ -20,7 +20,15 @@
 //   polygons every texel is transparent (paper 2.1), so the extra sliver
 //   blends nothing; on the rect edge the clamp puts the vertex exactly on
 //   the rect's line, which only an element that GL snaps exactly keeps
-//   straight, so only those are clipped (tiles, unrotated sprites).
+//   straight.
+// - Elements GL does not snap exactly (turned, scaled anyhow, flipped,
+//   moved off the 1/256 grid; issue 25 point 3) are cut only where no new
+//   vertex can land on their rect's outline: the cut is first intersected
+//   with the rect shrunk by `margin` on screen, so every cut vertex lies
+//   that far inside the rect, a vertex pushed off an inner edge of B's
+//   polygons stays inside it (no clamp: an element whose push would leave
+//   the rect is not cut), and a result with a hole is not used (its strips
+//   would end on the rect's outline).
 // - B's original vertices are kept bit for bit, and its skirts are drawn
 //   around its original polygons as before.
 // - A result with a hole (an occluder inside B, touching no edge) is not
@@ -139,7 +147,7 @@ struct Region {
 
 // Cuts `region` of element b at `cut`; true (and *out) when it pays.
 bool clip_region(const Scene& scene, std::uint32_t b, const Region& region, const cl::Paths& cut, const ClipHiddenOptions& options,
-                 ClippedPart* out) {
+                 bool snapped, ClippedPart* out) {
     const Element& e = scene.elements[b];
     cl::Paths subject;
     std::map<std::pair<cl::cInt, cl::cInt>, Vec2> original;
@@ -189,6 +197,7 @@ bool clip_region(const Scene& scene, std::uint32_t b, const Region& region, cons
             for (cl::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
                 if (node->IsOpen()) continue;
                 if (node->IsHole()) {
+                    if (!snapped) return false; // strips would end on the rect's outline, off GL's snapped lines
                     cl::cInt lo = node->Contour[0].X, hi = lo;
                     for (const cl::IntPoint& q : node->Contour) lo = std::min(lo, q.X), hi = std::max(hi, q.X);
                     const double x = std::floor((double(lo) + double(hi)) / 2 / kScale);
@@ -250,6 +259,9 @@ bool clip_region(const Scene& scene, std::uint32_t b, const Region& region, cons
                 for (const Polygon& q : region.screen)
                     if (strictly_inside(s, q)) return false;
             Vec2 t{map.u0 + map.ux * s.x + map.uy * s.y, map.v0 + map.vx * s.x + map.vy * s.y};
+            // Not snapped: cut vertices lie `margin` inside the rect, so a
+            // point here outside it is a polygon the checks above missed.
+            if (!snapped && !(t.x > x0 && t.x < x1 && t.y > y0 && t.y < y1)) return false;
             t.x = std::clamp(t.x, x0, x1);
             t.y = std::clamp(t.y, y0, y1);
             piece.push_back(t);
@@ -320,7 +332,7 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
     try {
         for (std::uint32_t b = 0; b < n; ++b) {
             const Element& e = scene.elements[b];
-            if (!snaps_exactly(e.transform)) continue;
+            const bool snapped = snaps_exactly(e.transform);
             const bool blend = shapes.blended[b] && shapes.boundary[b] != Shape::none && keys[b] >= 0;
             const bool opaque_tile = shapes.opaque[b] == Shape::rect && keys[b] >= 0;
             if (!blend && !opaque_tile) continue;
@@ -341,6 +353,16 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                 if (++used == kMaxOccluders) break;
             }
             if (cut.empty()) continue;
+            if (!snapped) {
+                // Kept `margin` inside the rect (see the head comment).
+                cl::Paths inner, kept;
+                if (!shrink(rect_screen, options.margin, inner)) continue;
+                cl::Clipper clipper;
+                clipper.AddPaths(cut, cl::ptSubject, true);
+                clipper.AddPaths(inner, cl::ptClip, true);
+                if (!clipper.Execute(cl::ctIntersection, kept, cl::pftNonZero, cl::pftNonZero) || kept.empty()) continue;
+                cut = std::move(kept);
+            }
             auto region_of = [&](Shape shape) {
                 Region r;
                 if (shape == Shape::rect) r.texel.push_back(rect_polygon(e.rect));
@@ -353,11 +375,11 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                 return r;
             };
             ClippedPart part;
-            if (blend && clip_region(scene, b, region_of(shapes.boundary[b]), cut, options, &part)) {
+            if (blend && clip_region(scene, b, region_of(shapes.boundary[b]), cut, options, snapped, &part)) {
                 result.blend.emplace(b, std::move(part));
                 ++result.elements;
             }
-            if (opaque_tile && !cut.empty() && clip_region(scene, b, region_of(Shape::rect), cut, options, &part)) {
+            if (opaque_tile && !cut.empty() && clip_region(scene, b, region_of(Shape::rect), cut, options, snapped, &part)) {
                 result.opaque.emplace(b, std::move(part));
                 ++result.elements;
             }

@@ -366,6 +366,38 @@ TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
     }
 }
 
+// Issue 25's stages are options of the plan (PrepareOptions::clip_hidden,
+// merge_opaque; --no-clip-hidden, --no-merge-opaque), not environment
+// switches: each turns its stage off in the plan and nothing else.
+TEST(Target, StagesTurnOffByOption) {
+    pipeline::PrepareOptions options;
+    options.threads = 1;
+    const pipeline::PreparedScene prepared = pipeline::prepare_scene(std::string(DEPTHCULL_SOURCE_DIR) + "/examples/meadow.json", options);
+    CostProfile llvmpipe;
+    ASSERT_TRUE(builtin_profile("llvmpipe", &llvmpipe));
+    ASSERT_TRUE(clip_hidden_options(llvmpipe).enabled);
+    for (int clip = 0; clip < 2; ++clip)
+        for (int merge = 0; merge < 2; ++merge) {
+            pipeline::PrepareOptions o = options;
+            o.clip_hidden = clip;
+            o.merge_opaque = merge;
+            const pipeline::TargetPlan plan = pipeline::plan_target(prepared, o, llvmpipe, {});
+            EXPECT_EQ(plan.reconstruct.clip_hidden.enabled, bool(clip)) << clip << merge;
+            EXPECT_EQ(plan.reconstruct.merge_opaque, bool(merge)) << clip << merge;
+        }
+    if (cli().empty()) return;
+    for (const char* command : {"optimize", "render", "bench", "report"}) {
+        const std::string help = temp("stage-help.txt");
+        ASSERT_EQ(std::system((cli() + " " + command + " --help >" + help).c_str()), 0) << command;
+        const std::string text = slurp(help);
+        EXPECT_NE(text.find("--no-clip-hidden"), std::string::npos) << command;
+        EXPECT_NE(text.find("--no-merge-opaque"), std::string::npos) << command;
+    }
+    const std::string out = temp("stages-off.json");
+    EXPECT_EQ(std::system((cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --target llvmpipe "
+                           "--no-clip-hidden --no-merge-opaque -o " + out).c_str()), 0);
+}
+
 // analyze --target: per image the chosen budget (or the plain rect) and
 // MIN_OPAQUE_AREA from the profile, the same for any thread count.
 TEST(Target, AnalyzeReportsThePerImageChoice) {
@@ -397,6 +429,119 @@ TEST(Target, AnalyzeReportsThePerImageChoice) {
             }
         }
     }
+}
+
+} // namespace
+} // namespace depthcull
+
+// ---- --target auto (issue 25): the GL renderer's profile, built in or
+// calibrated once and cached with its renderer string.
+#include <filesystem>
+
+namespace depthcull {
+namespace {
+
+std::string fresh_dir(const std::string& name) {
+    const std::string dir = temp(name);
+    std::filesystem::remove_all(dir);
+    return dir;
+}
+
+CostProfile measured_profile(double frame_us) {
+    CostProfile p;
+    EXPECT_TRUE(builtin_profile("llvmpipe", &p));
+    p.name = "calibrated";
+    p.frame_us = frame_us;
+    return p;
+}
+
+TEST(AutoTarget, LlvmpipePicksTheBuiltInProfile) {
+    const std::string renderer = "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6, EGL surfaceless";
+    const std::string dir = fresh_dir("auto-builtin");
+    const pipeline::AutoProfile found = pipeline::auto_profile(renderer, dir, [] {
+        ADD_FAILURE() << "llvmpipe must not be calibrated";
+        return CostProfile{};
+    });
+    EXPECT_EQ(found.profile.name, "llvmpipe");
+    EXPECT_EQ(found.how, "built-in");
+    EXPECT_FALSE(std::filesystem::exists(dir)); // nothing cached
+    CostProfile p;
+    EXPECT_FALSE(pipeline::builtin_profile_for_renderer("AMD Radeon RX 6600 (radeonsi, navi23, LLVM 15.0.6), OpenGL 4.6", &p));
+}
+
+TEST(AutoTarget, ACachedCalibrationIsReusedForItsRendererOnly) {
+    const std::string dir = fresh_dir("auto-cache");
+    const std::string acme = "Acme Tile GPU 9000, OpenGL 4.6 Acme 1.2, EGL device";
+    int calibrations = 0;
+    auto calibrate = [&] { return measured_profile(100 + ++calibrations); };
+    const pipeline::AutoProfile first = pipeline::auto_profile(acme, dir, calibrate);
+    EXPECT_EQ(calibrations, 1);
+    EXPECT_EQ(first.how, "calibrated, cached in " + pipeline::profile_cache_path(dir, acme));
+    EXPECT_EQ(first.profile.renderer, acme);
+    const pipeline::AutoProfile again = pipeline::auto_profile(acme, dir, calibrate);
+    EXPECT_EQ(calibrations, 1); // reused, not measured again
+    EXPECT_EQ(again.how, "cached in " + pipeline::profile_cache_path(dir, acme));
+    EXPECT_EQ(again.profile.frame_us, 101);
+    EXPECT_EQ(again.profile.name, "calibrated");
+    // Another renderer (a driver update changes the string) is measured for itself.
+    const pipeline::AutoProfile other = pipeline::auto_profile(acme + " 2", dir, calibrate);
+    EXPECT_EQ(calibrations, 2);
+    EXPECT_EQ(other.profile.frame_us, 102);
+    EXPECT_EQ(pipeline::auto_profile(acme, dir, calibrate).profile.frame_us, 101);
+    // No cache directory: measured every time, nothing written.
+    EXPECT_EQ(pipeline::auto_profile(acme, "", calibrate).how, "calibrated (not cached: no cache directory)");
+    EXPECT_EQ(calibrations, 3);
+}
+
+// Decided: a cache entry that does not load is ours to replace, as the
+// analysis cache's are, so it is measured again with a one-line warning
+// naming the file (not an error the user must clear by hand).
+TEST(AutoTarget, ACorruptCachedProfileIsMeasuredAgainWithOneWarning) {
+    const std::string dir = fresh_dir("auto-corrupt");
+    const std::string acme = "Acme Tile GPU 9000, OpenGL 4.6 Acme 1.2, EGL device";
+    const std::string path = pipeline::profile_cache_path(dir, acme);
+    int calibrations = 0;
+    auto calibrate = [&] { return measured_profile(100 + ++calibrations); };
+    std::vector<std::string> warnings;
+    auto warn = [&](const std::string& line) { warnings.push_back(line); };
+    pipeline::auto_profile(acme, dir, calibrate, warn);
+    ASSERT_TRUE(warnings.empty());
+    const std::string bad_files[] = {"{\"depthcull_profile\": 1, \"frame_us\": ", "not json at all", ""};
+    for (const std::string& bad : bad_files) {
+        warnings.clear();
+        std::ofstream(path, std::ios::binary | std::ios::trunc) << bad;
+        const int before = calibrations;
+        const pipeline::AutoProfile found = pipeline::auto_profile(acme, dir, calibrate, warn);
+        EXPECT_EQ(calibrations, before + 1) << bad;
+        ASSERT_EQ(warnings.size(), 1u) << bad;
+        EXPECT_EQ(warnings[0].find('\n'), std::string::npos);
+        EXPECT_NE(warnings[0].find(path), std::string::npos) << warnings[0];
+        EXPECT_NE(warnings[0].find("calibrating again"), std::string::npos) << warnings[0];
+        EXPECT_EQ(pipeline::load_profile(path).frame_us, found.profile.frame_us); // replaced by a good one
+    }
+    // An entry measured on another renderer (a copied file) is not trusted either.
+    CostProfile foreign = measured_profile(7);
+    foreign.renderer = "Some Other GPU";
+    pipeline::save_profile(path, foreign);
+    warnings.clear();
+    EXPECT_NE(pipeline::auto_profile(acme, dir, calibrate, warn).profile.frame_us, 7);
+    EXPECT_EQ(warnings.size(), 1u);
+}
+
+TEST(AutoTarget, OnLlvmpipeTheCommandsUseTheBuiltInProfile) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    const std::string cache = fresh_dir("auto-xdg"), err = temp("auto.err");
+    const std::string cmd = "XDG_CACHE_HOME=" + cache + " " + cli() + " optimize " + DEPTHCULL_SOURCE_DIR +
+                            "/examples/meadow.json --no-cache --target auto -o " + temp("auto-meshes.json") + " 2>" + err;
+    const int rc = std::system(cmd.c_str());
+    const std::string text = slurp(err);
+    if (rc != 0 && text.find("no OpenGL renderer found") != std::string::npos) GTEST_SKIP() << "no GL here";
+    ASSERT_EQ(rc, 0) << text;
+    if (text.find("llvmpipe (") == std::string::npos) GTEST_SKIP() << "not llvmpipe: " << text;
+    EXPECT_NE(text.find("--target auto: llvmpipe ("), std::string::npos) << text;
+    EXPECT_NE(text.find("profile llvmpipe (built-in)"), std::string::npos) << text;
+    EXPECT_NE(text.find("--target llvmpipe: predicted"), std::string::npos) << text;
+    EXPECT_FALSE(std::filesystem::exists(cache + "/depthcull/profiles")); // nothing calibrated
 }
 
 } // namespace

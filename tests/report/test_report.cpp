@@ -177,3 +177,24 @@ TEST(Report, HtmlHasTablesImagesAndLegend) {
     EXPECT_EQ(html.find("http://"), std::string::npos);
     EXPECT_EQ(html.find("https://"), std::string::npos);
 }
+
+// Issue 25: with --target the table gives CPU / overpaint and CPU / limit
+// per mode, and the limit itself below it.
+TEST(Report, TargetRowsGiveTheLimitAndOverpaintRatios) {
+    report::RunReport run;
+    report::SceneReport s;
+    s.path = "meadow.json";
+    s.width = s.height = 4;
+    s.rows = {{"overpaint", 10, 20, 1.5, 0.2, 0.2, 0, 0.21}, {"optimized", 2, 30, 1.1, 0.15, 0.15, 0, 0.14}};
+    s.target = "llvmpipe";
+    s.limit_ms = 0.1;
+    run.scenes.push_back(s);
+    const std::string html = report::report_html(run);
+    EXPECT_NE(html.find("<th>CPU / overpaint</th><th>CPU / limit</th>"), std::string::npos);
+    EXPECT_NE(html.find("<td class=\"n\">0.750</td><td class=\"n\">1.500</td>"), std::string::npos); // optimized
+    EXPECT_NE(html.find("<td class=\"n\">1.000</td><td class=\"n\">2.000</td>"), std::string::npos); // overpaint
+    EXPECT_NE(html.find("The limit: 0.100 ms"), std::string::npos);
+    // Without a target neither column nor the note.
+    run.scenes[0].target.clear();
+    EXPECT_EQ(report::report_html(run).find("CPU / limit"), std::string::npos);
+}
