@@ -170,7 +170,11 @@ struct TargetPlan {
     int analyzed = 0, cache_hits = 0;
     // Reconstruction options with the choice applied (opaque_polygons).
     ReconstructOptions reconstruct;
+    // Issue 25: the plan with OpaqueMethod::cover's pieces (up to
+    // kCoverPlanPolygons per image, depthcull/cost.h) was predicted faster than the default's.
+    bool opaque_cover = false;
 };
+
 
 // Analyzes each distinct image rect of `prepared` at a few vertex budgets
 // (4, 6, 8 up to options.analyze's cap) with the profile's MIN_OPAQUE_AREA

@@ -648,7 +648,9 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         for (std::size_t i = 0; i < per_element.size(); ++i) per_element[i] = &analyses[std::size_t(element_key[i])];
         st = reconstruct_scene(scene, per_element, reconstruct, &meshes);
     } else {
-        // pipeline::plan_target's budgets and opaque area.
+        // pipeline::plan_target's budgets and opaque area, for the default's
+        // opaque polygons and (issue 25) for OpaqueMethod::cover's pieces,
+        // the plan predicted faster kept (the fast one on ties).
         const int cap = std::max(kMinBoundaryVertices, analyze.boundary.max_vertices);
         std::vector<int> budgets;
         for (int b : {4, 6, 8})
@@ -656,20 +658,29 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         budgets.push_back(cap);
         analyze.opaque.min_area = depthcull::min_opaque_area(profile); // the function, not the parameter
         const std::size_t nb = budgets.size();
-        analyses.reserve(first_use.size() * nb);
-        for (std::size_t i : first_use)
-            for (int b : budgets) {
-                AnalyzeOptions o = analyze;
-                o.boundary.max_vertices = b;
-                analyses.push_back(analyze_image(view(scene.elements[i].image), scene.elements[i].rect, o));
-            }
-        std::vector<TargetCandidates> candidates(first_use.size());
-        for (std::size_t k = 0; k < first_use.size(); ++k)
-            for (std::size_t b = 0; b < nb; ++b) {
-                candidates[k].analyses.push_back(&analyses[k * nb + b]);
-                candidates[k].max_vertices.push_back(budgets[b]);
-            }
-        choice = choose_for_target(scene, candidates, element_key, profile, reconstruct);
+        std::vector<OpaqueMethod> methods{analyze.opaque.method};
+        if (analyze.opaque.method == OpaqueMethod::fast && analyze.opaque.max_polygons > 0) methods.push_back(OpaqueMethod::cover);
+        std::vector<std::vector<ImageAnalysis>> planned(methods.size());
+        for (std::size_t m = 0; m < methods.size(); ++m) {
+            std::vector<ImageAnalysis>& these = planned[m];
+            these.reserve(first_use.size() * nb);
+            for (std::size_t i : first_use)
+                for (int b : budgets) {
+                    AnalyzeOptions o = analyze;
+                    o.boundary.max_vertices = b;
+                    o.opaque.method = methods[m];
+                    if (methods[m] == OpaqueMethod::cover) o.opaque.max_polygons = kCoverPlanPolygons;
+                    these.push_back(analyze_image(view(scene.elements[i].image), scene.elements[i].rect, o));
+                }
+            std::vector<TargetCandidates> candidates(first_use.size());
+            for (std::size_t k = 0; k < first_use.size(); ++k)
+                for (std::size_t b = 0; b < nb; ++b) {
+                    candidates[k].analyses.push_back(&these[k * nb + b]);
+                    candidates[k].max_vertices.push_back(budgets[b]);
+                }
+            TargetChoice c = choose_for_target(scene, candidates, element_key, profile, reconstruct);
+            if (m == 0 || c.predicted_ms < choice.predicted_ms) choice = std::move(c);
+        }
         ReconstructOptions chosen = reconstruct;
         chosen.opaque_polygons = reconstruct.opaque_polygons && choice.opaque_pass;
         st = reconstruct_scene(scene, choice.analysis, chosen, &meshes);
