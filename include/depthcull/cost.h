@@ -72,12 +72,6 @@ CostTerms predict_terms(const CostProfile& p, const FrameFeatures& f);
 // is of the same order as what ipad1 gives.
 int min_opaque_area(const CostProfile& p);
 
-// Issue 25: with a target, each image rect is also analyzed with
-// OpaqueMethod::cover at MIN_OPAQUE_AREA, up to this many pieces, and that
-// plan kept when the whole frame is predicted faster (pipeline::
-// plan_target, and the WebAssembly reconstruction the same way).
-inline constexpr int kCoverPlanPolygons = 64;
-
 // ReconstructOptions::clip_hidden for a profile (issue 25): enabled, with
 // the profile's rejected-fragment, triangle and perimeter costs (ns), so an
 // element is cut where the rejected fragments saved beat the triangles and

@@ -171,10 +171,12 @@ struct TargetPlan {
     // Reconstruction options with the choice applied (opaque_polygons).
     ReconstructOptions reconstruct;
     // Issue 25: the plan with OpaqueMethod::cover's pieces (up to
-    // kCoverPlanPolygons per image, depthcull/cost.h) was predicted faster than the default's.
+    // kCoverPlanPolygons per image) was predicted faster than the default's.
     bool opaque_cover = false;
 };
 
+// Most opaque pieces per image rect plan_target's cover plan analyzes.
+inline constexpr int kCoverPlanPolygons = 64;
 
 // Analyzes each distinct image rect of `prepared` at a few vertex budgets
 // (4, 6, 8 up to options.analyze's cap) with the profile's MIN_OPAQUE_AREA

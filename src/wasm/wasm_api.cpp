@@ -658,6 +658,7 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         budgets.push_back(cap);
         analyze.opaque.min_area = depthcull::min_opaque_area(profile); // the function, not the parameter
         const std::size_t nb = budgets.size();
+        constexpr int kCoverPlanPolygons = 64; // pipeline::kCoverPlanPolygons (pipeline.h; not in the wasm core)
         std::vector<OpaqueMethod> methods{analyze.opaque.method};
         if (analyze.opaque.method == OpaqueMethod::fast && analyze.opaque.max_polygons > 0) methods.push_back(OpaqueMethod::cover);
         std::vector<std::vector<ImageAnalysis>> planned(methods.size());
