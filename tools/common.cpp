@@ -60,9 +60,12 @@ void add_boundary_options(CLI::App& cmd, BoundaryOptions& o, Filter& filter) {
 void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
     add_boundary_options(cmd, o.boundary, o.filter);
     cmd.add_option("--opaque", o.opaque.method, "Opaque polygon algorithm: fast (default: grown convex polygons, never below the paper), grow (the growth alone, "
-                   "fastest) or paper (paper 2.2, the reference)")
-        ->transform(choice<OpaqueMethod>({
-            {"fast", OpaqueMethod::fast}, {"grow", OpaqueMethod::grow}, {"paper", OpaqueMethod::paper}}))
+                   "fastest) paper (paper 2.2, the reference) or cover (the opaque region in as many convex pieces as "
+                   "pay, up to --max-opaque; docs/opaque.md)")
+        ->transform(choice<OpaqueMethod>({{"fast", OpaqueMethod::fast},
+                                          {"grow", OpaqueMethod::grow},
+                                          {"paper", OpaqueMethod::paper},
+                                          {"cover", OpaqueMethod::cover}}))
         ->default_str("fast");
     cmd.add_option("--max-opaque", o.opaque.max_polygons, "Most opaque polygons per image (paper: MAX_OPAQUE_POLYGONS; 0 disables)")
         ->check(CLI::Range(0, 64))

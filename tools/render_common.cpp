@@ -104,7 +104,10 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
                                                                  : "the scene's"},
         {"max vertices", std::to_string(a.boundary.max_vertices)},
         {"split disjoint parts", a.boundary.split_parts ? "yes" : "no"},
-        {"opaque method", a.opaque.method == OpaqueMethod::fast ? "fast" : a.opaque.method == OpaqueMethod::grow ? "grow" : "paper"},
+        {"opaque method", a.opaque.method == OpaqueMethod::fast   ? "fast"
+                          : a.opaque.method == OpaqueMethod::grow ? "grow"
+                          : a.opaque.method == OpaqueMethod::cover ? "cover"
+                                                                  : "paper"},
         {"max opaque polygons", std::to_string(a.opaque.max_polygons)},
         {"min coverage", str(a.opaque.min_coverage)},
         {"min opaque area", std::to_string(a.opaque.min_area)},

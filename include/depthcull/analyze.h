@@ -38,6 +38,11 @@ enum class OpaqueMethod {
     paper, // paper 2.2, the reference implementation
     fast,  // ours, the default: grown convex polygons, guarded by the paper's own sequence (never covers less)
     grow,  // the growth alone: fastest, most coverage on average, without the guard; see docs/opaque.md
+    // Beyond the paper (issue 25): the opaque region cut into as many convex
+    // pieces (quads) as pay, each worth min_area texels, up to max_polygons;
+    // min_coverage does not stop it. Vertices on the 1/16-texel grid, 1/16
+    // texel inside the region, so outline texels' centres are covered too.
+    cover,
 };
 
 // Paper 2.2. MAX_OPAQUE_POLYGONS = 4, MIN_OPAQUE_COVERAGE = 0.75,
@@ -113,7 +118,8 @@ std::vector<Polygon> generate_boundary_polygons(ImageView image, Rect rect, cons
 inline constexpr int kMaxOpaqueVertices = 8;
 
 // Paper 2.2: opaque polygons of `rect` in `image`. Guarantee: convex,
-// clockwise, at most kMaxOpaqueVertices vertices, and no polygon overlaps with positive area or touches with an
+// clockwise, at most kMaxOpaqueVertices vertices (half-texel grid; 1/16
+// texel with OpaqueMethod::cover), and no polygon overlaps with positive area or touches with an
 // edge any non-opaque texel square (kept half a texel away with
 // Filter::linear).
 std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const OpaqueOptions& options,

@@ -174,7 +174,13 @@ struct TargetPlan {
     int analyzed = 0, cache_hits = 0;
     // Reconstruction options with the choice applied (opaque_polygons).
     ReconstructOptions reconstruct;
+    // Issue 25: the plan with OpaqueMethod::cover's pieces (up to
+    // kCoverPlanPolygons per image) was predicted faster than the default's.
+    bool opaque_cover = false;
 };
+
+// Most opaque pieces per image rect plan_target's cover plan analyzes.
+inline constexpr int kCoverPlanPolygons = 64;
 
 // Analyzes each distinct image rect of `prepared` at a few vertex budgets
 // (4, 6, 8 up to options.analyze's cap) with the profile's MIN_OPAQUE_AREA

@@ -86,6 +86,9 @@ std::uint64_t analysis_scratch_bytes(Rect rect, const AnalyzeOptions& options) {
     if (options.opaque.max_polygons > 0) switch (options.opaque.method) {
         case OpaqueMethod::paper: per_texel += 12; break;
         case OpaqueMethod::grow: per_texel += 22; break;
+        // The safe mask and the runs (at most one per texel, 8 bytes, with
+        // their links): bounded by 1 + 3 * 8 per texel, rarely near it.
+        case OpaqueMethod::cover: per_texel += 25; break;
         case OpaqueMethod::fast:
             per_texel += 28;
             // The paper's candidate quads the fast search keeps: bounded by

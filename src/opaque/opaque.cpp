@@ -24,8 +24,10 @@ std::vector<Polygon> generate_opaque_polygons(ImageView image, Rect rect, const 
     case OpaqueMethod::paper: polygons = paper_opaque_polygons(safe, options, counters); break;
     case OpaqueMethod::grow: polygons = grow_opaque_polygons(SafeGrid(safe), options, counters).polygons; break;
     case OpaqueMethod::fast: polygons = fast_opaque_polygons(safe, options, counters); break;
+    case OpaqueMethod::cover: polygons = cover_opaque_polygons(safe, options, counters); break;
     }
-    for (const auto& p : polygons) result.push_back(to_polygon(p, rect));
+    const i64 scale = options.method == OpaqueMethod::cover ? kCoverScale : 2;
+    for (const auto& p : polygons) result.push_back(to_polygon(p, rect, scale));
     if (stats) *stats = {counters.candidates, counters.work, counters.budget_exhausted};
     return result;
 }

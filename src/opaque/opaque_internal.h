@@ -44,6 +44,9 @@ struct HalfPoint {
 using HalfPolygon = std::vector<HalfPoint>; // convex, clockwise (y down)
 
 Polygon to_polygon(const HalfPolygon& p, Rect rect);
+// The same for vertices in units of 1/scale texel (scale a power of two,
+// so the public vertices stay exact).
+Polygon to_polygon(const HalfPolygon& p, Rect rect, i64 scale);
 
 // Paper 2.2.1: a maximal run of opaque texels on one row. x1 is inclusive as
 // in the paper's FindOpaqueSegments. `down` lists the indices of segments on
@@ -193,6 +196,10 @@ struct GrownPolygons {
     std::vector<HalfPolygon> polygons;
     i64 covered = 0; // texel squares inside the polygons
 };
+// OpaqueMethod::cover (cover_search.cpp): convex pieces of the safe region
+// eroded by 1/16 texel, vertices in units of 1/kCoverScale texel.
+inline constexpr i64 kCoverScale = 16;
+std::vector<HalfPolygon> cover_opaque_polygons(const Mask& safe, const OpaqueOptions& options, SearchCounters& counters);
 GrownPolygons grow_opaque_polygons(const SafeGrid& grid, const OpaqueOptions& options, SearchCounters& counters);
 
 // Exact: true when the convex clockwise polygon's interior meets no unsafe

@@ -16,6 +16,13 @@ Polygon to_polygon(const HalfPolygon& p, Rect rect) {
     return out;
 }
 
+Polygon to_polygon(const HalfPolygon& p, Rect rect, i64 scale) {
+    Polygon out;
+    out.reserve(p.size());
+    for (const auto& v : p) out.push_back({rect.x + double(v.x) / double(scale), rect.y + double(v.y) / double(scale)});
+    return out;
+}
+
 std::vector<Segment> find_opaque_segments(const Mask& mask, int min_length) {
     std::vector<Segment> segments;
     std::size_t prev_begin = 0, prev_end = 0; // segments of the previous row

@@ -87,9 +87,9 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
     return plan;
 }
 
-} // namespace
-
-TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
+// The plan for the opaque polygons options.analyze asks for: the plain
+// plan, or the one planned for clipping where it is predicted faster.
+TargetPlan plan_method(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
                        const ReconstructOptions& reconstruct) {
     // Issue 25: hidden parts clipped where the profile says it pays, and
     // opaque merging (it only takes triangles and edges away), each on
@@ -113,6 +113,31 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     return plan;
 }
 
+} // namespace
+
+TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
+                       const ReconstructOptions& reconstruct) {
+    TargetPlan plan = plan_method(prepared, options, profile, reconstruct);
+    // Issue 25 point 2: the default's few opaque polygons against the opaque
+    // region cut into as many convex pieces as pay (OpaqueMethod::cover,
+    // each piece worth MIN_OPAQUE_AREA texels), kept only when the whole
+    // frame is predicted faster. DEPTHCULL_OPAQUE_COVER=0 turns it off (to
+    // measure what it gains).
+    const char* env = std::getenv("DEPTHCULL_OPAQUE_COVER");
+    if ((env && std::string(env) == "0") || options.analyze.opaque.method != OpaqueMethod::fast ||
+        options.analyze.opaque.max_polygons <= 0)
+        return plan;
+    PrepareOptions cover_options = options;
+    cover_options.analyze.opaque.method = OpaqueMethod::cover;
+    cover_options.analyze.opaque.max_polygons = kCoverPlanPolygons;
+    TargetPlan cover = plan_method(prepared, cover_options, profile, reconstruct);
+    cover.opaque_cover = true;
+    if (cover.choice.predicted_ms < plan.choice.predicted_ms) std::swap(cover, plan);
+    plan.analyzed += cover.analyzed;
+    plan.cache_hits += cover.cache_hits;
+    return plan;
+}
+
 TargetPlan apply_target(PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile, ReconstructOptions& reconstruct) {
     TargetPlan plan = plan_target(prepared, options, profile, reconstruct);
     prepared.analysis = plan.analysis;
@@ -125,10 +150,12 @@ std::string target_summary(const std::string& path, const TargetPlan& plan) {
     auto print = [&](char* out, std::size_t size) {
         return std::snprintf(out, size,
                              "%s: --target %s: predicted %.3f ms (overpaint %.3f, meshes only %.3f); opaque pass %s, %lld elements with "
-                             "opaque polygons (%lld given up per element), %lld hidden elements dropped, MIN_OPAQUE_AREA %d%s%s",
+                             "opaque polygons (%lld given up per element), %lld hidden elements dropped, MIN_OPAQUE_AREA %d%s%s%s",
                              path.c_str(), plan.profile.name.c_str(), c.predicted_ms, c.overpaint_ms, c.meshes_only_ms,
                              c.opaque_pass ? "on" : "off", (long long)c.elements_opaque, (long long)c.elements_reverted,
-                             (long long)c.elements_dropped, plan.min_opaque_area, c.fallback.empty() ? "" : "; fallback: ", c.fallback.c_str());
+                             (long long)c.elements_dropped, plan.min_opaque_area,
+                             plan.opaque_cover ? "; opaque polygons: cover" : "", c.fallback.empty() ? "" : "; fallback: ",
+                             c.fallback.c_str());
     };
     std::string line(std::size_t(std::max(0, print(nullptr, 0))), '\0');
     print(line.data(), line.size() + 1);

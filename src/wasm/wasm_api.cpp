@@ -829,7 +829,10 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         st = reconstruct_scene(scene, per_element, reconstruct, &meshes);
     } else {
         // pipeline::plan_target: opaque merging on; its budgets and opaque
-        // area; the choice made before optimize adds the insertion points.
+        // area, for the default's opaque polygons and (issue 25) for
+        // OpaqueMethod::cover's pieces, the plan predicted faster kept (the
+        // fast one on ties); the choice made before optimize adds the
+        // insertion points.
         reconstruct.merge_opaque = true;
         const int cap = std::max(kMinBoundaryVertices, analyze.boundary.max_vertices);
         std::vector<int> budgets;
@@ -838,20 +841,30 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         budgets.push_back(cap);
         analyze.opaque.min_area = depthcull::min_opaque_area(cost); // the function, not the parameter
         const std::size_t nb = budgets.size();
-        analyses.reserve(first_use.size() * nb);
-        for (std::size_t k = 0; k < first_use.size(); ++k)
-            for (int b : budgets) {
-                AnalyzeOptions o = analyze;
-                o.boundary.max_vertices = b;
-                analyses.push_back(analyze_key(k, o));
-            }
-        std::vector<TargetCandidates> candidates(first_use.size());
-        for (std::size_t k = 0; k < first_use.size(); ++k)
-            for (std::size_t b = 0; b < nb; ++b) {
-                candidates[k].analyses.push_back(&analyses[k * nb + b]);
-                candidates[k].max_vertices.push_back(budgets[b]);
-            }
-        choice = choose_for_target(scene, candidates, element_key, cost, reconstruct);
+        constexpr int kCoverPlanPolygons = 64; // pipeline::kCoverPlanPolygons (pipeline.h; not in the wasm core)
+        std::vector<OpaqueMethod> methods{analyze.opaque.method};
+        if (analyze.opaque.method == OpaqueMethod::fast && analyze.opaque.max_polygons > 0) methods.push_back(OpaqueMethod::cover);
+        std::vector<std::vector<ImageAnalysis>> planned(methods.size());
+        for (std::size_t m = 0; m < methods.size(); ++m) {
+            std::vector<ImageAnalysis>& these = planned[m];
+            these.reserve(first_use.size() * nb);
+            for (std::size_t k = 0; k < first_use.size(); ++k)
+                for (int b : budgets) {
+                    AnalyzeOptions o = analyze;
+                    o.boundary.max_vertices = b;
+                    o.opaque.method = methods[m];
+                    if (methods[m] == OpaqueMethod::cover) o.opaque.max_polygons = kCoverPlanPolygons;
+                    these.push_back(analyze_key(k, o));
+                }
+            std::vector<TargetCandidates> candidates(first_use.size());
+            for (std::size_t k = 0; k < first_use.size(); ++k)
+                for (std::size_t b = 0; b < nb; ++b) {
+                    candidates[k].analyses.push_back(&these[k * nb + b]);
+                    candidates[k].max_vertices.push_back(budgets[b]);
+                }
+            TargetChoice c = choose_for_target(scene, candidates, element_key, cost, reconstruct);
+            if (m == 0 || c.predicted_ms < choice.predicted_ms) choice = std::move(c);
+        }
         ReconstructOptions chosen = reconstruct;
         chosen.opaque_polygons = reconstruct.opaque_polygons && choice.opaque_pass;
         chosen.insertion_points = insertion_points;

@@ -123,11 +123,11 @@ TEST_P(PixelIdentity, EveryCorpusCamera) {
 }
 
 // Analyses one per element, as the pipeline gives them.
-SceneAnalysis analyse_each(const test::RenderScene& rs) {
+SceneAnalysis analyse_each(const test::RenderScene& rs, const AnalyzeOptions& analyze = {}) {
     SceneAnalysis analysis;
     for (const Element& e : rs.scene.elements) {
         analysis.of_element.push_back(std::uint32_t(analysis.images.size()));
-        analysis.images.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, {}));
+        analysis.images.push_back(analyze_image(rs.images[std::size_t(e.image)].view(), e.rect, analyze));
     }
     return analysis;
 }
@@ -135,7 +135,8 @@ SceneAnalysis analyse_each(const test::RenderScene& rs) {
 // As expect_identical, for rapidcheck: the runtime's frames of meshes only
 // and optimized differ from its overpaint frame at most where a pixel
 // centre lies exactly on a texel edge.
-void assert_identical(render::GlApi api, const test::RenderScene& rs, const ReconstructOptions* reconstruct = nullptr) {
+void assert_identical(render::GlApi api, const test::RenderScene& rs, const ReconstructOptions* reconstruct = nullptr,
+                      const AnalyzeOptions& analyze = {}) {
     std::string why;
     test::RuntimeHost* h = test::RuntimeHost::get(api, &why);
     if (!h) {
@@ -146,7 +147,7 @@ void assert_identical(render::GlApi api, const test::RenderScene& rs, const Reco
     options.frames = 0;
     options.keep_frames = true;
     if (reconstruct) options.reconstruct = *reconstruct;
-    const render::RuntimeMeasurement m = render::measure_runtime(*h->host, rs.scene, rs.views(), analyse_each(rs), options);
+    const render::RuntimeMeasurement m = render::measure_runtime(*h->host, rs.scene, rs.views(), analyse_each(rs, analyze), options);
     for (const auto& mode : m.modes) {
         RC_LOG() << render::mode_name(mode.mode) << ": " << mode.diff.pixels_differ << " pixels differ, " << mode.off_texel_edges
                  << " off texel edges\n";
@@ -369,6 +370,34 @@ RC_GTEST_PROP(PixelIdentity, OpaqueTilesMergedIntoBlocks, ()) {
     ReconstructOptions merge;
     merge.merge_opaque = true;
     assert_identical(render::GlApi::desktop, rs, &merge);
+}
+
+// Issue 25 point 2: opaque polygons of OpaqueMethod::cover (many pieces,
+// 1/16 texel inside the opaque region, meeting along texel rows) under
+// sprites turned, scaled and flipped anyhow, and with hidden parts clipped
+// at them.
+RC_GTEST_PROP(PixelIdentity, CoverPiecesTurnedScaledFlipped, ()) {
+    test::RenderScene rs = turned_scene_images();
+    const int count = *rc::gen::inRange(10, 40);
+    for (int i = 0; i < count; ++i) {
+        const bool exact = *rc::gen::inRange(0, 3) == 0;
+        const double scale = exact ? *rc::gen::element(0.5, 1.0, 2.0, 4.0) : *rc::gen::inRange(100, 6001) / 1000.0;
+        const double degrees = exact ? *rc::gen::element(0.0, 90.0, 180.0, 270.0) : *rc::gen::inRange(0, 36000) / 100.0;
+        const double x = *rc::gen::inRange(-2560, 28160) / 256.0, y = *rc::gen::inRange(0, 23040) / 256.0;
+        auto m = test::rotation(degrees, x, y, scale);
+        if (exact)
+            for (int k = 0; k < 4; ++k) m[std::size_t(k)] = std::round(m[std::size_t(k)] / scale) * scale;
+        if (*rc::gen::inRange(0, 4) == 0) m[0] = -m[0], m[1] = -m[1];
+        add_turned(rs, m);
+    }
+    AnalyzeOptions cover;
+    cover.opaque.method = OpaqueMethod::cover;
+    cover.opaque.max_polygons = 64;
+    cover.opaque.min_area = *rc::gen::element(1, 4, 64);
+    assert_identical(render::GlApi::desktop, rs, nullptr, cover);
+    ReconstructOptions clip;
+    clip.clip_hidden = {true, 1, 0, 0};
+    assert_identical(render::GlApi::desktop, rs, &clip, cover);
 }
 
 INSTANTIATE_TEST_SUITE_P(Targets, PixelIdentity, testing::Values(render::GlApi::desktop, render::GlApi::gles),
