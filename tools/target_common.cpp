@@ -58,6 +58,8 @@ void add_target_stage_options(CLI::App& cmd, pipeline::PrepareOptions& prepare) 
                  "With --target: do not clip hidden parts away at the opaque polygons in front (docs/ideal-frame.md)");
     cmd.add_flag("!--no-merge-opaque", prepare.merge_opaque,
                  "With --target: do not merge opaque tiles laid out as in their image into blocks (docs/ideal-frame.md)");
+    cmd.add_flag("!--no-cover-plan", prepare.cover_plan,
+                 "With --target: do not also plan with --opaque cover's pieces (docs/ideal-frame.md)");
 }
 
 std::unique_ptr<pipeline::TargetPlan> apply_target(const std::string& target, const std::string& path, pipeline::PreparedScene& prepared,

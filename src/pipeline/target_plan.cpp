@@ -121,11 +121,9 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     // Issue 25 point 2: the default's few opaque polygons against the opaque
     // region cut into as many convex pieces as pay (OpaqueMethod::cover,
     // each piece worth MIN_OPAQUE_AREA texels), kept only when the whole
-    // frame is predicted faster. DEPTHCULL_OPAQUE_COVER=0 turns it off (to
-    // measure what it gains).
-    const char* env = std::getenv("DEPTHCULL_OPAQUE_COVER");
-    if ((env && std::string(env) == "0") || options.analyze.opaque.method != OpaqueMethod::fast ||
-        options.analyze.opaque.max_polygons <= 0)
+    // frame is predicted faster. --no-cover-plan turns it off (to measure
+    // what it gains).
+    if (!options.cover_plan || options.analyze.opaque.method != OpaqueMethod::fast || options.analyze.opaque.max_polygons <= 0)
         return plan;
     PrepareOptions cover_options = options;
     cover_options.analyze.opaque.method = OpaqueMethod::cover;

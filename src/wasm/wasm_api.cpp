@@ -207,7 +207,7 @@ constexpr std::size_t kMaxSceneElementsWasm = 1 << 22;
 // budgets and the profile's opaque area, then choose_for_target with
 // opaque merging on. What the wasm cannot do: Clipper 6 is not in it
 // (clip_hidden_parts does nothing there), so --target plans without
-// clipping hidden parts, as optimize with DEPTHCULL_CLIP_HIDDEN=0 does.
+// clipping hidden parts, as optimize with --no-clip-hidden does.
 struct SceneBuild {
     Scene scene;
     std::vector<std::vector<std::uint8_t>> pixels; // per image, RGBA8 rows packed

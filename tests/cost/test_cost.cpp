@@ -367,7 +367,8 @@ TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
 }
 
 // Issue 25's stages are options of the plan (PrepareOptions::clip_hidden,
-// merge_opaque; --no-clip-hidden, --no-merge-opaque), not environment
+// merge_opaque, cover_plan; --no-clip-hidden, --no-merge-opaque,
+// --no-cover-plan), not environment
 // switches: each turns its stage off in the plan and nothing else.
 TEST(Target, StagesTurnOffByOption) {
     pipeline::PrepareOptions options;
@@ -385,6 +386,14 @@ TEST(Target, StagesTurnOffByOption) {
             EXPECT_EQ(plan.reconstruct.clip_hidden.enabled, bool(clip)) << clip << merge;
             EXPECT_EQ(plan.reconstruct.merge_opaque, bool(merge)) << clip << merge;
         }
+    // The cover plan (OpaqueMethod::cover's pieces) wins on the meadow for
+    // the iPad's profile; --no-cover-plan keeps the default's polygons.
+    CostProfile ipad1;
+    ASSERT_TRUE(builtin_profile("ipad1", &ipad1));
+    EXPECT_TRUE(pipeline::plan_target(prepared, options, ipad1, {}).opaque_cover);
+    pipeline::PrepareOptions no_cover = options;
+    no_cover.cover_plan = false;
+    EXPECT_FALSE(pipeline::plan_target(prepared, no_cover, ipad1, {}).opaque_cover);
     if (cli().empty()) return;
     for (const char* command : {"optimize", "render", "bench", "report"}) {
         const std::string help = temp("stage-help.txt");
@@ -392,10 +401,11 @@ TEST(Target, StagesTurnOffByOption) {
         const std::string text = slurp(help);
         EXPECT_NE(text.find("--no-clip-hidden"), std::string::npos) << command;
         EXPECT_NE(text.find("--no-merge-opaque"), std::string::npos) << command;
+        EXPECT_NE(text.find("--no-cover-plan"), std::string::npos) << command;
     }
     const std::string out = temp("stages-off.json");
     EXPECT_EQ(std::system((cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --target llvmpipe "
-                           "--no-clip-hidden --no-merge-opaque -o " + out).c_str()), 0);
+                           "--no-clip-hidden --no-merge-opaque --no-cover-plan -o " + out).c_str()), 0);
 }
 
 // analyze --target: per image the chosen budget (or the plain rect) and

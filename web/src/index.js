@@ -295,7 +295,7 @@ export class Depthcull {
    * and with a target `target: {predictedMs, meshesOnlyMs, overpaintMs,
    * elementsDropped, elementsOpaque, elementsReverted}`. The wasm has no
    * Clipper: with a target it does not clip hidden parts (optimize with
-   * DEPTHCULL_CLIP_HIDDEN=0), so on a profile that prices rejected
+   * --no-clip-hidden), so on a profile that prices rejected
    * fragments its meshes may differ from the CLI's (README).
    */
   reconstructScene(scene, options = {}) {

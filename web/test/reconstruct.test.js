@@ -37,16 +37,16 @@ const cases = [
 ];
 // A calibrated profile (a file `depthcull calibrate` wrote): on the meadow
 // the CLI's plan clips hidden parts there, which the wasm cannot (no
-// Clipper), so it is compared with the CLI's DEPTHCULL_CLIP_HIDDEN=0.
+// Clipper), so it is compared with the CLI's --no-clip-hidden.
 const profileFile = join(root, 'bench/results/calibration-llvmpipe.json');
-cases.push(['--target calibration-llvmpipe.json (DEPTHCULL_CLIP_HIDDEN=0)', ['--target', profileFile], { target: JSON.parse(readFileSync(profileFile, 'utf8')) }, { DEPTHCULL_CLIP_HIDDEN: '0' }]);
+cases.push(['--target calibration-llvmpipe.json --no-clip-hidden', ['--target', profileFile, '--no-clip-hidden'], { target: JSON.parse(readFileSync(profileFile, 'utf8')) }]);
 
-for (const [label, args, options, env = {}] of cases) {
+for (const [label, args, options] of cases) {
   test(`reconstructScene equals depthcull optimize: meadow ${label}`, { skip: !existsSync(cli) && `no CLI at ${cli}` }, () => {
     const dir = mkdtempSync(join(tmpdir(), 'dc-reconstruct-'));
     try {
       const out = join(dir, 'meadow.meshes.json');
-      execFileSync(cli, ['optimize', scenePath, '-o', out, '--no-timing', '--no-cache', ...args], { stdio: 'pipe', env: { ...process.env, ...env } });
+      execFileSync(cli, ['optimize', scenePath, '-o', out, '--no-timing', '--no-cache', ...args], { stdio: 'pipe' });
       const native = parseMeshesJson(readFileSync(out, 'utf8'), { name: out });
       const wasm = depthcull.reconstructScene(scene, options);
       const { seconds, ...nativeStats } = native.stats;
