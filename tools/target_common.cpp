@@ -11,12 +11,4 @@ void add_target_option(CLI::App& cmd, std::string& target) {
         ->type_name("PROFILE");
 }
 
-std::unique_ptr<pipeline::TargetPlan> apply_target(const std::string& target, const std::string& path, pipeline::PreparedScene& prepared,
-                                             const pipeline::PrepareOptions& prepare, ReconstructOptions* reconstruct, bool quiet) {
-    if (target.empty()) return nullptr;
-    auto plan = std::make_unique<pipeline::TargetPlan>(pipeline::apply_target(prepared, prepare, pipeline::resolve_target(target), *reconstruct));
-    if (!quiet) std::fprintf(stderr, "depthcull: %s\n", pipeline::target_summary(path, *plan).c_str());
-    return plan;
-}
-
 } // namespace depthcull::cli

@@ -26,12 +26,6 @@ CostProfile resolve_target(const std::string& name_or_path);
 // The paper's Table 2 as tests/data/paper-table2.tsv holds it.
 std::vector<Table2Row> read_table2_tsv(const std::string& path);
 
-// --target over a prepared scene, as one step: plan_target (pipeline.h),
-// then the choice applied: prepared.analysis becomes the chosen analyses
-// and `reconstruct` the chosen options (opaque_polygons). The plan
-// returned is the record of the choice.
-TargetPlan apply_target(PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
-                        ReconstructOptions& reconstruct);
 // The one line the commands print about a plan (without a newline):
 // "<path>: --target <name>: predicted ... ms ...".
 std::string target_summary(const std::string& path, const TargetPlan& plan);

@@ -7,6 +7,7 @@
 #include <atomic>
 
 #include "depthcull/pipeline.h"
+#include "pipeline/parallel.h"
 
 namespace depthcull::pipeline {
 

@@ -159,13 +159,12 @@ CacheKey analysis_key(ImageView image, Rect rect, const AnalyzeOptions& o) {
     h.value(std::int32_t(rect.w));
     h.value(std::int32_t(rect.h));
     h.value(std::int32_t(o.boundary.max_vertices));
-    h.value(std::int32_t(o.filter)); // hashed where both stages' copies were, so keys stay as they were
+    h.value(std::int32_t(o.filter));
     h.value(std::int32_t(o.boundary.split_parts));
     h.value(std::int32_t(o.opaque.method));
     h.value(std::int32_t(o.opaque.max_polygons));
     h.value(o.opaque.min_coverage);
     h.value(std::int32_t(o.opaque.min_area));
-    h.value(std::int32_t(o.filter));
     // Only alpha: both stages see texels only through their alpha classes
     // (paper 2.1, 2.2), so a recoloured sprite shares its entry.
     std::vector<std::uint8_t> row(std::size_t(rect.w));
