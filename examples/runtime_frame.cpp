@@ -44,10 +44,10 @@ int main(int argc, char** argv) {
         // room for 64 moving sprites in front.
         pipeline::OptimizeOptions options;
         options.reconstruct.reserved_dynamic_levels = 64;
-        const pipeline::OptimizeResult optimized = pipeline::optimize(argv[1], options);
-        if (optimized.status != ReconstructStatus::ok) throw io::Error(std::string(argv[1]) + ": reconstruction failed");
-        const pipeline::PreparedScene& p = optimized.prepared;
-        const SceneMeshes& static_meshes = optimized.meshes;
+        const pipeline::OptimizeResult result = pipeline::optimize(argv[1], options);
+        if (result.status != ReconstructStatus::ok) throw io::Error(std::string(argv[1]) + ": reconstruction failed");
+        const pipeline::PreparedScene& p = result.prepared;
+        const SceneMeshes& static_meshes = result.meshes;
         const Viewport& view = p.scene.viewport;
 
         // ---- Engine start-up: context, then the runtime renderer.
