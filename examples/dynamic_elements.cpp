@@ -24,16 +24,15 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        pipeline::PrepareOptions prepare;
-        pipeline::PreparedScene p = pipeline::prepare_scene(argv[1], prepare);
+        // Static part: optimized once (pipeline::optimize: load, analyze,
+        // reconstruct), with room for 256 moving sprites.
+        pipeline::OptimizeOptions options;
+        options.reconstruct.reserved_dynamic_levels = 256;
+        const pipeline::OptimizeResult optimized = pipeline::optimize(argv[1], options);
+        const pipeline::PreparedScene& p = optimized.prepared;
         if (p.scene.elements.empty()) throw depthcull::Error(std::string(argv[1]) + ": scene has no elements");
-
-        // Static part: reconstructed once, with room for 256 moving sprites.
-        ReconstructOptions options;
-        options.reserved_dynamic_levels = 256;
-        SceneMeshes static_meshes;
-        if (reconstruct_scene(p.scene, p.analysis, options, &static_meshes) != ReconstructStatus::ok)
-            throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
+        if (optimized.status != ReconstructStatus::ok) throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
+        const SceneMeshes& static_meshes = optimized.meshes;
         std::printf("static: %" PRId64 " elements, %" PRId64 " draw calls, %" PRId64 " depth levels\n",
                     static_meshes.stats.elements, static_meshes.stats.draw_calls, static_meshes.stats.depth_levels);
 

@@ -56,14 +56,20 @@ int main(int argc, char** argv) {
     try {
         // ---- Asset build side: scene, analysis, static meshes with a depth
         // range reserved for `count` sprites at the insertion point.
-        pipeline::PreparedScene p = pipeline::prepare_scene(argv[1], {});
+        // The scene, its pixels and analysis first (no meshes yet): where
+        // the sprites go depends on it.
+        pipeline::OptimizeOptions options;
+        options.reconstruct_meshes = false;
+        const pipeline::OptimizeResult analyzed = pipeline::optimize(argv[1], options);
+        const pipeline::PreparedScene& p = analyzed.prepared;
         if (p.scene.elements.empty()) throw depthcull::Error(std::string(argv[1]) + ": no elements");
         const std::size_t at = p.scene.insertion_points.empty() ? p.scene.elements.size() / 2 : p.scene.insertion_points[0];
-        ReconstructOptions options;
-        options.insertion_points = {{at, count}};
-        SceneMeshes built;
-        if (reconstruct_scene(p.scene, p.analysis, options, &built) != ReconstructStatus::ok)
-            throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
+        // Then the meshes, from the scene and analysis in memory.
+        options.reconstruct_meshes = true;
+        options.reconstruct.insertion_points = {{at, count}};
+        const pipeline::OptimizeResult optimized = pipeline::optimize(pipeline::SceneSource{p.scene, p.analysis}, options);
+        if (optimized.status != ReconstructStatus::ok) throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
+        const SceneMeshes& built = optimized.meshes;
         // What the asset build writes (`depthcull optimize --insert-at ...
         // --binary level.bin`) and the game loads (io::read_meshes): the
         // reserved range travels in the file's insertion points.

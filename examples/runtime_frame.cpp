@@ -42,13 +42,13 @@ int main(int argc, char** argv) {
         // ---- Asset build side (usually `depthcull optimize` at build time):
         // the scene, its images, their analysis, the static meshes with
         // room for 64 moving sprites in front.
-        pipeline::PreparedScene p = pipeline::prepare_scene(argv[1], {});
+        pipeline::OptimizeOptions options;
+        options.reconstruct.reserved_dynamic_levels = 64;
+        const pipeline::OptimizeResult result = pipeline::optimize(argv[1], options);
+        if (result.status != ReconstructStatus::ok) throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
+        const pipeline::PreparedScene& p = result.prepared;
+        const SceneMeshes& static_meshes = result.meshes;
         const Viewport& view = p.scene.viewport;
-        ReconstructOptions options;
-        options.reserved_dynamic_levels = 64;
-        SceneMeshes static_meshes;
-        if (reconstruct_scene(p.scene, p.analysis, options, &static_meshes) != ReconstructStatus::ok)
-            throw depthcull::Error(std::string(argv[1]) + ": reconstruction failed");
 
         // ---- Engine start-up: context, then the runtime renderer.
         Host host;

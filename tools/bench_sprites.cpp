@@ -81,7 +81,11 @@ void run_sprite_bench(const SpriteBenchArgs& args) {
     Progress progress("bench", "scenes", args.scenes.size(), args.quiet);
     for (const std::string& path : args.scenes) {
         progress.stage(path + ": analyzing");
-        pipeline::PreparedScene prepared = prepare_for_render(path, input);
+        // The static scene as optimize prepares it; the target prices the sprites here, not the scene.
+        RenderInput scene_input = input;
+        scene_input.target.clear();
+        const pipeline::OptimizeResult result = optimize_for_render(path, scene_input, true);
+        const pipeline::PreparedScene& prepared = result.prepared;
         outputs.add_inputs(scene_inputs(path, prepared.scene));
         progress.stage(path + ": drawing sprites");
         render::SpriteMeasurement m;

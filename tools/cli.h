@@ -59,12 +59,13 @@ void write_output(const std::string& path, const std::string& text);
 // The same for output made in pieces (never held whole).
 void write_output(const std::string& path, const std::function<void(const io::WriteBytes&)>& produce);
 
-// The analysis options shared by analyze and optimize: --max-vertices,
-// --filter, --opaque, --max-opaque, --min-coverage, --min-opaque-area,
-// --no-split.
+// The analysis options shared by analyze, atlas and the scene commands:
+// --max-vertices, --filter, --opaque, --max-opaque, --min-coverage,
+// --min-opaque-area, --no-split. Per image, --filter is options.filter.
 void add_analysis_options(CLI::App& command, AnalyzeOptions& options);
-// Only the boundary-polygon ones: --max-vertices, --filter (into `filter`), --no-split.
-void add_boundary_options(CLI::App& command, BoundaryOptions& options, Filter& filter);
+// For scenes: the same, --filter into options.filter (set only when given,
+// pipeline::settle decides who wins), the others into options.analyze.
+void add_scene_analysis_options(CLI::App& command, pipeline::PrepareOptions& options);
 
 // The element order and overlap test shared by optimize, render and bench:
 // --graph, --sort.

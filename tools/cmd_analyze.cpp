@@ -15,6 +15,7 @@
 #include "depthcull/pipeline.h"
 #include "depthcull/report.h"
 #include "outputs.h"
+#include "pipeline/parallel.h"
 #include "progress.h"
 #include "target_common.h"
 

@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "depthcull/report.h"
 #include "outputs.h"
+#include "pipeline/parallel.h"
 #include "progress.h"
 
 namespace depthcull::cli {

@@ -303,22 +303,21 @@ void run_bench(BenchArgs& args) {
     report::RunReport run;
     Progress progress(command, "scenes", args.scenes.size(), args.quiet);
     for (const std::string& path : args.scenes) {
-        progress.stage(path + ": analyzing");
-        pipeline::PreparedScene prepared = prepare_for_render(path, args.input);
+        args.input.opaque = args.opaque_given;
+        const pipeline::OptimizeResult result =
+            optimize_for_render(path, args.input, args.quiet, [&](const char* stage) { progress.stage(path + ": " + stage); });
+        const pipeline::PreparedScene& prepared = result.prepared;
+        const std::optional<pipeline::TargetPlan>& plan = result.plan;
+        // The options section of the report says whether the (last) choice drew the opaque pass.
+        args.input.opaque = result.reconstruct.opaque_polygons;
         check_frame_fits(path, prepared, args.input);
         outputs.add_inputs(scene_inputs(path, prepared.scene));
-        std::unique_ptr<pipeline::TargetPlan> plan;
-        if (!args.input.target.empty()) {
-            progress.stage(path + ": choosing for --target");
-            args.input.opaque = args.opaque_given;
-            plan = apply_render_target(path, prepared, args.input, args.quiet);
-        }
         progress.stage(path + ": drawing");
         render::MeasureOptions options;
         options.modes = modes;
         options.frames = args.frames;
         options.warmup = args.warmup;
-        options.reconstruct = reconstruct_options(args.input);
+        options.reconstruct = result.reconstruct;
         options.keep_frames = !args.report.empty();
         SceneResult r;
         r.path = path;
@@ -337,7 +336,7 @@ void run_bench(BenchArgs& args) {
         }
         if (!args.report.empty()) {
             progress.stage(path + ": report");
-            run.scenes.push_back(scene_report(path, prepared, args.input, renderer ? nullptr : &r.rt, renderer ? &r.m : nullptr));
+            run.scenes.push_back(scene_report(path, result, renderer ? nullptr : &r.rt, renderer ? &r.m : nullptr));
             if (!r.predicted.empty()) {
                 // Same order: predict_modes predicted rt.modes' modes.
                 report::SceneReport& sr = run.scenes.back();

@@ -28,7 +28,6 @@ struct OptimizeArgs {
     bool stats = false;
     bool timing = true;
     bool quiet = false;
-    CLI::Option* filter_option = nullptr;
     std::string target;
     std::int64_t insertion_levels = -1; // --insertion-levels; -1: not given
 };
@@ -84,11 +83,18 @@ std::string figures(const pipeline::PreparedScene& p, const SceneStats& o, const
 }
 
 void run_optimize(OptimizeArgs& args) {
-    pipeline::PrepareOptions prepare = args.prepare;
-    if (args.filter_option->count()) prepare.filter_override = prepare.analyze.filter;
+    pipeline::OptimizeOptions o;
+    o.prepare = args.prepare;
     // No opaque pass: skip the opaque search rather than compute and drop it.
-    if (!args.opaque) prepare.analyze.opaque.max_polygons = 0;
-    prepare.cache_dir = args.cache.directory();
+    if (!args.opaque) o.prepare.analyze.opaque.max_polygons = 0;
+    o.prepare.cache_dir = args.cache.directory();
+    o.reconstruct = args.reconstruct;
+    o.reconstruct.opaque_polygons = args.opaque;
+    o.target = args.target;
+    if (!args.target.empty()) o.profile = resolve_cli_target(args.target, args.quiet); // --target auto finds the GL renderer here
+    // Depth ranges for moving sprites at the scene's insertion points
+    // (object layers, the scene JSON's, --insert-at), written into the files.
+    o.insertion_levels = args.insertion_levels >= 0 ? args.insertion_levels : args.prepare.load.insert_at.empty() ? 0 : 1024;
     // Checked before the analysis, staged and committed together at the end:
     // a failure writes neither file.
     const bool hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();
@@ -97,44 +103,25 @@ void run_optimize(OptimizeArgs& args) {
     RunOutputs outputs({args.scene});
     if (json) outputs.add(json_path);
     outputs.add(args.binary);
-    pipeline::PreparedScene prepared;
-    StageSeconds seconds;
+    pipeline::OptimizeResult result;
     {
         Progress progress("optimize", "images analyzed", 0, args.quiet);
-        prepare.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
-        const Stopwatch analysis;
-        prepared = pipeline::prepare_scene(args.scene, prepare);
-        seconds.analysis = analysis.seconds();
+        o.prepare.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
+        result = pipeline::optimize(args.scene, o);
     }
+    const pipeline::PreparedScene& prepared = result.prepared;
+    const SceneMeshes& meshes = result.meshes; // moved into the files' document below
+    const ReconstructOptions& options = result.reconstruct;
     outputs.add_inputs(scene_inputs(args.scene, prepared.scene));
 
     if (args.reconstruct.sort == SortMethod::paper && prepared.scene.elements.size() > kPaperSortMaxElements)
         std::fprintf(stderr, "depthcull: warning: --sort paper is quadratic (paper 2.3.1); %zu elements may take long\n",
                      prepared.scene.elements.size());
-    ReconstructOptions options = args.reconstruct;
-    options.opaque_polygons = args.opaque;
-    prepare.progress = nullptr;
-    const Stopwatch planning; // --target analyzes more budgets: analysis time too
-    const auto plan = apply_target(args.target, args.scene, prepared, prepare, &options, args.quiet);
-    seconds.analysis += planning.seconds();
-    // Depth ranges for moving sprites at the scene's insertion points
-    // (object layers, the scene JSON's, --insert-at), written into the files.
-    const std::int64_t levels = args.insertion_levels >= 0 ? args.insertion_levels : args.prepare.load.insert_at.empty() ? 0 : 1024;
-    if (levels > 0)
-        for (std::size_t at : prepared.scene.insertion_points) options.insertion_points.push_back({at, levels});
-    if (levels > 0 && options.insertion_points.empty())
+    if (result.plan && !args.quiet) std::fprintf(stderr, "depthcull: %s\n", pipeline::target_summary(args.scene, *result.plan).c_str());
+    if (o.insertion_levels > 0 && options.insertion_points.empty())
         std::fprintf(stderr, "depthcull: warning: %s: --insertion-levels: the scene has no insertion point (no object layer, no "
                              "\"insertion_points\", no --insert-at); the meshes reserve none\n", args.scene.c_str());
-    if (!options.insertion_points.empty() && std::int64_t(options.insertion_points.size()) > kMaxDepthLevels / levels)
-        throw CliError(args.scene + ": " + std::to_string(options.insertion_points.size()) + " insertion points x " + std::to_string(levels) +
-                       " levels (--insertion-levels) are more than the " + std::to_string(kMaxDepthLevels) + " depth levels of a 24-bit depth buffer");
-    // The JSON meshes' "animated" vertex runs come from the element spans.
-    options.element_spans = !prepared.scene.animations.empty();
-    SceneMeshes meshes;
-    const Stopwatch reconstruction;
-    const ReconstructStatus status = reconstruct_scene(prepared.scene, prepared.analysis, options, &meshes);
-    seconds.reconstruction = reconstruction.seconds();
-    switch (status) {
+    switch (result.status) {
     case ReconstructStatus::ok: break;
     case ReconstructStatus::invalid_scene: throw CliError(args.scene + ": invalid scene for reconstruction");
     case ReconstructStatus::too_many_depth_levels:
@@ -145,9 +132,12 @@ void run_optimize(OptimizeArgs& args) {
         std::fprintf(stderr, "depthcull: warning: %s: %" PRId64 " depth levels need a 24-bit depth buffer (16-bit holds %" PRId64 ")\n",
                      args.scene.c_str(), meshes.stats.depth_levels, kMaxDepthLevels16);
 
+    // The analysis figure counts the target's extra budgets too.
+    const StageSeconds seconds{result.seconds.analysis + result.seconds.planning, result.seconds.reconstruction};
     // The files' document; stats.seconds is the reconstruction's wall time,
-    // measured here, or 0 (--no-timing): the writers read no clock.
-    io::MeshesDocument document = io::meshes_document(prepared.scene, std::move(meshes));
+    // measured by the pipeline at its edge, or 0 (--no-timing): the writers
+    // read no clock.
+    io::MeshesDocument document = io::meshes_document(prepared.scene, std::move(result.meshes));
     if (args.timing) document.seconds = seconds.reconstruction;
     if (!args.binary.empty())
         outputs.stage(args.binary, [&](const io::WriteBytes& write) { io::stream_meshes_binary(write, document, args.binary); });
@@ -215,8 +205,7 @@ void add_optimize_command(CLI::App& app) {
                     "1024 with --insert-at, else 0 (no insertion points)")
         ->check(CLI::Range(std::int64_t(0), kMaxDepthLevels));
     add_viewport_option(*cmd, args->prepare.load);
-    add_analysis_options(*cmd, args->prepare.analyze);
-    args->filter_option = cmd->get_option("--filter");
+    add_scene_analysis_options(*cmd, args->prepare);
     cmd->add_option("-j,--threads", args->prepare.threads, "Worker threads for the analysis (0: all cores); output never depends on it")
         ->capture_default_str();
     cmd->add_flag("--stats", args->stats, "Print draw calls, triangles, depth levels, fragments and overdraw: overpaint, meshes only, optimized (no GL)");

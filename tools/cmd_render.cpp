@@ -34,11 +34,11 @@ std::string title(const char* name, double overdraw) {
 }
 
 // exact: with coverage skirts (render::exact_coverage), for comparing frames.
-SceneMeshes meshes_for(render::Mode mode, const pipeline::PreparedScene& prepared, const RenderArgs& args, bool exact = false) {
+SceneMeshes meshes_for(render::Mode mode, const pipeline::OptimizeResult& result, const RenderArgs& args, bool exact = false) {
     SceneMeshes meshes;
-    ReconstructOptions options = reconstruct_options(args.input);
+    ReconstructOptions options = result.reconstruct;
     if (exact) options = render::exact_coverage(options);
-    switch (render::build_meshes(mode, prepared.scene, prepared.analysis, options, &meshes)) {
+    switch (render::build_meshes(mode, result.prepared.scene, result.prepared.analysis, options, &meshes)) {
     case ReconstructStatus::ok: return meshes;
     case ReconstructStatus::invalid_scene: throw CliError(args.scene + ": invalid scene for reconstruction");
     case ReconstructStatus::too_many_depth_levels:
@@ -49,11 +49,12 @@ SceneMeshes meshes_for(render::Mode mode, const pipeline::PreparedScene& prepare
 
 // Overpaint | the mode drawn (optimized when that is overpaint) | ideal,
 // all counted by the CPU analyzer, which needs no GL.
-void write_heatmap(const pipeline::PreparedScene& prepared, const SceneMeshes& drawn, const RenderArgs& args, RunOutputs& outputs) {
+void write_heatmap(const pipeline::OptimizeResult& result, const SceneMeshes& drawn, const RenderArgs& args, RunOutputs& outputs) {
+    const pipeline::PreparedScene& prepared = result.prepared;
     OverdrawMap over, other, ideal;
     const double od_over = analyze_overdraw(overpaint_meshes(prepared.scene), &over).overdraw();
     render::Mode other_mode = args.mode == render::Mode::overpaint ? render::Mode::optimized : args.mode;
-    const SceneMeshes other_meshes = args.mode == render::Mode::overpaint ? meshes_for(other_mode, prepared, args) : drawn;
+    const SceneMeshes other_meshes = args.mode == render::Mode::overpaint ? meshes_for(other_mode, result, args) : drawn;
     const double od_other = analyze_overdraw(other_meshes, &other).overdraw();
     const double od_ideal = ideal_overdraw(prepared.scene, image_views(prepared), &ideal).overdraw();
     Image picture = report::overdraw_heatmap({{title("overpaint", od_over), &over},
@@ -70,12 +71,12 @@ void run_render(RenderArgs& args) {
     RunOutputs outputs({args.scene});
     outputs.add(args.output);
     outputs.add(args.heatmap);
-    pipeline::PreparedScene prepared = prepare_for_render(args.scene, args.input);
+    const pipeline::OptimizeResult result = optimize_for_render(args.scene, args.input, false);
+    const pipeline::PreparedScene& prepared = result.prepared;
     check_frame_fits(args.scene, prepared, args.input);
-    const auto plan = apply_render_target(args.scene, prepared, args.input, false);
     outputs.add_inputs(scene_inputs(args.scene, prepared.scene));
-    const SceneMeshes meshes = meshes_for(args.mode, prepared, args);
-    if (!args.heatmap.empty()) write_heatmap(prepared, meshes, args, outputs);
+    const SceneMeshes meshes = meshes_for(args.mode, result, args);
+    if (!args.heatmap.empty()) write_heatmap(result, meshes, args, outputs);
     if (args.output.empty() && !args.compare) return outputs.commit();
 
     auto renderer = open_renderer(args.input);
@@ -103,8 +104,8 @@ void run_render(RenderArgs& args) {
 
     // Both frames drawn from meshes with coverage skirts, where GL's vertex
     // snapping cannot decide a pixel (render.h, kCoverageMargin).
-    const SceneMeshes overpaint = meshes_for(render::Mode::overpaint, prepared, args, true);
-    const SceneMeshes exact = meshes_for(args.mode, prepared, args, true);
+    const SceneMeshes overpaint = meshes_for(render::Mode::overpaint, result, args, true);
+    const SceneMeshes exact = meshes_for(args.mode, result, args, true);
     renderer->set_meshes(overpaint, maps);
     renderer->draw();
     const Image reference = renderer->read_pixels();

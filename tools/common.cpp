@@ -47,18 +47,39 @@ std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene
     return inputs;
 }
 
-void add_boundary_options(CLI::App& cmd, BoundaryOptions& o, Filter& filter) {
+namespace {
+
+// --filter into `filter` (per image: analyze, atlas) or, for scenes, into
+// `given` (set only when given: pipeline::settle lets it win over the
+// scene's own filter).
+void add_boundary_options(CLI::App& cmd, BoundaryOptions& o, Filter* filter, std::optional<Filter>* given) {
     cmd.add_option("--max-vertices", o.max_vertices, "Most vertices per boundary polygon (paper: MAX_BOUNDARY_VERTICES)")
         ->check(CLI::Range(kMinBoundaryVertices, 1000))
         ->capture_default_str();
-    cmd.add_option("--filter", filter, "Texture filtering the polygons must be correct for (given: it wins over a scene's own)")
-        ->transform(choice<Filter>({{"nearest", Filter::nearest}, {"linear", Filter::linear}}))
-        ->default_str("nearest");
+    const char* help = "Texture filtering the polygons must be correct for (given: it wins over a scene's own)";
+    CLI::Option* option = filter ? cmd.add_option("--filter", *filter, help)
+                                 : cmd.add_option_function<Filter>("--filter", [given](const Filter& f) { *given = f; }, help);
+    option->transform(choice<Filter>({{"nearest", Filter::nearest}, {"linear", Filter::linear}}))->default_str("nearest");
     cmd.add_flag("!--no-split", o.split_parts, "One boundary polygon per image, even for disjoint parts");
 }
 
+void add_opaque_options(CLI::App& cmd, AnalyzeOptions& o);
+
+} // namespace
+
 void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
-    add_boundary_options(cmd, o.boundary, o.filter);
+    add_boundary_options(cmd, o.boundary, &o.filter, nullptr);
+    add_opaque_options(cmd, o);
+}
+
+void add_scene_analysis_options(CLI::App& cmd, pipeline::PrepareOptions& o) {
+    add_boundary_options(cmd, o.analyze.boundary, nullptr, &o.filter);
+    add_opaque_options(cmd, o.analyze);
+}
+
+namespace {
+
+void add_opaque_options(CLI::App& cmd, AnalyzeOptions& o) {
     cmd.add_option("--opaque", o.opaque.method, "Opaque polygon algorithm: fast (default: grown convex polygons, never below the paper), grow (the growth alone, "
                    "fastest) paper (paper 2.2, the reference) or cover (the opaque region in as many convex pieces as "
                    "pay, up to --max-opaque; docs/opaque.md)")
@@ -80,6 +101,8 @@ void add_analysis_options(CLI::App& cmd, AnalyzeOptions& o) {
         ->check(CLI::Range(1, 1 << 30))
         ->capture_default_str();
 }
+
+} // namespace
 
 void add_reconstruct_options(CLI::App& cmd, ReconstructOptions& o) {
     cmd.add_option("--graph", o.graph, "Element overlap test: polygons (default) or boxes (the paper's simple test)")

@@ -17,10 +17,9 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
     add_reconstruct_options(cmd, in.reconstruct);
     cmd.add_flag("!--no-opaque", in.opaque, "Optimized without the opaque pass: boundary polygons only");
     add_viewport_option(cmd, in.prepare.load);
-    add_analysis_options(cmd, in.prepare.analyze);
+    add_scene_analysis_options(cmd, in.prepare);
     add_target_option(cmd, in.target);
     add_target_stage_options(cmd, in.prepare);
-    in.filter_option = cmd.get_option("--filter");
     cmd.add_option("-j,--threads", in.prepare.threads, "Worker threads for the analysis (0: all cores)")->capture_default_str();
     cmd.add_option("--gl", in.platform,
                    "EGL platform: auto (a GPU device if any, else Mesa surfaceless), surfaceless, device")
@@ -30,21 +29,25 @@ void add_render_input_options(CLI::App& cmd, RenderInput& in) {
         ->default_str("auto");
 }
 
-pipeline::PrepareOptions prepare_options(const RenderInput& in) {
-    pipeline::PrepareOptions prepare = in.prepare;
-    if (in.filter_option && in.filter_option->count()) prepare.filter_override = prepare.analyze.filter;
-    prepare.cache_dir = in.cache.directory();
-    return prepare;
+pipeline::OptimizeOptions optimize_options(const RenderInput& in) {
+    pipeline::OptimizeOptions o;
+    o.prepare = in.prepare;
+    o.prepare.cache_dir = in.cache.directory();
+    o.reconstruct = in.reconstruct;
+    o.reconstruct.opaque_polygons = in.opaque;
+    o.target = in.target;
+    o.reconstruct_meshes = false; // each mode's meshes are built for drawing
+    return o;
 }
 
-pipeline::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& in) {
-    return pipeline::prepare_scene(scene, prepare_options(in));
-}
-
-ReconstructOptions reconstruct_options(const RenderInput& in) {
-    ReconstructOptions options = in.reconstruct;
-    options.opaque_polygons = in.opaque;
-    return options;
+pipeline::OptimizeResult optimize_for_render(const std::string& path, const RenderInput& in, bool quiet,
+                                             const std::function<void(const char*)>& stage) {
+    pipeline::OptimizeOptions o = optimize_options(in);
+    if (!in.target.empty()) o.profile = resolve_cli_target(in.target, quiet); // --target auto finds the GL renderer here
+    o.stage = stage;
+    pipeline::OptimizeResult result = pipeline::optimize(path, o);
+    if (result.plan && !quiet) std::fprintf(stderr, "depthcull: %s\n", pipeline::target_summary(path, *result.plan).c_str());
+    return result;
 }
 
 std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared) {
@@ -100,8 +103,7 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
         {"shader", shader},
         {"frames", std::to_string(frames) + " timed (median), " + std::to_string(warmup) + " warm-up, glFinish each"},
         {"LP_NUM_THREADS", lp ? lp : "(unset)"},
-        {"filter", in.filter_option && in.filter_option->count() ? (a.filter == Filter::linear ? "linear" : "nearest")
-                                                                 : "the scene's"},
+        {"filter", in.prepare.filter ? (*in.prepare.filter == Filter::linear ? "linear" : "nearest") : "the scene's"},
         {"max vertices", std::to_string(a.boundary.max_vertices)},
         {"split disjoint parts", a.boundary.split_parts ? "yes" : "no"},
         {"opaque method", a.opaque.method == OpaqueMethod::fast   ? "fast"
@@ -129,8 +131,9 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
     return o;
 }
 
-report::SceneReport scene_report(const std::string& path, const pipeline::PreparedScene& prepared, const RenderInput& input,
-                                 const render::RuntimeMeasurement* rt, const render::SceneMeasurement* m) {
+report::SceneReport scene_report(const std::string& path, const pipeline::OptimizeResult& result, const render::RuntimeMeasurement* rt,
+                                 const render::SceneMeasurement* m) {
+    const pipeline::PreparedScene& prepared = result.prepared;
     report::SceneReport r;
     const Scene& scene = prepared.scene;
     r.path = path;
@@ -163,7 +166,7 @@ report::SceneReport scene_report(const std::string& path, const pipeline::Prepar
     r.covered = covered_share(ideal);
     for (render::Mode mode : {render::Mode::overpaint, render::Mode::optimized}) {
         SceneMeshes meshes;
-        if (render::build_meshes(mode, scene, prepared.analysis, reconstruct_options(input), &meshes) != ReconstructStatus::ok)
+        if (render::build_meshes(mode, scene, prepared.analysis, result.reconstruct, &meshes) != ReconstructStatus::ok)
             continue;
         OverdrawMap map;
         const double od = analyze_overdraw(meshes, &map).overdraw();
@@ -215,17 +218,6 @@ report::SceneReport scene_report(const std::string& path, const pipeline::Prepar
     std::snprintf(buf, sizeof buf, "%d images analyzed, %d from the analysis cache", prepared.analyzed, prepared.cache_hits);
     r.analysis = buf;
     return r;
-}
-
-std::unique_ptr<pipeline::TargetPlan> apply_render_target(const std::string& path, pipeline::PreparedScene& prepared, RenderInput& in, bool quiet) {
-    if (in.target.empty()) return nullptr;
-    const pipeline::PrepareOptions prepare = prepare_options(in); // as prepare_for_render prepared it
-    ReconstructOptions reconstruct = reconstruct_options(in);
-    auto plan = apply_target(in.target, path, prepared, prepare, &reconstruct, quiet);
-    in.opaque = reconstruct.opaque_polygons;
-    in.reconstruct.clip_hidden = reconstruct.clip_hidden;
-    in.reconstruct.merge_opaque = reconstruct.merge_opaque;
-    return plan;
 }
 
 } // namespace depthcull::cli

@@ -2,6 +2,7 @@
 // `optimize` does (same options, same cache), and opening the renderer.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,7 +21,6 @@ struct RenderInput {
     ReconstructOptions reconstruct;
     bool opaque = true;
     render::GlPlatform platform = render::GlPlatform::automatic;
-    CLI::Option* filter_option = nullptr;
     std::string target;        // --target PROFILE (target_common.h)
 };
 
@@ -28,18 +28,18 @@ struct RenderInput {
 // analysis options, -j, --gl.
 void add_render_input_options(CLI::App& command, RenderInput& input);
 
-// The prepare options the input stands for (--filter an override, the cache).
-pipeline::PrepareOptions prepare_options(const RenderInput& input);
-pipeline::PreparedScene prepare_for_render(const std::string& scene, const RenderInput& input);
-ReconstructOptions reconstruct_options(const RenderInput& input);
+// What the input asks pipeline::optimize for: the analysis and its cache,
+// the reconstruction, the target; no meshes (each mode's are built for
+// drawing, from OptimizeResult::reconstruct).
+pipeline::OptimizeOptions optimize_options(const RenderInput& input);
+// pipeline::optimize with those options; prints pipeline::target_summary
+// on stderr for a target unless quiet. `stage`: progress lines.
+pipeline::OptimizeResult optimize_for_render(const std::string& path, const RenderInput& input, bool quiet,
+                                             const std::function<void(const char*)>& stage = {});
 std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared);
 
 // Throws CliError("no OpenGL context: ...") when none can be made.
 std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& input);
-
-// apply_target (target_common.h) for render, bench and report: the prepare
-// options of prepare_for_render, and input.opaque set as chosen.
-std::unique_ptr<pipeline::TargetPlan> apply_render_target(const std::string& path, pipeline::PreparedScene& prepared, RenderInput& input, bool quiet);
 
 } // namespace depthcull::cli
 
@@ -56,8 +56,8 @@ double covered_share(const OverdrawMap& ideal);
 // One scene's section of the HTML report from what bench measured (one of
 // rt / m, with frames kept): Table 2 rows, frames, heatmaps (CPU
 // analyzers), per-image table with previews.
-report::SceneReport scene_report(const std::string& path, const pipeline::PreparedScene& prepared, const RenderInput& input,
-                                 const render::RuntimeMeasurement* rt, const render::SceneMeasurement* m);
+report::SceneReport scene_report(const std::string& path, const pipeline::OptimizeResult& result, const render::RuntimeMeasurement* rt,
+                                 const render::SceneMeasurement* m);
 // The options section: analysis, reconstruction, frames, LP_NUM_THREADS.
 std::vector<std::pair<std::string, std::string>> report_options(const RenderInput& input, int frames, int warmup, const char* shader);
 

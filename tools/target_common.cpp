@@ -62,12 +62,4 @@ void add_target_stage_options(CLI::App& cmd, pipeline::PrepareOptions& prepare) 
                  "With --target: do not also plan with --opaque cover's pieces (docs/ideal-frame.md)");
 }
 
-std::unique_ptr<pipeline::TargetPlan> apply_target(const std::string& target, const std::string& path, pipeline::PreparedScene& prepared,
-                                             const pipeline::PrepareOptions& prepare, ReconstructOptions* reconstruct, bool quiet) {
-    if (target.empty()) return nullptr;
-    auto plan = std::make_unique<pipeline::TargetPlan>(pipeline::apply_target(prepared, prepare, resolve_cli_target(target, quiet), *reconstruct));
-    if (!quiet) std::fprintf(stderr, "depthcull: %s\n", pipeline::target_summary(path, *plan).c_str());
-    return plan;
-}
-
 } // namespace depthcull::cli

@@ -24,10 +24,6 @@
 
 namespace depthcull::io {
 
-// The same type as depthcull::Error: io::Error is another spelling of it,
-// kept while code that names it (src/pipeline) moves over.
-using Error = depthcull::Error;
-
 // A library exception's text without nlohmann's "[json.exception.x.n] ".
 inline std::string exception_text(const std::exception& e) {
     std::string message = e.what();

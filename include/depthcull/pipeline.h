@@ -1,14 +1,16 @@
-// depthcull: the scene pipeline shared by optimize, render, bench, report
-// and atlas: load (depthcull/io.h formats), decode each image once,
-// analyze each distinct (image, rect) once through the on-disk cache, on
-// threads; reconstruction then takes the result (depthcull/scene.h). The
-// orchestration lives here so io stays formats only and the core stays
-// pure. Like io, everything here may do I/O and throws io::Error only.
+// depthcull: the scene pipeline, the only orchestration layer. One call,
+// optimize(), runs a whole optimization (load, settle the filter and the
+// profile, decode each image once, analyze each distinct (image, rect) once
+// through the on-disk cache on threads, plan for a target, reconstruct)
+// and returns it as one value; every command, the C API and the examples
+// call it. Its stages (prepare_scene, plan_target) stay public for tests
+// and tools. The orchestration lives here so io stays formats only and the
+// core stays pure. Like io, everything here may do I/O and throws
+// depthcull::Error only.
 #pragma once
 
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <mutex>
 #include <functional>
 #include <optional>
@@ -21,20 +23,13 @@
 
 namespace depthcull::pipeline {
 
-// Runs fn(i) for i in [0, n) on `threads` threads (0: all cores; at most
-// limits::kMaxThreads), the calling thread one of them. Threads the system
-// refuses to start are not an error: those running do their share. Callers
-// store results by index, so output never depends on the thread count;
-// the error of the lowest failing index is rethrown, as a serial run would.
-void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn);
-
 // Scratch memory that analyses running at once may hold together
 // (analysis_scratch_bytes each): a worker reserves an analysis's estimate
 // before it runs and waits while the others' reservations leave too little,
 // so peak memory stays within the budget whatever -j is (at -j 8, eight
 // 4096^2 frames would otherwise need 4 GiB at once). Results are stored by
 // index, so waiting never changes the output. The budget is also the most
-// one analysis may need: a larger one is refused (io::Error naming the
+// one analysis may need: a larger one is refused (depthcull::Error naming the
 // file, the rect and the limit), never queued.
 class MemoryBudget {
 public:
@@ -83,10 +78,10 @@ std::string default_cache_dir();
 // so they share one cache.
 // `name` (the image file) names it in errors; the analysis' scratch memory
 // is reserved from `budget` (null: shared_memory_budget()) while it runs,
-// and an analysis that needs more than the whole budget is an io::Error
+// and an analysis that needs more than the whole budget is an depthcull::Error
 // naming `name`, the rect and the limit, raised before anything is
 // allocated.
-// The io::Error analyze_cached raises when an analysis of `rect` would
+// The depthcull::Error analyze_cached raises when an analysis of `rect` would
 // need more scratch memory than the whole budget, raised here without
 // analysing (callers check on an image's header before decoding it).
 void check_analysis_memory(const std::string& name, Rect rect, const AnalyzeOptions& options, MemoryBudget* budget = nullptr);
@@ -106,14 +101,15 @@ ImageAnalysis analyze_animation(const std::vector<ImageView>& images, const Anim
 
 struct PrepareOptions {
     io::LoadOptions load;
-    AnalyzeOptions analyze;  // analyze.filter is not read: see filter_override
+    // Every option of an analysis but its texture filter, which settle()
+    // decides (the `filter` below, else the scene's own): analysis_options()
+    // puts the settled one in.
+    AnalyzeOptions analyze;
     std::string cache_dir;   // empty: no cache
     unsigned threads = 0;    // 0: all cores; output never depends on it
-    // The texture filter, and who wins: this override when set (a command
-    // line's --filter), else the scene's own (Scene::filter). prepare_scene
-    // writes the winner into PreparedScene::scene.filter, analyzes for it
-    // and reconstruction then reads it there: one value from file to meshes.
-    std::optional<Filter> filter_override;
+    // The texture filter asked for (a command line's --filter): when set it
+    // wins over the scene's own (Scene::filter). Read by settle() only.
+    std::optional<Filter> filter;
     // Called after each distinct (image, rect) is analyzed or read from the
     // cache, from worker threads (the callee synchronizes): progress bars.
     std::function<void(std::size_t done, std::size_t total)> progress;
@@ -157,22 +153,27 @@ struct PreparedScene {
     int analyzed = 0, cache_hits = 0;
 };
 
-// Loads a scene (any io::load_scene format) and its images, and analyzes
-// every distinct (image, rect) the elements use, through the cache when given.
+// Loads a scene (any io::load_scene format) and its images, settles its
+// filter (settle()) and analyzes every distinct (image, rect) the elements
+// use, through the cache when given. optimize() runs it as its first stage.
 PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options);
 
 // ---- --target: what a cost profile chooses for a prepared scene
 
 // Per element the analysis to reconstruct with and whether the opaque
-// pass is drawn. `analysis` is a value (a copy of the chosen candidates):
-// put it in PreparedScene::analysis to reconstruct with the choice.
+// pass is drawn. A value: the candidates are found by index and the choice
+// holds its own analyses (TargetChoice::analysis), so a copy is whole and
+// outlives the original.
 struct TargetPlan {
     CostProfile profile;
     std::vector<int> budgets;              // vertex budgets analyzed, ascending; the last is --max-vertices
     int min_opaque_area = 0;               // MIN_OPAQUE_AREA from the profile
-    std::deque<ImageAnalysis> candidates;  // per distinct rect and budget (choice's pointers point here)
+    // Per distinct rect k of the prepared analysis and budget b, at
+    // candidate(k, b); empty for a rect no element uses.
+    std::vector<ImageAnalysis> candidates;
+    const ImageAnalysis& candidate(std::size_t key, std::size_t budget) const { return candidates[key * budgets.size() + budget]; }
+    // What choose_for_target chose: choice.analysis is what reconstruction takes.
     TargetChoice choice;
-    SceneAnalysis analysis;                // choice.analysis (a copy)
     int analyzed = 0, cache_hits = 0;
     // Reconstruction options with the choice applied (opaque_polygons).
     ReconstructOptions reconstruct;
@@ -191,6 +192,88 @@ inline constexpr int kCoverPlanPolygons = 64;
 TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
                        const ReconstructOptions& reconstruct);
 
+// ---- optimize: the whole pipeline as one call. Every command that
+// optimizes a scene (optimize, render, bench, report), the C API and the
+// examples go through it; nothing else strings the stages together.
+
+struct OptimizeOptions {
+    PrepareOptions prepare;
+    // The options reconstruction starts from; with a target the plan's
+    // choice replaces opaque_polygons, clip_hidden and merge_opaque.
+    // insertion_points given here are kept, the scene's are added below.
+    ReconstructOptions reconstruct;
+    // A built-in cost profile ("llvmpipe", "ipad1") or a profile file
+    // (resolve_target); empty: no target planning.
+    std::string target;
+    // The profile when the caller resolved `target` itself (the CLI's
+    // --target auto finds the GL renderer, an edge the pipeline does not
+    // reach); then `target` is only named in messages.
+    std::optional<CostProfile> profile;
+    // Depth levels reserved at each of the scene's insertion points (object
+    // layers, the scene JSON's, LoadOptions::insert_at); 0: none.
+    std::int64_t insertion_levels = 0;
+    // false: stop after the analysis and the plan, for callers that build
+    // each mode's meshes themselves (render, bench, report).
+    bool reconstruct_meshes = true;
+    // Called before each stage: "analyzing", "choosing for --target",
+    // "reconstructing" (progress lines).
+    std::function<void(const char* stage)> stage;
+};
+
+// The texture filter and the target profile a run uses, decided in this
+// one place. The filter: PrepareOptions::filter when given (a command
+// line's --filter), else the scene's own (Scene::filter). The profile:
+// OptimizeOptions::target resolved, none without one. optimize() writes
+// the filter into its scene (OptimizeResult::prepared.scene.filter), where
+// the analysis (analysis_options), target planning, reconstruction, the
+// meshes and the renderers all read it; the profile lives in the plan.
+struct Settled {
+    Filter filter = Filter::nearest;
+    std::optional<CostProfile> profile;
+};
+Settled settle(const Scene& scene, const OptimizeOptions& options);
+
+// The options each analysis of `scene` runs with: options.analyze with the
+// scene's settled filter. The one place an AnalyzeOptions gets its filter.
+AnalyzeOptions analysis_options(const PrepareOptions& options, const Scene& scene);
+
+// Wall-clock seconds of each stage, measured at this edge only: no value
+// the stages return, nor any cache entry, holds a clock reading.
+struct StageSeconds {
+    double analysis = 0;       // load, decode, analyze (prepare_scene)
+    double planning = 0;       // the target's extra budgets and the choice
+    double reconstruction = 0; // reconstruct_scene
+};
+
+// Everything one optimization produced. A value: copies are whole.
+struct OptimizeResult {
+    // The scene (its filter the settled one), its pixels and the analysis
+    // reconstruction took: with a target, the plan's choice.
+    PreparedScene prepared;
+    std::optional<TargetPlan> plan;   // with a target: its candidates and what it chose
+    ReconstructOptions reconstruct;   // what reconstruction ran (or, without meshes, would run) with
+    SceneMeshes meshes;               // empty unless reconstruct_meshes and status is ok
+    // Reconstruction's verdict: a scene it refuses (invalid_scene,
+    // too_many_depth_levels) is the caller's to word, as each words it.
+    ReconstructStatus status = ReconstructStatus::ok;
+    StageSeconds seconds;
+};
+
+// A scene already in memory with each element's analysis (the C API's
+// dc_scene): nothing to load, decode or analyze, and no target (its
+// pixels are not here). analysis.of(i) null: the element has none.
+struct SceneSource {
+    Scene scene;
+    SceneAnalysis analysis;
+};
+
+// Load, settle, decode, analyze (through the cache), plan for the target
+// and reconstruct. Bad input is an depthcull::Error with a one-line message naming
+// the file and the place; a scene reconstruction refuses is
+// OptimizeResult::status.
+OptimizeResult optimize(const std::string& path, const OptimizeOptions& options);
+OptimizeResult optimize(SceneSource source, const OptimizeOptions& options);
+
 // ---- Atlases (TexturePacker JSON, multipack, cocos2d-x plist): every
 // frame analyzed (through the cache, on threads), the polygons written by
 // io::atlas_polygons_json / io::atlas_polygons_plist.
@@ -203,7 +286,7 @@ struct AtlasPolygonOptions {
     bool plist = false; // write a cocos2d-x format 3 plist (one page only)
     MemoryBudget* memory = nullptr; // as PrepareOptions::memory
     // What the atlas reader and the page decodes assumed (io::report_warnings):
-    // one line each to `warning`, in file order, or an io::Error with `strict`.
+    // one line each to `warning`, in file order, or an depthcull::Error with `strict`.
     std::function<void(const std::string&)> warning;
     bool strict = false;
 };

@@ -1,6 +1,6 @@
 // depthcull: cost profiles as files and --target planning (issue 14), in
 // the pipeline layer: io depends on no cost type. Everything here may do
-// I/O and throws depthcull::io::Error with a one-line message naming the
+// I/O and throws depthcull::Error with a one-line message naming the
 // file and the place.
 #pragma once
 
@@ -35,7 +35,7 @@ CostProfile resolve_target(const std::string& name_or_path);
 // A cache entry that does not load (a corrupt or hand-edited file) is
 // measured again and replaced, with one line to `warning`: the cache is
 // ours, as the analysis cache is. An empty cache_dir: nothing is cached.
-// *how says which (for the commands' one line). Throws io::Error when the
+// *how says which (for the commands' one line). Throws depthcull::Error when the
 // cache cannot be written (naming the file), or what calibrate throws.
 struct AutoProfile {
     CostProfile profile;
@@ -54,12 +54,6 @@ std::string profile_cache_path(const std::string& cache_dir, const std::string& 
 // The paper's Table 2 as tests/data/paper-table2.tsv holds it.
 std::vector<Table2Row> read_table2_tsv(const std::string& path);
 
-// --target over a prepared scene, as one step: plan_target (pipeline.h),
-// then the choice applied: prepared.analysis becomes the chosen analyses
-// and `reconstruct` the chosen options (opaque_polygons). The plan
-// returned is the record of the choice.
-TargetPlan apply_target(PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
-                        ReconstructOptions& reconstruct);
 // The one line the commands print about a plan (without a newline):
 // "<path>: --target <name>: predicted ... ms ...".
 std::string target_summary(const std::string& path, const TargetPlan& plan);

@@ -1,8 +1,10 @@
 // depthcull.h: scenes, reconstruction (paper 2.3) and dynamic elements.
-#include <chrono>
 #include <cmath>
+#include <limits>
+#include <map>
 
 #include "capi/capi_internal.h"
+#include "depthcull/pipeline.h"
 
 using namespace depthcull;
 using depthcull::capi::fail;
@@ -40,9 +42,21 @@ Element to_element(const dc_element& e) {
     return out;
 }
 
-std::vector<const ImageAnalysis*> raw(const std::vector<std::shared_ptr<const ImageAnalysis>>& analyses) {
-    std::vector<const ImageAnalysis*> out(analyses.size());
-    for (std::size_t i = 0; i < analyses.size(); ++i) out[i] = analyses[i].get();
+// The scene's per-element analyses as pipeline::optimize takes them: each
+// distinct one once, elements by index (past the end: none).
+SceneAnalysis scene_analysis(const std::vector<std::shared_ptr<const ImageAnalysis>>& analyses) {
+    SceneAnalysis out;
+    std::map<const ImageAnalysis*, std::uint32_t> index;
+    out.of_element.reserve(analyses.size());
+    for (const auto& a : analyses) {
+        if (!a) {
+            out.of_element.push_back(std::numeric_limits<std::uint32_t>::max());
+            continue;
+        }
+        auto [it, fresh] = index.emplace(a.get(), std::uint32_t(out.images.size()));
+        if (fresh) out.images.push_back(*a);
+        out.of_element.push_back(it->second);
+    }
     return out;
 }
 
@@ -125,12 +139,14 @@ dc_status dc_reconstruct(const dc_scene* scene, const dc_reconstruct_options* op
         r.cull_to_viewport = o.cull_to_viewport != 0;
         r.texel_margin = o.texel_margin;
         r.insertion_points = scene->points;
+        pipeline::OptimizeOptions optimize;
+        optimize.reconstruct = r;
+        pipeline::OptimizeResult result = pipeline::optimize({scene->scene, scene_analysis(scene->analyses)}, optimize);
+        if (dc_status s = capi::reconstruct_status("dc_reconstruct", result.status)) return s;
         auto meshes = std::make_unique<dc_meshes>();
-        // Timed here, at the edge: the core's values hold no clock readings.
-        const auto start = std::chrono::steady_clock::now();
-        if (dc_status s = capi::reconstruct_status("dc_reconstruct", reconstruct_scene(scene->scene, raw(scene->analyses), r, &meshes->document.meshes)))
-            return s;
-        meshes->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        meshes->document.meshes = std::move(result.meshes);
+        // Timed by the pipeline, at its edge: the core's values hold no clock readings.
+        meshes->seconds = result.seconds.reconstruction;
         meshes->document.images = scene->scene.images;
         *out = meshes.release();
         return DC_OK;

@@ -7,6 +7,7 @@
 #include <atomic>
 
 #include "depthcull/pipeline.h"
+#include "pipeline/parallel.h"
 
 namespace depthcull::pipeline {
 
@@ -21,7 +22,7 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
     const bool plist = options.plist || atlas.form == io::AtlasForm::cocos2d_plist;
     // Refused before any frame is analyzed.
     if (plist && atlas.pages.size() > 1)
-        throw io::Error(path + ": a cocos2d-x plist holds one page; this multipack has " + std::to_string(atlas.pages.size()) +
+        throw depthcull::Error(path + ": a cocos2d-x plist holds one page; this multipack has " + std::to_string(atlas.pages.size()) +
                         " (write JSON, or one plist per page)");
     // Every page is decoded and held: their total is checked on the
     // headers first (three pages naming one 16384^2 PNG are 3 GiB).
@@ -31,7 +32,7 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
         io::image_size(p.image_path, &w, &h);
         decoded_bytes += std::uint64_t(w) * std::uint64_t(h) * 4;
         if (decoded_bytes > limits::kMaxDecodedBytes)
-            throw io::Error(path + ": page " + p.image_path + " (" + std::to_string(w) + "x" + std::to_string(h) + ") brings the decoded pages to " +
+            throw depthcull::Error(path + ": page " + p.image_path + " (" + std::to_string(w) + "x" + std::to_string(h) + ") brings the decoded pages to " +
                             std::to_string((decoded_bytes + (1 << 20) - 1) >> 20) + " MiB, over the limit of " +
                             std::to_string(limits::kMaxDecodedBytes >> 20) + " MiB (kMaxDecodedBytes)");
     }

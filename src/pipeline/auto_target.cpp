@@ -52,7 +52,7 @@ AutoProfile auto_profile(const std::string& renderer, const std::string& cache_d
                 return out;
             }
             problem = path + ": measured on '" + cached.renderer + "', not this renderer";
-        } catch (const io::Error& e) {
+        } catch (const depthcull::Error& e) {
             problem = e.what();
         }
         if (warning) warning("--target auto: " + problem + "; calibrating again");
@@ -65,7 +65,7 @@ AutoProfile auto_profile(const std::string& renderer, const std::string& cache_d
         return out;
     }
     std::filesystem::create_directories(cache_dir, ec);
-    if (ec) throw io::Error(cache_dir + ": cannot create the profile cache: " + ec.message());
+    if (ec) throw depthcull::Error(cache_dir + ": cannot create the profile cache: " + ec.message());
     save_profile(path, out.profile);
     out.how = "calibrated, cached in " + path;
     return out;

@@ -159,13 +159,12 @@ CacheKey analysis_key(ImageView image, Rect rect, const AnalyzeOptions& o) {
     h.value(std::int32_t(rect.w));
     h.value(std::int32_t(rect.h));
     h.value(std::int32_t(o.boundary.max_vertices));
-    h.value(std::int32_t(o.filter)); // hashed where both stages' copies were, so keys stay as they were
+    h.value(std::int32_t(o.filter));
     h.value(std::int32_t(o.boundary.split_parts));
     h.value(std::int32_t(o.opaque.method));
     h.value(std::int32_t(o.opaque.max_polygons));
     h.value(o.opaque.min_coverage);
     h.value(std::int32_t(o.opaque.min_area));
-    h.value(std::int32_t(o.filter));
     // Only alpha: both stages see texels only through their alpha classes
     // (paper 2.1, 2.2), so a recoloured sprite shares its entry.
     std::vector<std::uint8_t> row(std::size_t(rect.w));
@@ -258,7 +257,7 @@ std::optional<ImageAnalysis> cache_load(const std::string& dir, const CacheKey& 
     if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
     try {
         return parse_analysis(io::read_file(path), key, rect);
-    } catch (const io::Error&) {
+    } catch (const depthcull::Error&) {
         return std::nullopt; // unreadable: recompute
     }
 }
@@ -271,7 +270,7 @@ bool cache_store(const std::string& dir, const CacheKey& key, const ImageAnalysi
     try {
         io::write_file_atomic(path, serialize_analysis(key, analysis));
         return true;
-    } catch (const io::Error&) {
+    } catch (const depthcull::Error&) {
         return false; // a cache that cannot be written only costs time
     }
 }

@@ -22,9 +22,10 @@ namespace depthcull::pipeline {
 
 // 2: the payload no longer ends with the analysis' wall time (ImageStats
 // holds none). 3: the checksum covers the header (magic, version, key,
-// size) as well as the payload. The version is hashed into every key, so
-// an older entry is never even opened.
-inline constexpr std::uint32_t kCacheFormatVersion = 3;
+// size) as well as the payload. 4: the key hashes the texture filter once
+// (it was hashed twice, where two copies of it once lived). The version is
+// hashed into every key, so an older entry is never even opened.
+inline constexpr std::uint32_t kCacheFormatVersion = 4;
 
 struct CacheKey {
     std::array<std::uint64_t, 2> words{};

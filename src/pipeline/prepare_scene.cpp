@@ -19,53 +19,12 @@
 #include "depthcull/limits.h"
 #include "depthcull/pipeline.h"
 #include "pipeline/cache.h"
+#include "pipeline/parallel.h"
+#include "pipeline/stages.h"
 
 namespace depthcull::pipeline {
 
-using io::Error;
-
-void parallel_for(std::size_t n, unsigned threads, const std::function<void(std::size_t)>& fn) {
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    threads = unsigned(std::min<std::size_t>({std::size_t(threads), n, std::size_t(limits::kMaxThreads)}));
-    if (threads <= 1) {
-        for (std::size_t i = 0; i < n; ++i) fn(i);
-        return;
-    }
-    std::atomic<std::size_t> next{0};
-    std::atomic<bool> failed{false};
-    std::exception_ptr error;
-    std::size_t error_index = n;
-    std::mutex error_mutex;
-    auto work = [&] {
-        for (std::size_t i; !failed && (i = next.fetch_add(1)) < n;) {
-            try {
-                fn(i);
-            } catch (...) {
-                // Keep the lowest index's error, as a serial run reports.
-                std::lock_guard lock(error_mutex);
-                if (i < error_index) {
-                    error_index = i;
-                    error = std::current_exception();
-                }
-                failed = true;
-            }
-        }
-    };
-    // The caller is one of the workers. A thread that cannot be started
-    // (RLIMIT_NPROC, no memory for its stack) is not an error: the work is
-    // taken by index from one counter, so those running, the caller at
-    // least, take its share. Letting the std::system_error escape would
-    // destroy joinable threads, which calls std::terminate.
-    std::vector<std::thread> pool;
-    try {
-        pool.reserve(threads - 1);
-        for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-    } catch (...) {
-    }
-    work();
-    for (auto& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
-}
+using depthcull::Error;
 
 std::string default_cache_dir() {
     if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (std::filesystem::path(xdg) / "depthcull" / "analysis").string();
@@ -126,9 +85,9 @@ ImageAnalysis analyze_within(ImageView image, Rect rect, const AnalyzeOptions& o
     switch (analyze_image(image, rect, options, budget.limit(), out)) {
     case AnalyzeStatus::ok: break;
     case AnalyzeStatus::over_memory_limit: // checked above; kept for completeness
-        throw io::Error(where + ": analysing it needs about " + mib_text(need) + " of memory, over " + limit);
+        throw depthcull::Error(where + ": analysing it needs about " + mib_text(need) + " of memory, over " + limit);
     case AnalyzeStatus::out_of_memory:
-        throw io::Error(where + ": out of memory analysing it (about " + mib_text(need) + ", within " + limit +
+        throw depthcull::Error(where + ": out of memory analysing it (about " + mib_text(need) + ", within " + limit +
                         "; fewer threads, -j, need less at once)");
     }
     return out;
@@ -140,7 +99,7 @@ void check_analysis_memory(const std::string& name, Rect rect, const AnalyzeOpti
     const MemoryBudget& memory = budget ? *budget : shared_memory_budget();
     const std::uint64_t need = analysis_scratch_bytes(rect, options);
     if (need > memory.limit())
-        throw io::Error(rect_name(name, rect) + ": analysing it needs about " + mib_text(need) + " of memory, over " + limit_text(memory));
+        throw depthcull::Error(rect_name(name, rect) + ": analysing it needs about " + mib_text(need) + " of memory, over " + limit_text(memory));
 }
 
 ImageAnalysis analyze_cached(ImageView image, Rect rect, const AnalyzeOptions& options, const std::string& cache_dir, bool* hit,
@@ -176,7 +135,10 @@ std::string image_name(const std::string& path, const SceneImage& img, std::size
     return path + ": image " + std::to_string(i) + " \"" + img.id + "\" (" + (img.has_fill ? "fill " + io::colour_key_text(img.fill) : img.path) + ")";
 }
 
-PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
+} // namespace
+
+PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& settings, Settled* settled) {
+    const PrepareOptions& options = settings.prepare;
     PreparedScene out;
     // The loaders read each image file whole for its size and keep it here;
     // the decode below reads these bytes: each file is opened once.
@@ -186,9 +148,12 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     out.scene = io::load_scene(path, load);
     Scene& scene = out.scene;
 
-    if (options.filter_override) scene.filter = *options.filter_override;
-    AnalyzeOptions analyze = options.analyze;
-    analyze.filter = scene.filter;
+    // Settled once, before any pixel is decoded: a bad --target file fails
+    // before the work. From here on the scene's filter is the one in force.
+    Settled decided = settle(scene, settings);
+    scene.filter = decided.filter;
+    if (settled) *settled = std::move(decided);
+    const AnalyzeOptions analyze = analysis_options(options, scene);
 
     // Animations are checked on their frames' rects, before any pixel is
     // decoded: each frame is read once per texel to combine them.
@@ -302,11 +267,11 @@ PreparedScene prepare(const std::string& path, const PrepareOptions& options) {
     return out;
 }
 
-} // namespace
-
 PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options) {
+    OptimizeOptions settings;
+    settings.prepare = options;
     // std::bad_alloc from a scene that fits the limits but not this machine.
-    return io::guarded(path, [&] { return prepare(path, options); });
+    return io::guarded(path, [&] { return prepare_settled(path, settings, nullptr); });
 }
 
 } // namespace depthcull::pipeline

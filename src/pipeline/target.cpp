@@ -12,7 +12,7 @@
 
 namespace depthcull::pipeline {
 
-using io::Error;
+using depthcull::Error;
 
 namespace {
 

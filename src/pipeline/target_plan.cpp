@@ -9,6 +9,7 @@
 #include <string>
 
 #include "depthcull/target.h"
+#include "pipeline/parallel.h"
 
 namespace depthcull::pipeline {
 
@@ -22,8 +23,7 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
     TargetPlan plan;
     plan.profile = profile;
     const Scene& scene = prepared.scene;
-    AnalyzeOptions analyze = options.analyze;
-    analyze.filter = scene.filter; // prepare_scene set the winner there
+    AnalyzeOptions analyze = analysis_options(options, scene); // the settled filter
     const int cap = std::max(kMinBoundaryVertices, analyze.boundary.max_vertices);
     for (int b : {4, 6, 8})
         if (b < cap) plan.budgets.push_back(b);
@@ -72,7 +72,7 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
     for (std::size_t k = 0; k < keys; ++k) {
         if (first_use[k] == std::size_t(-1)) continue;
         for (std::size_t b = 0; b < nb; ++b) {
-            candidates[k].analyses.push_back(&plan.candidates[k * nb + b]);
+            candidates[k].analyses.push_back(&plan.candidate(k, b)); // local: the plan keeps none of these pointers
             candidates[k].max_vertices.push_back(plan.budgets[b]);
         }
     }
@@ -80,7 +80,6 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
     if (clip) chosen.clip_hidden = clip_hidden_options(profile);
     chosen.clip_hidden.plan_occluders = occluders;
     plan.choice = choose_for_target(scene, candidates, element_key, profile, chosen);
-    plan.analysis = plan.choice.analysis; // a value already: indices into its own images
     plan.reconstruct = chosen;
     plan.reconstruct.clip_hidden.plan_occluders = false;
     plan.reconstruct.opaque_polygons = reconstruct.opaque_polygons && plan.choice.opaque_pass;
@@ -133,13 +132,6 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     if (cover.choice.predicted_ms < plan.choice.predicted_ms) std::swap(cover, plan);
     plan.analyzed += cover.analyzed;
     plan.cache_hits += cover.cache_hits;
-    return plan;
-}
-
-TargetPlan apply_target(PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile, ReconstructOptions& reconstruct) {
-    TargetPlan plan = plan_target(prepared, options, profile, reconstruct);
-    prepared.analysis = plan.analysis;
-    reconstruct = plan.reconstruct;
     return plan;
 }
 

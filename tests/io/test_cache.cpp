@@ -73,7 +73,7 @@ TEST(Cache, EveryCorruptionIsRejected) {
 // (issue 21): the checksum covered only the payload, so it was trusted and
 // put one image's polygons on another.
 TEST(Cache, EntryWithItsKeyRewrittenIsRejected) {
-    EXPECT_EQ(kCacheFormatVersion, 3u); // the checksum covers the header since 3
+    EXPECT_GE(kCacheFormatVersion, 3u); // the checksum covers the header since 3
     ImageAnalysis a = sample_analysis();
     const CacheKey theirs = hash_bytes_128("another image", 13), ours = hash_bytes_128("this image", 10);
     std::string copied = serialize_analysis(theirs, a);

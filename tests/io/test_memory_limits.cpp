@@ -15,6 +15,7 @@
 #include "depthcull/io.h"
 #include "depthcull/limits.h"
 #include "depthcull/pipeline.h"
+#include "pipeline/parallel.h"
 #include "test_scene_json_helpers.h"
 
 #include "testing/io_error.h"
