@@ -35,7 +35,7 @@ const std::vector<Sprite>& corpus() {
         for (const std::string& path : test::corpus_files("pingus-data", ".png")) {
             Sprite s;
             try {
-                s.image = io::load_png(path);
+                s.image = io::read_png(path);
             } catch (const depthcull::Error&) {
                 continue;
             }

@@ -36,7 +36,7 @@ const std::vector<Image>& corpus() {
         if (const char* m = std::getenv("DEPTHCULL_BENCH_CORPUS_MAX_TEXELS")) max_texels = std::atoll(m);
         for (const auto& path : test::corpus_files("pingus-data", ".png")) {
             try {
-                Image image = io::load_png(path);
+                Image image = io::read_png(path);
                 if (std::int64_t(image.width) * image.height <= max_texels) out.push_back(std::move(image));
             } catch (const std::exception&) {
             }

@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
             if (renderer->draw(camera, dynamic.draws, clear, &counts) != runtime::Status::ok) throw depthcull::Error(renderer->error());
             std::printf("frame %d: %zu moving sprites, %" PRId64 " draw calls\n", frame, moving.size(), counts.draw_calls);
         }
-        if (argc > 2) io::save_png(argv[2], host.read(view.width, view.height).view());
+        if (argc > 2) io::write_png(argv[2], host.read(view.width, view.height).view());
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "runtime_frame: error: %s\n", e.what());

@@ -1,4 +1,4 @@
-// Fuzzes the Tiled map reader (io::load_scene over a .tmx's bytes, gzipped
+// Fuzzes the Tiled map reader (io::read_scene over a .tmx's bytes, gzipped
 // or not): every input is a scene that keeps the reader's promises
 // (fuzz_common.h) or a depthcull::Error. The map is read as
 // tests/data/tiled/fuzz.tmx, so the tilesets, templates and images it
@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string_view bytes(reinterpret_cast<const char*>(data), size);
     depthcull::Scene scene;
     try {
-        scene = depthcull::io::load_scene_bytes(bytes, DEPTHCULL_SOURCE_DIR "/tests/data/tiled/fuzz.tmx");
+        scene = depthcull::io::scene_from_bytes(bytes, DEPTHCULL_SOURCE_DIR "/tests/data/tiled/fuzz.tmx");
     } catch (const depthcull::Error&) {
         return 0;
     }

@@ -41,7 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::ofstream(dir + "/t.tx", std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), std::streamsize(size));
     depthcull::Scene scene;
     try {
-        scene = depthcull::io::load_scene(dir + "/m.tmx");
+        scene = depthcull::io::read_scene(dir + "/m.tmx");
     } catch (const depthcull::Error&) {
         return 0;
     }

@@ -57,7 +57,7 @@ struct AnalyzeArgs {
 std::vector<Input> grid_inputs(const std::string& arg, const std::string& path, int w, int h, int margin, int spacing) {
     if (w <= 0 || h <= 0 || w > kMaxImageSide || h > kMaxImageSide || margin > kMaxImageSide || spacing > kMaxImageSide)
         throw CliError(arg + ": grid cell size must be 1.." + std::to_string(kMaxImageSide) + ", margin and spacing 0.." + std::to_string(kMaxImageSide));
-    Image image = io::load_image(path);
+    Image image = io::read_image(path);
     int columns = image.width - margin >= w ? (image.width - margin - w) / (w + spacing) + 1 : 0;
     int rows = image.height - margin >= h ? (image.height - margin - h) / (h + spacing) + 1 : 0;
     if (columns == 0 || rows == 0)
@@ -172,7 +172,7 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
         header_rect.y <= header_h - header_rect.h)
         pipeline::check_analysis_memory(in.path, header_rect, args.options);
     std::vector<std::string> warnings;
-    Image image = io::load_image(in.path, &warnings);
+    Image image = io::read_image(in.path, &warnings);
     if (args.strict && !warnings.empty()) throw CliError(warnings.front() + " (--strict)");
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))

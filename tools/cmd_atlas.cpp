@@ -116,7 +116,7 @@ void write_godot(const AtlasArgs& args, const pipeline::AtlasAnalysis& a, const 
 
 void run_atlas(AtlasArgs& args) {
     std::vector<std::string> inputs{args.input};
-    for (const io::AtlasPage& page : io::load_texturepacker(args.input).pages) inputs.push_back(page.image_path);
+    for (const io::AtlasPage& page : io::read_atlas(args.input).pages) inputs.push_back(page.image_path);
     // Every output checked against every input and every other output
     // before the first is written, all committed together at the end:
     // `atlas --preview .` would have replaced the page with its preview.

@@ -17,7 +17,7 @@ struct ImportArgs {
 
 void run_import(const ImportArgs& args) {
     check_distinct_files({args.input}, {args.output});
-    Scene scene = io::load_scene(args.input, args.load);
+    Scene scene = io::read_scene(args.input, args.load);
     check_distinct_files(scene_inputs(args.input, scene), {args.output});
     write_output(args.output, io::scene_to_json_text(scene, args.output));
     const Viewport& v = scene.viewport;

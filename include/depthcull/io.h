@@ -74,21 +74,21 @@ std::string colour_key_text(std::uint32_t rgb);
 // PNG of any colour type libpng reads (grey, palette with tRNS, 16-bit,
 // RGB, RGBA), converted to RGBA8. Rejects images over kMaxImageSide /
 // kMaxImageTexels.
-Image load_png(const std::string& path);
+Image read_png(const std::string& path);
 // Any image we read, told by its content (not its name): PNG, JPEG (no
 // alpha: every texel fully opaque) or WebP (lossy or lossless, with or
-// without alpha), as RGBA8; the same limits as load_png. PNG samples are
+// without alpha), as RGBA8; the same limits as read_png. PNG samples are
 // the file's own (no gamma conversion; 16 bits rounded to 8), as WebGL,
 // stb_image and Tiled read them. Files engines load that we read by an
 // assumption add one line each to `warnings` (when given) naming the file
 // and the assumption: a CMYK JPEG (converted as (1-C)(1-K), no colour
 // profile), an animated WebP (its first frame).
-Image load_image(const std::string& path, std::vector<std::string>* warnings = nullptr);
+Image read_image(const std::string& path, std::vector<std::string>* warnings = nullptr);
 Image decode_image(const void* data, std::size_t size, const std::string& name, std::vector<std::string>* warnings = nullptr);
 class ImageFiles;
 // An image's width and height from its header, without decoding (so a
 // size can be checked before the decode allocates): for any image
-// load_image reads, told by content; the file kept in `files` when given.
+// read_image reads, told by content; the file kept in `files` when given.
 // Otherwise a PNG's header alone is read (JPEG and WebP are read whole:
 // their sizes lie after variable-length segments).
 void image_size(const std::string& path, int* width, int* height, ImageFiles* files = nullptr); // image_formats.cpp
@@ -119,12 +119,12 @@ private:
 };
 // The pixels a SceneImage stands for: its file decoded (from `files` when
 // they hold it), its colour key (SceneImage::trans) applied.
-Image load_scene_image(const SceneImage& image, const ImageFiles* files = nullptr, std::vector<std::string>* warnings = nullptr);
+Image read_scene_image(const SceneImage& image, const ImageFiles* files = nullptr, std::vector<std::string>* warnings = nullptr);
 // Texels of colour 0xRRGGBB become fully transparent (alpha 0).
 void apply_colour_key(Image& image, std::uint32_t rgb);
 Image decode_png(const void* data, std::size_t size, const std::string& name);
 std::string encode_png(ImageView image);
-void save_png(const std::string& path, ImageView image); // atomic
+void write_png(const std::string& path, ImageView image); // atomic
 
 // A regular file of at most limits::kMaxFileBytes (devices and FIFOs are
 // refused, so /dev/zero cannot be read without end).
@@ -160,7 +160,7 @@ bool valid_utf8(std::string_view text);
 // templates (.tmj, .tsj, .tj; a .json is told by content). Animated tiles
 // are drawn at their first frame and recorded in Scene::animations. A tileset image's trans
 // colour key is kept on its SceneImage (has_trans, trans) and applied at
-// decode (load_scene_image); loading writes no file.
+// decode (read_scene_image); loading writes no file.
 struct LoadOptions {
     bool has_viewport = false; // --viewport x,y,w,h
     Viewport viewport;
@@ -180,13 +180,13 @@ struct LoadOptions {
     // scenes, element indices. One that names nothing is an Error.
     std::vector<std::string> insert_at;
 };
-Scene load_scene(const std::string& path, const LoadOptions& options = {});
+Scene read_scene(const std::string& path, const LoadOptions& options = {});
 // Warning lines (a reader's or decode_image's) as LoadOptions asks: each
 // distinct line once, in order, to options.warning; with options.strict
 // an Error "<first line> (--strict)" instead.
 void report_warnings(const std::vector<std::string>& lines, const LoadOptions& options);
 
-// Our scene JSON format, as load_scene reads it: viewport, filter, images
+// Our scene JSON format, as read_scene reads it: viewport, filter, images
 // {id, path}, elements {image, rect, transform, color, blend}. Image paths
 // are written relative to the directory of `output_path` (the cwd when it
 // is empty or "-") when they can be, so the scene moves with its art.
@@ -230,11 +230,11 @@ struct Atlas {
     // sprite reaching past its sourceSize): one line each naming the file
     // and the frame (report_warnings prints them, or refuses with --strict).
     std::vector<std::string> warnings;
-    // Frame index by name (load_texturepacker fills it); find() searches
+    // Frame index by name (read_atlas fills it); find() searches
     // linearly when it does not describe `frames`.
     std::unordered_map<std::string, std::size_t> by_name;
     const AtlasFrame* find(const std::string& name) const;
-    // The JSON's bytes as load_texturepacker read them (null for a plist):
+    // The JSON's bytes as read_atlas read them (null for a plist):
     // atlas_polygons_json writes from these, never from the file again, so
     // a file replaced meanwhile cannot pair its frames with these.
     std::shared_ptr<const std::string> text;
@@ -246,8 +246,7 @@ struct Atlas {
 // size is the trimmed sprite's, spriteSourceSize x/y its offset.
 // Frames are texels of the decoded page, as PixiJS and Phaser read them
 // (neither reads meta.size): check_atlas_pages checks them against it.
-Atlas load_texturepacker(const std::string& path);
-inline Atlas load_atlas(const std::string& path) { return load_texturepacker(path); }
+Atlas read_atlas(const std::string& path);
 // Against the pages' real sizes (`sizes[k]` = {width, height} of
 // pages[k]'s image, from its header or its decode): an Error for a frame
 // whose texels lie outside its page; a warning line in atlas.warnings for
@@ -326,7 +325,7 @@ struct AnimatedRun {
 // path), and either form's document writes as the other form's bytes.
 struct MeshesDocument {
     // id, path, width, height, colour key or fill. A reader resolves paths
-    // against the file's directory (as load_scene resolves a scene's);
+    // against the file's directory (as read_scene resolves a scene's);
     // the writers write them relative to the output's.
     std::vector<SceneImage> images;
     // Draw::image indexes `images`. The files carry no element spans (a

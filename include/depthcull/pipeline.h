@@ -153,7 +153,7 @@ struct PreparedScene {
     int analyzed = 0, cache_hits = 0;
 };
 
-// Loads a scene (any io::load_scene format) and its images, settles its
+// Loads a scene (any io::read_scene format) and its images, settles its
 // filter (settle()) and analyzes every distinct (image, rect) the elements
 // use, through the cache when given. optimize() runs it as its first stage.
 PreparedScene prepare_scene(const std::string& path, const PrepareOptions& options);

@@ -19,8 +19,8 @@ namespace depthcull::pipeline {
 // Every term is required, finite and >= 0; unknown keys are refused.
 CostProfile profile_from_json(const std::string& text, const std::string& name);
 std::string profile_to_json(const CostProfile& profile);
-CostProfile load_profile(const std::string& path);
-void save_profile(const std::string& path, const CostProfile& profile); // atomic
+CostProfile read_profile(const std::string& path);
+void write_profile(const std::string& path, const CostProfile& profile); // atomic
 // --target NAME|FILE: a built-in name ("llvmpipe", "ipad1") or a profile file.
 CostProfile resolve_target(const std::string& name_or_path);
 

@@ -1,4 +1,4 @@
-// Internal: the scene readers that io::load_scene dispatches to, and what
+// Internal: the scene readers that io::read_scene dispatches to, and what
 // every reader shares to keep its errors ours.
 #pragma once
 
@@ -13,13 +13,13 @@
 namespace depthcull::io {
 
 // The readers over a file's bytes: `path` names it in errors, picks the
-// format (as load_scene does) and resolves the relative paths it names.
+// format (as read_scene does) and resolves the relative paths it names.
 Scene scene_json_from_text(std::string_view text, const std::string& path, const LoadOptions& options); // scene_json.cpp
 Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options); // tiled_map.cpp, gzipped or not
-// load_scene over bytes already read (the fuzz harnesses): the same
+// read_scene over bytes already read (the fuzz harnesses): the same
 // checks, and Error the only exception.
-Scene load_scene_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options = {}); // load_scene.cpp
-// load_texturepacker over the JSON's text.
+Scene scene_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options = {}); // read_scene.cpp
+// read_atlas over the JSON's text.
 Atlas texturepacker_from_text(std::string_view text, const std::string& path); // texturepacker.cpp
 
 // Width and height from the PNG signature and IHDR chunk, without decoding;
@@ -37,11 +37,11 @@ std::string read_image_head(const std::string& path, std::size_t size); // file.
 // A directory of PNGs (recursive) or one PNG as a scene: each image once,
 // in rows without overlap (sprite_folder.cpp).
 bool is_sprite_source(const std::string& path);
-Scene load_sprite_folder(const std::string& path, const LoadOptions& options);
-// image_size (io.h): the same for any image load_image reads.
+Scene read_sprite_folder(const std::string& path, const LoadOptions& options);
+// image_size (io.h): the same for any image read_image reads.
 
 // Error "<where>: ..." unless the viewport is finite, within
-// limits::kMaxCoordinate and 1..kMaxImageSide per side (load_scene.cpp).
+// limits::kMaxCoordinate and 1..kMaxImageSide per side (read_scene.cpp).
 void check_viewport(const Viewport& viewport, const std::string& where);
 
 bool ends_with(const std::string& s, const std::string& suffix);

@@ -215,7 +215,7 @@ Image decode_image(const void* data, std::size_t size, const std::string& name, 
     unknown_format(name);
 }
 
-Image load_image(const std::string& path, std::vector<std::string>* warnings) {
+Image read_image(const std::string& path, std::vector<std::string>* warnings) {
     std::string bytes = read_file(path);
     return decode_image(bytes.data(), bytes.size(), path, warnings);
 }

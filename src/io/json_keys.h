@@ -1,6 +1,6 @@
 // Reading a JSON document's object keys, with their nesting depth, without
 // building it: a SAX pass (nlohmann's parser is iterative, so depth costs
-// no stack). Callers decide what a key means (load_scene.cpp: is a .json
+// no stack). Callers decide what a key means (read_scene.cpp: is a .json
 // file a Tiled map; texturepacker.cpp: the hash form's frame order).
 #pragma once
 

@@ -110,7 +110,7 @@ void read_header(Reader& in, MeshesDocument& out, std::uint32_t* image_count, st
                                std::to_string(in.left()) + " bytes left");
 }
 
-SceneImage read_image(Reader& in, const std::string& base_dir, bool colour_keys) {
+SceneImage read_image_entry(Reader& in, const std::string& base_dir, bool colour_keys) {
     SceneImage img;
     img.id = in.str("an image id");
     img.path = resolve_mesh_path(base_dir, in.str("an image path"));
@@ -288,7 +288,7 @@ MeshesDocument read_binary(std::string_view bytes, const std::string& name, cons
     bool colour_keys = false, animations = false, points = false;
     read_header(in, out, &image_count, &draw_count, &colour_keys, &animations, &points);
     out.images.reserve(image_count);
-    for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image(in, base_dir, colour_keys));
+    for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image_entry(in, base_dir, colour_keys));
     // Bit 1 is set exactly when some image has a key or a fill (the writer's rule).
     if (colour_keys && std::none_of(out.images.begin(), out.images.end(), [](const SceneImage& img) { return img.has_trans || img.has_fill; }))
         in.fail(12, "flags bit 1 (colour keys) is set but no image has a colour key or fill");

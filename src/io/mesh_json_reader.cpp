@@ -75,7 +75,7 @@ Viewport read_viewport(const Context& ctx, const json& v) {
     return vp;
 }
 
-SceneImage read_image(const Context& ctx, const json& v, const std::string& where, const std::string& base_dir) {
+SceneImage read_image_entry(const Context& ctx, const json& v, const std::string& where, const std::string& base_dir) {
     object(ctx, v, where);
     SceneImage img;
     img.id = string(ctx, field(ctx, v, where, "id"), at(where, "id"));
@@ -271,7 +271,7 @@ MeshesDocument read_json(std::string_view text, const std::string& name, const s
     std::map<std::string, int> ids; // a draw names the first entry with its id
     out.images.reserve(images.size());
     for (std::size_t i = 0; i < images.size(); ++i) {
-        out.images.push_back(read_image(ctx, images[i], at("images", i), base_dir));
+        out.images.push_back(read_image_entry(ctx, images[i], at("images", i), base_dir));
         ids.emplace(out.images.back().id, int(i));
     }
     const json& draws = array(ctx, field(ctx, doc, "", "draws"), "draws", kMaxMeshDraws);

@@ -155,7 +155,7 @@ Image decode_png(const void* data, std::size_t size, const std::string& name) {
     return image;
 }
 
-Image load_png(const std::string& path) {
+Image read_png(const std::string& path) {
     std::string bytes = read_file(path);
     return decode_png(bytes.data(), bytes.size(), path);
 }
@@ -182,7 +182,7 @@ void apply_colour_key(Image& image, std::uint32_t rgb) {
         if (image.rgba[i] == r && image.rgba[i + 1] == g && image.rgba[i + 2] == b) image.rgba[i + 3] = 0;
 }
 
-Image load_scene_image(const SceneImage& image, const ImageFiles* files, std::vector<std::string>* warnings) {
+Image read_scene_image(const SceneImage& image, const ImageFiles* files, std::vector<std::string>* warnings) {
     if (image.has_fill) {
         Image solid;
         solid.width = solid.height = kFillImageSide;
@@ -196,7 +196,7 @@ Image load_scene_image(const SceneImage& image, const ImageFiles* files, std::ve
         return solid;
     }
     const std::string* bytes = files ? files->find(image.path) : nullptr;
-    Image out = bytes ? decode_image(bytes->data(), bytes->size(), image.path, warnings) : load_image(image.path, warnings);
+    Image out = bytes ? decode_image(bytes->data(), bytes->size(), image.path, warnings) : read_image(image.path, warnings);
     if (image.has_trans) apply_colour_key(out, image.trans);
     return out;
 }
@@ -218,6 +218,6 @@ std::string encode_png(ImageView image) {
     return out;
 }
 
-void save_png(const std::string& path, ImageView image) { write_file_atomic(path, encode_png(image)); }
+void write_png(const std::string& path, ImageView image) { write_file_atomic(path, encode_png(image)); }
 
 } // namespace depthcull::io

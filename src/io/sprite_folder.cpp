@@ -48,7 +48,7 @@ bool is_sprite_source(const std::string& path) {
     return fs::is_directory(path, ec) || is_png(fs::path(path));
 }
 
-Scene load_sprite_folder(const std::string& path, const LoadOptions& options) {
+Scene read_sprite_folder(const std::string& path, const LoadOptions& options) {
     Scene scene;
     int x = 0, y = 0, row_height = 0, width = 0;
     for (const std::string& file : sprite_files(path)) {

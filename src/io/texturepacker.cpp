@@ -129,7 +129,7 @@ AtlasFrame read_frame(const std::string& name, const Json& f, const std::string&
 } // namespace
 
 const AtlasFrame* Atlas::find(const std::string& name) const {
-    // The index when it describes `frames` (load_texturepacker fills it):
+    // The index when it describes `frames` (read_atlas fills it):
     // 20,000 elements naming frames of a 200,000-frame atlas took 45 s by
     // the linear search below.
     if (by_name.size() == frames.size()) {
@@ -168,7 +168,7 @@ namespace {
 
 Atlas read_multipack(const std::string& path, const Json& doc);
 
-Atlas read_texturepacker(std::string_view text, const std::string& path) {
+Atlas parse_texturepacker(std::string_view text, const std::string& path) {
     // A cocos2d-x .plist (XML) rather than TexturePacker JSON.
     if (std::size_t first = text.substr(0, 256).find_first_not_of(" \t\r\n"); first != std::string_view::npos && text[first] == '<')
         return load_cocos2d_plist(path);
@@ -265,17 +265,17 @@ Atlas read_multipack(const std::string& path, const Json& doc) {
 
 } // namespace
 
-Atlas load_texturepacker(const std::string& path) {
+Atlas read_atlas(const std::string& path) {
     return guarded(path, [&] {
         auto text = std::make_shared<const std::string>(read_file(path));
-        Atlas atlas = read_texturepacker(*text, path);
+        Atlas atlas = parse_texturepacker(*text, path);
         if (atlas.form != AtlasForm::cocos2d_plist) atlas.text = std::move(text);
         return atlas;
     });
 }
 
 Atlas texturepacker_from_text(std::string_view text, const std::string& path) {
-    return guarded(path, [&] { return read_texturepacker(text, path); });
+    return guarded(path, [&] { return parse_texturepacker(text, path); });
 }
 
 void check_atlas_pages(Atlas& atlas, const std::vector<std::array<int, 2>>& sizes) {

@@ -144,7 +144,7 @@ std::string resolve_tsx(const std::string& base_dir, const std::string& source);
 Tileset tileset_from_bytes(std::string_view bytes, const std::string& tsx, std::uint32_t firstgid, ImageTable& images);
 
 // All <tileset> children of the map, sorted by firstgid.
-std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images);
+std::vector<Tileset> read_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images);
 
 // The tileset and local tile of a gid (flags masked off); throws when the
 // gid names no tile.

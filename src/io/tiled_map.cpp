@@ -148,7 +148,7 @@ Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, cons
     Scene scene;
     scene.filter = Filter::nearest;
     tiled::ImageTable images(scene.images, options.image_files);
-    std::vector<tiled::Tileset> tilesets = tiled::load_tilesets(map, path, images);
+    std::vector<tiled::Tileset> tilesets = tiled::read_tilesets(map, path, images);
 
     Viewport viewport;
     bool known = true;

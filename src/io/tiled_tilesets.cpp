@@ -7,7 +7,7 @@
 // The trans key: Tiled makes texels of the key colour transparent when it
 // loads the image; the PNG on disk does not say so. The key travels on the
 // SceneImage (has_trans, trans) and is applied where the file is decoded
-// (io::load_scene_image): loading a map writes nothing.
+// (io::read_scene_image): loading a map writes nothing.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -230,7 +230,7 @@ Tileset tileset_from_bytes(std::string_view bytes, const std::string& tsx, std::
     return ts;
 }
 
-std::vector<Tileset> load_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images) {
+std::vector<Tileset> read_tilesets(pugi::xml_node map, const std::string& map_path, ImageTable& images) {
     std::vector<Tileset> tilesets;
     std::map<std::string, Tileset> external; // by file_identity: each file parsed once
     for (pugi::xml_node node : map.children("tileset")) {

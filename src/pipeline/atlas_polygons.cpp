@@ -1,4 +1,4 @@
-// pipeline::atlas_with_polygons: an atlas loaded (any io::load_texturepacker
+// pipeline::atlas_with_polygons: an atlas loaded (any io::read_atlas
 // form), every frame analyzed on its page (through the cache, on threads),
 // the polygons written by io::atlas_polygons_json or, for a plist,
 // io::atlas_polygons_plist. Frames in parallel, results by index: the text
@@ -17,7 +17,7 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
                           AtlasAnalysis* analysis_out) {
     AtlasAnalysis local;
     AtlasAnalysis& result = analysis_out ? *analysis_out : local;
-    result.atlas = io::load_texturepacker(path); // every frame's fields; the pages below
+    result.atlas = io::read_atlas(path); // every frame's fields; the pages below
     const io::Atlas& atlas = result.atlas;
     const bool plist = options.plist || atlas.form == io::AtlasForm::cocos2d_plist;
     // Refused before any frame is analyzed.
@@ -40,7 +40,7 @@ std::string polygons_text(const std::string& path, const AtlasPolygonOptions& op
     std::vector<std::array<int, 2>> sizes;
     std::vector<std::string> decoded; // what the decodes assumed
     for (const io::AtlasPage& p : atlas.pages) {
-        result.pages.push_back(io::load_image(p.image_path, &decoded));
+        result.pages.push_back(io::read_image(p.image_path, &decoded));
         sizes.push_back({result.pages.back().width, result.pages.back().height});
     }
     result.page = result.pages.front();

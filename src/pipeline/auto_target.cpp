@@ -44,7 +44,7 @@ AutoProfile auto_profile(const std::string& renderer, const std::string& cache_d
     if (!path.empty() && std::filesystem::exists(path, ec)) {
         std::string problem;
         try {
-            CostProfile cached = load_profile(path);
+            CostProfile cached = read_profile(path);
             // Another renderer's entry (a hash collision, a copied file) is measured again too.
             if (cached.renderer == renderer) {
                 out.profile = std::move(cached);
@@ -66,7 +66,7 @@ AutoProfile auto_profile(const std::string& renderer, const std::string& cache_d
     }
     std::filesystem::create_directories(cache_dir, ec);
     if (ec) throw depthcull::Error(cache_dir + ": cannot create the profile cache: " + ec.message());
-    save_profile(path, out.profile);
+    write_profile(path, out.profile);
     out.how = "calibrated, cached in " + path;
     return out;
 }

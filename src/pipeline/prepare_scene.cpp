@@ -145,7 +145,7 @@ PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& se
     io::ImageFiles files;
     io::LoadOptions load = options.load;
     load.image_files = &files;
-    out.scene = io::load_scene(path, load);
+    out.scene = io::read_scene(path, load);
     Scene& scene = out.scene;
 
     // Settled once, before any pixel is decoded: a bad --target file fails
@@ -212,7 +212,7 @@ PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& se
     parallel_for(to_decode.size(), options.threads, [&](std::size_t k) {
         std::size_t i = to_decode[k];
         const SceneImage& img = scene.images[i];
-        out.decoded[k] = io::load_scene_image(img, &files, &warnings[k]);
+        out.decoded[k] = io::read_scene_image(img, &files, &warnings[k]);
         if (options.load.strict && !warnings[k].empty()) io::report_warnings(warnings[k], options.load);
         if (out.decoded[k].width != img.width || out.decoded[k].height != img.height)
             throw Error(path + ": image " + std::to_string(i) + " \"" + img.id + "\": " + img.path + " is " +

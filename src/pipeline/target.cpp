@@ -86,9 +86,9 @@ std::string profile_to_json(const CostProfile& p) {
     return out.str();
 }
 
-CostProfile load_profile(const std::string& path) { return profile_from_json(io::read_file(path), path); }
+CostProfile read_profile(const std::string& path) { return profile_from_json(io::read_file(path), path); }
 
-void save_profile(const std::string& path, const CostProfile& profile) { io::write_file_atomic(path, profile_to_json(profile)); }
+void write_profile(const std::string& path, const CostProfile& profile) { io::write_file_atomic(path, profile_to_json(profile)); }
 
 CostProfile resolve_target(const std::string& name_or_path) {
     CostProfile p;
@@ -98,7 +98,7 @@ CostProfile resolve_target(const std::string& name_or_path) {
         for (const std::string& n : builtin_profile_names()) names += (names.empty() ? "" : ", ") + n;
         throw Error("--target: '" + name_or_path + "' is neither a built-in profile (" + names + ") nor a profile file");
     }
-    return load_profile(name_or_path);
+    return read_profile(name_or_path);
 }
 
 std::vector<Table2Row> read_table2_tsv(const std::string& path) {

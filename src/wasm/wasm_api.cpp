@@ -586,7 +586,7 @@ int dcw_scene_add_image(double handle, const std::uint8_t* rgba, double width, d
     std::vector<std::uint8_t> pixels;
     char hex[8];
     if (colour >= 0) {
-        // io::load_scene_image's fill: every texel the colour, opaque; no file.
+        // io::read_scene_image's fill: every texel the colour, opaque; no file.
         img.has_fill = true;
         img.fill = std::uint32_t(colour);
         img.path.clear();

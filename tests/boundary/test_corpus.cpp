@@ -26,7 +26,7 @@ void check_corpus(Filter filter, std::size_t stride) {
         const std::string& path = files[k];
         Image img;
         try {
-            img = io::load_png(path);
+            img = io::read_png(path);
         } catch (const depthcull::Error&) {
             continue; // the io stage's tests cover unreadable files
         }

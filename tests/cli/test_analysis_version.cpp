@@ -40,7 +40,7 @@ TEST(AnalysisVersion, GoldenDigestOfTheExampleArt) {
     std::sort(files.begin(), files.end());
     std::uint64_t h = 0xcbf29ce484222325ull;
     for (const auto& f : files) {
-        Image img = io::load_png(f);
+        Image img = io::read_png(f);
         for (Filter filter : {Filter::nearest, Filter::linear})
             for (OpaqueMethod method : {OpaqueMethod::fast, OpaqueMethod::paper, OpaqueMethod::grow}) {
                 AnalyzeOptions o;

@@ -43,7 +43,7 @@ TEST(AnalyzeCli, WritesTheDocumentedFields) {
 TEST(AnalyzeCli, SubRectangleAndPolygonsInFullImageCoordinates) {
     fs::path dir = scratch("rect");
     Image sheet = test::ascii_image({"........", "....##..", "....##..", "........"});
-    io::save_png((dir / "sheet.png").string(), sheet.view());
+    io::write_png((dir / "sheet.png").string(), sheet.view());
     auto r = run_cli("analyze '" + (dir / "sheet.png").string() + ":4,0,4,4'");
     ASSERT_EQ(r.status, 0) << r.err;
     auto img = nlohmann::json::parse(r.out)["images"][0];
@@ -115,7 +115,7 @@ TEST(AnalyzeCli, BadArgumentsAreRejected) {
 
 TEST(AnalyzeCli, FullyTransparentImageGivesNoPolygon) {
     fs::path dir = scratch("transparent");
-    io::save_png((dir / "clear.png").string(), test::ascii_image({"....", "...."}).view());
+    io::write_png((dir / "clear.png").string(), test::ascii_image({"....", "...."}).view());
     auto r = run_cli("analyze '" + (dir / "clear.png").string() + "'");
     ASSERT_EQ(r.status, 0) << r.err;
     auto img = nlohmann::json::parse(r.out)["images"][0];

@@ -30,7 +30,7 @@ TEST(GridCli, EveryCellItsOwnFrameAndEmptyCellsGiveNoPolygon) {
                                      ".##.....#.#.",
                                      ".##......##.",
                                      "............"});
-    io::save_png((dir / "strip.png").string(), strip.view());
+    io::write_png((dir / "strip.png").string(), strip.view());
     auto r = run_cli("analyze '" + (dir / "strip.png").string() + ":grid=3,2,1,1' --no-cache");
     ASSERT_EQ(r.status, 0) << r.err;
     auto images = nlohmann::json::parse(r.out)["images"];
@@ -81,7 +81,7 @@ TEST(AtlasCli, PlistOutput) {
     std::string packed = std::string(DEPTHCULL_SOURCE_DIR) + "/tests/data/atlas/packed/";
     auto r = run_cli("atlas '" + packed + "hash-0.json' -o '" + (dir / "out.plist").string() + "' --no-cache");
     ASSERT_EQ(r.status, 0) << r.err;
-    io::Atlas back = io::load_atlas((dir / "out.plist").string());
+    io::Atlas back = io::read_atlas((dir / "out.plist").string());
     EXPECT_EQ(back.plist_format, 3);
     EXPECT_EQ(back.frames.size(), 6u);
     r = run_cli("atlas '" + packed + "phaser3-multi.json' -o '" + (dir / "multi.plist").string() + "' --no-cache");

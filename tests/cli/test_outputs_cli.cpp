@@ -49,12 +49,12 @@ std::set<std::string> files_in(const fs::path& dir) {
 }
 
 // A 4x4 PNG, its texels all `value` (distinct images for distinct values).
-void write_png(const fs::path& path, std::uint8_t value) {
+void write_test_png(const fs::path& path, std::uint8_t value) {
     depthcull::Image image;
     image.width = image.height = 4;
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x) image.rgba.insert(image.rgba.end(), {value, value, value, std::uint8_t(x < 2 ? 255 : 0)});
-    depthcull::io::save_png(path.string(), image.view());
+    depthcull::io::write_png(path.string(), image.view());
 }
 
 // A TexturePacker hash atlas of `frames` (each the same 4x4 cell) on
@@ -134,8 +134,8 @@ TEST(OutputsCli, AFailedWriteToStdoutIsAnError) {
 
 TEST(OutputsCli, PreviewsNeverReplaceTheInputs) {
     const fs::path dir = scratch("preview_inputs");
-    write_png(dir / "a.png", 10);
-    write_png(dir / "b.png", 20);
+    write_test_png(dir / "a.png", 10);
+    write_test_png(dir / "b.png", 20);
     const std::string a = read(dir / "a.png"), b = read(dir / "b.png");
     auto r = run_cli("analyze " + shq(dir) + " --no-cache -q --preview " + shq(dir) + " -o " + shq(dir / "out.json"));
     EXPECT_EQ(r.status, 1);
@@ -145,7 +145,7 @@ TEST(OutputsCli, PreviewsNeverReplaceTheInputs) {
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"a.png", "b.png"})); // no out.json, no .svg
 
     // atlas --preview into the page's directory: the page preview would be sheet.png.
-    write_png(dir / "sheet.png", 30);
+    write_test_png(dir / "sheet.png", 30);
     write_atlas(dir / "sheet.json", "sheet.png", {"x.png"});
     const std::string page = read(dir / "sheet.png");
     r = run_cli("atlas " + shq(dir / "sheet.json") + " --no-cache -q --preview " + shq(dir) + " -o " + shq(dir / "out.json"));
@@ -159,10 +159,10 @@ TEST(OutputsCli, PreviewNamesAreDistinct) {
     const fs::path dir = scratch("preview_names");
     fs::create_directories(dir / "x");
     fs::create_directories(dir / "y");
-    write_png(dir / "x" / "a.png", 10);
-    write_png(dir / "y" / "a.png", 20);
-    write_png(dir / "A.png", 30);
-    write_png(dir / "a-2.png", 40);
+    write_test_png(dir / "x" / "a.png", 10);
+    write_test_png(dir / "y" / "a.png", 20);
+    write_test_png(dir / "A.png", 30);
+    write_test_png(dir / "a-2.png", 40);
     auto r = run_cli("analyze " + shq(dir / "x" / "a.png") + " " + shq(dir / "y" / "a.png") + " " + shq(dir / "A.png") + " " +
                      shq(dir / "a-2.png") + " --no-cache -q --preview " + shq(dir / "p") + " -o " + shq(dir / "out.json"));
     EXPECT_EQ(r.status, 0) << r.err;
@@ -179,7 +179,7 @@ TEST(OutputsCli, PreviewNamesAreDistinct) {
 
 TEST(OutputsCli, GodotScenesAndPagePreviewsAreDistinct) {
     const fs::path dir = scratch("godot_names");
-    write_png(dir / "sheet.png", 10);
+    write_test_png(dir / "sheet.png", 10);
     write_atlas(dir / "sheet.json", "sheet.png", {"a.png", "a.jpg", "a-2"});
     auto r = run_cli("atlas " + shq(dir / "sheet.json") + " --no-cache -q --godot " + shq(dir / "godot") + " -o " + shq(dir / "out.json"));
     EXPECT_EQ(r.status, 0) << r.err;
@@ -188,8 +188,8 @@ TEST(OutputsCli, GodotScenesAndPagePreviewsAreDistinct) {
     // A multipack whose two pages are both named sheet.png.
     fs::create_directories(dir / "one");
     fs::create_directories(dir / "two");
-    write_png(dir / "one" / "sheet.png", 20);
-    write_png(dir / "two" / "sheet.png", 30);
+    write_test_png(dir / "one" / "sheet.png", 20);
+    write_test_png(dir / "two" / "sheet.png", 30);
     const std::string frame = "{\"filename\": \"%s\", \"frame\": {\"x\": 0, \"y\": 0, \"w\": 4, \"h\": 4}, \"rotated\": false, "
                               "\"trimmed\": false, \"spriteSourceSize\": {\"x\": 0, \"y\": 0, \"w\": 4, \"h\": 4}, "
                               "\"sourceSize\": {\"w\": 4, \"h\": 4}}";
@@ -216,7 +216,7 @@ TEST(OutputsCli, LongNamesFitAndAFailedRunWritesNothing) {
     fs::remove(dir / (long_name + ".json"));
 
     // A frame name of 300 bytes: its preview and Godot names are cut.
-    write_png(dir / "sheet.png", 10);
+    write_test_png(dir / "sheet.png", 10);
     write_atlas(dir / "sheet.json", "sheet.png", {std::string(300, 'f') + ".png", "g.png"});
     r = run_cli("atlas " + shq(dir / "sheet.json") + " --no-cache -q -j 1 --preview " + shq(dir / "pv") + " --godot " + shq(dir / "gd") +
                 " -o " + shq(dir / "out.json"));
@@ -229,7 +229,7 @@ TEST(OutputsCli, LongNamesFitAndAFailedRunWritesNothing) {
     // previews nor the JSON behind.
     const fs::path run = dir / "run";
     fs::create_directories(run);
-    write_png(run / "a.png", 10);
+    write_test_png(run / "a.png", 10);
     std::ofstream(run / "b.png") << "not a PNG";
     r = run_cli("analyze " + shq(run / "a.png") + " " + shq(run / "b.png") + " --no-cache -q -j 1 --preview " + shq(dir / "pv2") +
                 " -o " + shq(dir / "run.json"));

@@ -49,7 +49,7 @@ TEST(PreviewCli, AnalyzeWritesPngAndSvgPerImage) {
     for (auto& e : fs::directory_iterator(dir / "p")) (e.path().extension() == ".png" ? pngs : svgs) += 1;
     EXPECT_EQ(pngs, 10);
     EXPECT_EQ(svgs, 10);
-    const depthcull::Image png = depthcull::io::load_png((dir / "p" / "tree.png").string());
+    const depthcull::Image png = depthcull::io::read_png((dir / "p" / "tree.png").string());
     EXPECT_GE(png.width, 256); // magnified
     const std::string svg = slurp(dir / "p" / "tree.svg");
     EXPECT_NE(svg.find("id=\"boundary\""), std::string::npos);

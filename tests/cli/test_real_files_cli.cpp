@@ -43,7 +43,7 @@ int lines_starting(const std::string& text, const std::string& prefix) {
 
 TEST(RealFilesCli, AtlasWhosePageWasResavedSmallerWarnsAndStrictRefuses) {
     const fs::path dir = test::scratch_dir("real_atlas");
-    io::save_png((dir / "page.png").string(), test::ascii_image(std::vector<std::string>(16, std::string(16, '#'))).view());
+    io::write_png((dir / "page.png").string(), test::ascii_image(std::vector<std::string>(16, std::string(16, '#'))).view());
     const std::string atlas = write(dir / "sheet.json",
                                     R"({"frames": {"a": {"frame": {"x": 0, "y": 0, "w": 8, "h": 8}},
                                         "b": {"frame": {"x": 8, "y": 8, "w": 8, "h": 8}, "spriteSourceSize": {"x": 3, "y": 0, "w": 8, "h": 8},
@@ -73,7 +73,7 @@ TEST(RealFilesCli, CmykJpegAndAnimatedWebpWarnInInputOrderAndStrictRefuses) {
     const std::uint8_t stored[4] = {255, 0, 255, 255};
     const std::string jpeg = write(dir / "a_cmyk.jpg", test::cmyk_jpeg_bytes(8, 8, stored));
     const std::string webp = write(dir / "b_anim.webp", test::animated_webp_bytes(8, 8, {0xff0000ff, 0x00ff00ff, 0x0000ffff}));
-    io::save_png((dir / "c_plain.png").string(), test::ascii_image({"##", "#."}).view());
+    io::write_png((dir / "c_plain.png").string(), test::ascii_image({"##", "#."}).view());
     // Warnings in input order for any thread count: the decodes run in parallel.
     std::string first;
     for (const char* threads : {"1", "3"}) {

@@ -61,7 +61,7 @@ TEST(ReportCli, WritesOneSelfContainedPage) {
 }
 
 // A new user's first command: the game's sprite folder, no scene yet. The
-// folder is laid out as a contact sheet (io::load_sprite_folder) and
+// folder is laid out as a contact sheet (io::read_sprite_folder) and
 // reported like any scene: Table 2, frames, heatmaps, a row per sprite.
 TEST(ReportCli, ASpriteFolderIsReportedAsAContactSheet) {
     fs::path dir = scratch("folder");
@@ -118,7 +118,7 @@ TEST(ReportCli, RendersInHeadlessChromium) {
                            "' >/dev/null 2>&1")
                               .c_str()),
               0);
-    const depthcull::Image png = depthcull::io::load_png(shot.string());
+    const depthcull::Image png = depthcull::io::read_png(shot.string());
     ASSERT_EQ(png.width, 1400);
     ASSERT_EQ(png.height, 2400);
     std::int64_t green = 0, heat_blue = 0;

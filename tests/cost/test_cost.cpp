@@ -190,7 +190,7 @@ TEST(Calibrate, QuickCalibrationWritesACompleteFiniteProfile) {
     const int rc = std::system((cli() + " calibrate --quick -q -o " + out + " 2>" + temp("cal.err")).c_str());
     if (rc != 0 && slurp(temp("cal.err")).find("no OpenGL") != std::string::npos) GTEST_SKIP() << "no GL here";
     ASSERT_EQ(rc, 0) << slurp(temp("cal.err"));
-    const CostProfile p = pipeline::load_profile(out); // every term present, finite, >= 0
+    const CostProfile p = pipeline::read_profile(out); // every term present, finite, >= 0
     std::string what;
     EXPECT_TRUE(profile_is_complete(p, &what)) << what;
     EXPECT_GT(p.fragment_blend_ns, 0);
@@ -350,7 +350,7 @@ TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
     std::vector<std::string> targets = {"llvmpipe", "ipad1"};
     for (const CostProfile& p : {rejected_dear, edges_dear}) {
         targets.push_back(temp(p.name + ".json"));
-        pipeline::save_profile(targets.back(), p);
+        pipeline::write_profile(targets.back(), p);
     }
     for (const std::string& target : targets) {
         const std::string err = temp("never-slower.err");
@@ -527,12 +527,12 @@ TEST(AutoTarget, ACorruptCachedProfileIsMeasuredAgainWithOneWarning) {
         EXPECT_EQ(warnings[0].find('\n'), std::string::npos);
         EXPECT_NE(warnings[0].find(path), std::string::npos) << warnings[0];
         EXPECT_NE(warnings[0].find("calibrating again"), std::string::npos) << warnings[0];
-        EXPECT_EQ(pipeline::load_profile(path).frame_us, found.profile.frame_us); // replaced by a good one
+        EXPECT_EQ(pipeline::read_profile(path).frame_us, found.profile.frame_us); // replaced by a good one
     }
     // An entry measured on another renderer (a copied file) is not trusted either.
     CostProfile foreign = measured_profile(7);
     foreign.renderer = "Some Other GPU";
-    pipeline::save_profile(path, foreign);
+    pipeline::write_profile(path, foreign);
     warnings.clear();
     EXPECT_NE(pipeline::auto_profile(acme, dir, calibrate, warn).profile.frame_us, 7);
     EXPECT_EQ(warnings.size(), 1u);

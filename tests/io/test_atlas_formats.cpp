@@ -63,7 +63,7 @@ std::string plist_string(const std::string& text, const std::string& frame, cons
 } // namespace
 
 TEST(AtlasFormats, EveryPackedFormReadsTheSameFrames) {
-    io::Atlas hash = io::load_atlas(packed("hash-0.json"));
+    io::Atlas hash = io::read_atlas(packed("hash-0.json"));
     EXPECT_EQ(hash.form, io::AtlasForm::json_hash);
     ASSERT_EQ(hash.frames.size(), 6u);
     // Exact, from the packer's output: a rotated trimmed frame and a trimmed one.
@@ -80,9 +80,9 @@ TEST(AtlasFormats, EveryPackedFormReadsTheSameFrames) {
     EXPECT_EQ(next->source_w, 63);
     EXPECT_EQ(next->source_h, 25);
 
-    io::Atlas array = io::load_atlas(packed("array-0.json"));
-    io::Atlas multi = io::load_atlas(packed("phaser3-multi.json"));
-    io::Atlas plist = io::load_atlas(packed("cocos2d-0.plist"));
+    io::Atlas array = io::read_atlas(packed("array-0.json"));
+    io::Atlas multi = io::read_atlas(packed("phaser3-multi.json"));
+    io::Atlas plist = io::read_atlas(packed("cocos2d-0.plist"));
     EXPECT_EQ(array.form, io::AtlasForm::json_array);
     EXPECT_EQ(multi.form, io::AtlasForm::json_multipack);
     EXPECT_EQ(plist.form, io::AtlasForm::cocos2d_plist);
@@ -130,9 +130,9 @@ TEST(AtlasFormats, Cocos2dFormat3PlistWithPolygonsRoundTrips) {
     std::string text = pipeline::atlas_with_polygons((t.dir / "hash-0.json").string(), options, &stats);
     EXPECT_EQ(stats.rectangle_frames, 0);
     std::string path = t.write("out.plist", text);
-    io::Atlas back = io::load_atlas(path);
+    io::Atlas back = io::read_atlas(path);
     EXPECT_EQ(back.plist_format, 3);
-    io::Atlas hash = io::load_atlas(packed("hash-0.json"));
+    io::Atlas hash = io::read_atlas(packed("hash-0.json"));
     ASSERT_EQ(back.frames.size(), hash.frames.size());
     for (std::size_t i = 0; i < hash.frames.size(); ++i) {
         EXPECT_EQ(back.frames[i].name, hash.frames[i].name);
@@ -140,7 +140,7 @@ TEST(AtlasFormats, Cocos2dFormat3PlistWithPolygonsRoundTrips) {
     }
     // The polygon fields as cocos2d-x reads them (space-separated integers):
     // the triangles, in page texels, cover every non-transparent texel.
-    Image page = io::load_image(packed("hash-0.png"));
+    Image page = io::read_image(packed("hash-0.png"));
     for (const io::AtlasFrame& f : hash.frames) {
         std::vector<int> tri = ints(plist_string(text, f.name, "triangles"));
         std::vector<int> uv = ints(plist_string(text, f.name, "verticesUV"));
@@ -182,7 +182,7 @@ TEST(AtlasFormats, SpriteSourceSizeLargerThanTheFrame) {
     // size is the trimmed sprite's (as Phaser and PixiJS read it).
     std::string path = t.write("flash.json", R"({"frames": {"n": {"frame": {"x": 1, "y": 1, "w": 50, "h": 15}, "rotated": false, "trimmed": true,
         "spriteSourceSize": {"x": 8, "y": 6, "w": 63, "h": 25}, "sourceSize": {"w": 63, "h": 25}}}, "meta": {"image": "page.png"}})");
-    io::Atlas a = io::load_atlas(path);
+    io::Atlas a = io::read_atlas(path);
     ASSERT_EQ(a.frames.size(), 1u);
     EXPECT_EQ(a.frames[0].sprite_source, (Rect{8, 6, 50, 15}));
     EXPECT_EQ(a.frames[0].frame, (Rect{1, 1, 50, 15}));
@@ -191,21 +191,21 @@ TEST(AtlasFormats, SpriteSourceSizeLargerThanTheFrame) {
 TEST(AtlasFormats, RefusalsAreOneLine) {
     TempDir t;
     std::string old = t.write("old.plist", "<plist><dict><key>frames</key><dict/><key>metadata</key><dict><key>format</key><integer>1</integer></dict></dict></plist>");
-    EXPECT_EQ(error_of([&] { io::load_atlas(old); }), old + ": cocos2d plist format 1 is not supported (formats 2 and 3 are)");
+    EXPECT_EQ(error_of([&] { io::read_atlas(old); }), old + ": cocos2d plist format 1 is not supported (formats 2 and 3 are)");
     pipeline::AtlasPolygonOptions options;
     options.plist = true;
     EXPECT_EQ(error_of([&] { pipeline::atlas_with_polygons(packed("phaser3-multi.json"), options, nullptr); }),
               packed("phaser3-multi.json") + ": a cocos2d-x plist holds one page; this multipack has 2 (write JSON, or one plist per page)");
     std::string dup = t.write("dup.json", R"({"textures": [{"image": "a.png", "frames": [{"filename": "x", "frame": {"x": 0, "y": 0, "w": 1, "h": 1}}]},
         {"image": "b.png", "frames": [{"filename": "x", "frame": {"x": 0, "y": 0, "w": 1, "h": 1}}]}]})");
-    EXPECT_EQ(error_of([&] { io::load_atlas(dup); }), dup + ": frame 'x': duplicate frame name");
+    EXPECT_EQ(error_of([&] { io::read_atlas(dup); }), dup + ": frame 'x': duplicate frame name");
 }
 
 TEST(AtlasFormats, SceneFramesOfAMultipackUseTheirPage) {
     TempDir t;
     std::string scene = t.write("s.json", R"({"images": [{"id": "ui", "atlas": ")" + packed("phaser3-multi.json") + R"("}],
         "elements": [{"image": "ui", "frame": "next.png"}, {"image": "ui", "frame": "infinity.png", "transform": [1, 0, 0, 1, 70, 0]}]})");
-    Scene s = io::load_scene(scene);
+    Scene s = io::read_scene(scene);
     ASSERT_EQ(s.images.size(), 2u);
     EXPECT_EQ(s.images[1].id, "ui#1");
     EXPECT_EQ(s.images[1].path, packed("phaser3-1.png"));
@@ -219,12 +219,12 @@ TEST(AtlasFormats, SceneFramesOfAMultipackUseTheirPage) {
 TEST(AtlasFormatsCorpus, PackedAtlasesAgree) {
     if (std::string why = test::corpus_missing("packed-atlases"); !why.empty()) GTEST_SKIP() << why;
     const std::string dir = test::corpus_dir() + "/packed-atlases/";
-    io::Atlas multi = io::load_atlas(dir + "phaser3-multi.json");
+    io::Atlas multi = io::read_atlas(dir + "phaser3-multi.json");
     std::size_t pages = multi.pages.size(), seen = 0;
     for (std::size_t k = 0; k < pages; ++k) {
         const std::string n = std::to_string(k);
         for (const std::string& name : {"hash-" + n + ".json", "array-" + n + ".json", "cocos2d-" + n + ".plist"}) {
-            io::Atlas a = io::load_atlas(dir + name);
+            io::Atlas a = io::read_atlas(dir + name);
             for (const io::AtlasFrame& f : a.frames) {
                 const io::AtlasFrame* g = multi.find(f.name);
                 ASSERT_TRUE(g) << name << " " << f.name;

@@ -64,7 +64,7 @@ TEST(DocumentMemory, JsonMapOfEmptyArraysIsRefusedBeforeParsing) {
     std::string path = dir.write_gz("bomb.tmj.gz", text);
     text.clear();
     text.shrink_to_fit();
-    std::string message = io_error([&] { io::load_scene(path); });
+    std::string message = io_error([&] { io::read_scene(path); });
     EXPECT_TRUE(has(message, path + ": the JSON document would take about ")) << message;
     EXPECT_TRUE(has(message, "MiB of memory once parsed, more than the 1024 MiB (kMaxDocumentBytes)")) << message;
 }
@@ -77,7 +77,7 @@ TEST(DocumentMemory, XmlMapOfEmptyElementsIsRefusedBeforeParsing) {
     std::string path = dir.write_gz("bomb.tmx.gz", text);
     text.clear();
     text.shrink_to_fit();
-    std::string message = io_error([&] { io::load_scene(path); });
+    std::string message = io_error([&] { io::read_scene(path); });
     EXPECT_TRUE(has(message, path + ": the XML document would take about ")) << message;
     EXPECT_TRUE(has(message, "(kMaxDocumentBytes)")) << message;
 }
@@ -139,10 +139,10 @@ TEST(DocumentMemory, TemplateSpelledManyWaysIsParsedOnce) {
         return dir.write("map.tmx", R"(<map orientation="orthogonal" width="1" height="1" tilewidth="8" tileheight="8">)" + layers + "</map>");
     };
     const std::string once = map_with({"bomb.tx"});
-    const long one = child_peak_kib([&] { io::load_scene(once); });
+    const long one = child_peak_kib([&] { io::read_scene(once); });
     const std::string many = map_with({"bomb.tx", "./bomb.tx", "././bomb.tx", "sub/../bomb.tx", "./sub/../bomb.tx", "link.tx", ".//bomb.tx",
                                        "sub/.././bomb.tx"});
-    const long eight = child_peak_kib([&] { io::load_scene(many); });
+    const long eight = child_peak_kib([&] { io::read_scene(many); });
     ASSERT_GT(one, 0);
     ASSERT_GT(eight, 0);
     // One document is > 100 MB; eight would add 7 of them.
@@ -161,7 +161,7 @@ TEST(DocumentMemory, TilesetNamedManyTimesIsParsedOnce) {
     ASSERT_TRUE(doc.load_string(map.c_str()));
     std::vector<SceneImage> images;
     io::tiled::ImageTable table(images);
-    std::vector<io::tiled::Tileset> tilesets = io::tiled::load_tilesets(doc.child("map"), (dir.root / "m.tmx").string(), table);
+    std::vector<io::tiled::Tileset> tilesets = io::tiled::read_tilesets(doc.child("map"), (dir.root / "m.tmx").string(), table);
     ASSERT_EQ(tilesets.size(), 3u);
     EXPECT_EQ(tilesets[0].tables, tilesets[1].tables);
     EXPECT_EQ(tilesets[0].tables, tilesets[2].tables);
@@ -180,7 +180,7 @@ TEST(DocumentMemory, AtlasPolygonsAreWrittenFromTheBytesRead) {
         return "\"" + name + R"(": {"frame": {"x":0,"y":0,"w":8,"h":8}, "rotated": false, "trimmed": false, "spriteSourceSize": {"x":0,"y":0,"w":8,"h":8}, "sourceSize": {"w":8,"h":8}})";
     };
     const std::string path = dir.write("a.json", "{\"frames\": {" + frame("one") + "}, \"meta\": {\"image\": \"page.png\"}}");
-    io::Atlas atlas = io::load_texturepacker(path);
+    io::Atlas atlas = io::read_atlas(path);
     std::string frames = frame("x0");
     for (int i = 1; i < 1000; ++i) frames += "," + frame("x" + std::to_string(i));
     dir.write("a.json", "{\"frames\": {" + frames + "}, \"meta\": {\"image\": \"page.png\"}}");

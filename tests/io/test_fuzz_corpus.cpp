@@ -63,14 +63,14 @@ TEST(FuzzCorpus, PngSeedsDecodeOrFailCleanly) {
 
 TEST(FuzzCorpus, SceneJsonSeedsLoadOrFailCleanly) {
     replay("scene_json", [](const std::string& b, const std::string&) {
-        io::load_scene_bytes(b, DEPTHCULL_SOURCE_DIR "/examples/fuzz.json");
+        io::scene_from_bytes(b, DEPTHCULL_SOURCE_DIR "/examples/fuzz.json");
     });
 }
 
 TEST(FuzzCorpus, TiledSeedsLoadOrFailCleanly) {
     ScratchCache cache;
     const std::string dir = DEPTHCULL_SOURCE_DIR "/tests/data/tiled/";
-    replay("tiled_map", [&](const std::string& b, const std::string&) { io::load_scene_bytes(b, dir + "fuzz.tmx"); });
+    replay("tiled_map", [&](const std::string& b, const std::string&) { io::scene_from_bytes(b, dir + "fuzz.tmx"); });
     replay("tiled_tileset", [&](const std::string& b, const std::string&) {
         std::vector<SceneImage> images;
         io::tiled::ImageTable table(images);
@@ -86,7 +86,7 @@ TEST(FuzzCorpus, TiledSeedsLoadOrFailCleanly) {
 </map>)");
     replay("tiled_template", [&](const std::string& b, const std::string&) {
         maps.write("t.tx", b);
-        io::load_scene(map);
+        io::read_scene(map);
     });
     EXPECT_FALSE(fs::exists(cache.dir.path("cache"))) << "loading maps wrote into the cache directory";
 }
@@ -205,11 +205,11 @@ TEST(FuzzRegressions, HexagonalMapOfOddTinyTilesHasAPositiveViewport) {
     for (const char* axis : {"x", "y"}) {
         const std::string map = std::string(R"(<map orientation="hexagonal" width="3" height="3" tilewidth="1" tileheight="1" hexsidelength="0" staggeraxis=")") +
                                 axis + R"(" staggerindex="even"><tileset firstgid="1" source="tiles.tsx"/></map>)";
-        const Viewport v = io::load_scene_bytes(map, dir + "fuzz.tmx").viewport;
+        const Viewport v = io::scene_from_bytes(map, dir + "fuzz.tmx").viewport;
         EXPECT_GE(v.width, 1) << axis;
         EXPECT_GE(v.height, 1) << axis;
     }
-    const Viewport v = io::load_scene_bytes(slurp(kCorpus / "tiled_map" / "crash-hex-zero-high-viewport.tmx"), dir + "fuzz.tmx").viewport;
+    const Viewport v = io::scene_from_bytes(slurp(kCorpus / "tiled_map" / "crash-hex-zero-high-viewport.tmx"), dir + "fuzz.tmx").viewport;
     EXPECT_EQ(v.width, 10);
     EXPECT_EQ(v.height, 1);
 }

@@ -66,12 +66,12 @@ TEST(HostileTiled, TwentyThousandNestedGroupsAreRefusedNotAStackOverflow) {
     for (int i = 0; i < 20000; ++i) open += "<group>", close += "</group>";
     std::string tileset = R"(<tileset firstgid="1" name="t" tilewidth="8" tileheight="8"><image source="art/tiles.png" width="16" height="8"/></tileset>)";
     std::string path = dir.write("deep.tmx", map_text(tileset, open + one_cell(1) + close));
-    std::string message = io_error([&] { io::load_scene(path); });
+    std::string message = io_error([&] { io::read_scene(path); });
     EXPECT_TRUE(has(message, "deep.tmx") && has(message, "kMaxNestingDepth")) << message;
     // Nesting within the limit still draws.
     open.clear(), close.clear();
     for (int i = 0; i < 100; ++i) open += "<group>", close += "</group>";
-    EXPECT_EQ(io::load_scene(dir.write("nested.tmx", map_text(tileset, open + one_cell(2) + close))).elements.size(), 1u);
+    EXPECT_EQ(io::read_scene(dir.write("nested.tmx", map_text(tileset, open + one_cell(2) + close))).elements.size(), 1u);
 }
 
 TEST(HostileJson, DeepNestingIsRefusedInScenesAndAtlases) {
@@ -79,14 +79,14 @@ TEST(HostileJson, DeepNestingIsRefusedInScenesAndAtlases) {
     dir.standard_art();
     std::string deep(100000, '[');
     std::string scene = dir.write("deep.json", R"({"images": [], "elements": [], "extra": )" + deep + "}");
-    std::string message = io_error([&] { io::load_scene(scene); });
+    std::string message = io_error([&] { io::read_scene(scene); });
     EXPECT_TRUE(has(message, "deep.json") && has(message, "kMaxNestingDepth")) << message;
     std::string atlas = dir.write("deep_atlas.json", R"({"frames": {}, "meta": {"image": "art/blob.png", "x": )" + deep + "}}");
-    message = io_error([&] { io::load_texturepacker(atlas); });
+    message = io_error([&] { io::read_atlas(atlas); });
     EXPECT_TRUE(has(message, "deep_atlas.json") && has(message, "kMaxNestingDepth")) << message;
     // Brackets inside strings do not count.
     std::string quoted = dir.write("quoted.json", R"({"images": [], "elements": [], "note": ")" + std::string(1000, '[') + "\"}");
-    EXPECT_NO_THROW(io::load_scene(quoted));
+    EXPECT_NO_THROW(io::read_scene(quoted));
 }
 
 TEST(HostileNumbers, NonFiniteViewportIsRefused) {
@@ -97,11 +97,11 @@ TEST(HostileNumbers, NonFiniteViewportIsRefused) {
         io::LoadOptions o;
         o.has_viewport = true;
         o.viewport = {bad, 0, 64, 64};
-        std::string message = io_error([&] { io::load_scene(scene, o); });
+        std::string message = io_error([&] { io::read_scene(scene, o); });
         EXPECT_TRUE(has(message, "viewport") && has(message, "kMaxCoordinate")) << message;
     }
     std::string far = dir.write("far.json", R"({"viewport": {"x": 1e300, "width": 8, "height": 8}, "images": [], "elements": []})");
-    EXPECT_TRUE(has(io_error([&] { io::load_scene(far); }), "kMaxCoordinate"));
+    EXPECT_TRUE(has(io_error([&] { io::read_scene(far); }), "kMaxCoordinate"));
 }
 
 TEST(HostileNumbers, TiledOffsetsAndObjectsMustBeFiniteAndInRange) {
@@ -109,11 +109,11 @@ TEST(HostileNumbers, TiledOffsetsAndObjectsMustBeFiniteAndInRange) {
     dir.standard_art();
     std::string tileset = R"(<tileset firstgid="1" name="t" tilewidth="8" tileheight="8"><image source="art/tiles.png" width="16" height="8"/></tileset>)";
     std::string object = dir.write("object.tmx", map_text(tileset, R"(<objectgroup name="o"><object id="1" gid="1" x="1e300" y="0"/></objectgroup>)"));
-    EXPECT_TRUE(has(io_error([&] { io::load_scene(object); }), "kMaxCoordinate"));
+    EXPECT_TRUE(has(io_error([&] { io::read_scene(object); }), "kMaxCoordinate"));
     std::string offset = dir.write("offset.tmx", map_text(R"(<tileset firstgid="1" name="t" tilewidth="8" tileheight="8"><tileoffset x="nan" y="0"/><image source="art/tiles.png" width="16" height="8"/></tileset>)", one_cell(1)));
-    EXPECT_TRUE(has(io_error([&] { io::load_scene(offset); }), "tileoffset"));
+    EXPECT_TRUE(has(io_error([&] { io::read_scene(offset); }), "tileoffset"));
     std::string layer = dir.write("layer.tmx", map_text(tileset, R"(<layer name="l" width="2" height="1" offsetx="inf"><data encoding="csv">1,0</data></layer>)"));
-    EXPECT_TRUE(has(io_error([&] { io::load_scene(layer); }), "kMaxCoordinate"));
+    EXPECT_TRUE(has(io_error([&] { io::read_scene(layer); }), "kMaxCoordinate"));
 }
 
 TEST(HostileNumbers, SpacingAndMarginNearIntMaxAreRefused) {
@@ -122,7 +122,7 @@ TEST(HostileNumbers, SpacingAndMarginNearIntMaxAreRefused) {
     for (const char* attr : {"spacing=\"2147483647\"", "margin=\"2147483000\"", "spacing=\"2147483640\" margin=\"2147483640\""}) {
         std::string tileset = std::string(R"(<tileset firstgid="1" name="t" tilewidth="8" tileheight="8" )") + attr +
                               R"(><image source="art/tiles.png" width="16" height="8"/></tileset>)";
-        std::string message = io_error([&] { io::load_scene(dir.write("m.tmx", map_text(tileset, one_cell(1)))); });
+        std::string message = io_error([&] { io::read_scene(dir.write("m.tmx", map_text(tileset, one_cell(1)))); });
         EXPECT_TRUE(has(message, "margin and spacing") && has(message, "kMaxImageSide")) << message;
     }
 }
@@ -142,12 +142,12 @@ TEST(HostileNumbers, ChunksNearIntMaxAreRefusedOnOrthogonalAndIsometricMaps) {
         for (const char* at : {R"(x="2147483646" y="0")", R"(x="0" y="-2147483648")", R"(x="2147483000" y="2147483000")"}) {
             std::string chunk = std::string("<chunk ") + at + R"( width="2" height="1">1,2</chunk>)";
             std::string path = dir.write("far.tmx", infinite_map(orientation, chunk));
-            std::string message = io_error([&] { io::load_scene(path); });
+            std::string message = io_error([&] { io::read_scene(path); });
             EXPECT_TRUE(has(message, "kMaxMapSide")) << orientation << " " << at << ": " << message;
         }
         // At the limit's edge the tiles land where Tiled puts them.
         std::string path = dir.write("edge.tmx", infinite_map(orientation, R"(<chunk x="1048574" y="-1048576" width="2" height="1">1,2</chunk>)"));
-        Scene s = io::load_scene(path);
+        Scene s = io::read_scene(path);
         ASSERT_EQ(s.elements.size(), 2u) << orientation;
         for (const Element& e : s.elements)
             for (double t : e.transform) EXPECT_TRUE(std::isfinite(t));
@@ -163,10 +163,10 @@ TEST(HostileErrors, HugeJsonNumbersAreOurError) {
     SceneDir dir("hostile_1e400");
     dir.standard_art();
     std::string scene = dir.write("s.json", R"({"images": [{"id": "b", "path": "art/blob.png"}], "elements": [{"image": "b", "transform": [1e400, 0, 0, 1, 0, 0]}]})");
-    std::string message = io_error([&] { io::load_scene(scene); });
+    std::string message = io_error([&] { io::read_scene(scene); });
     EXPECT_TRUE(has(message, "s.json") && !has(message, "[json.exception")) << message;
     std::string atlas = dir.write("a.json", R"({"frames": {"f": {"frame": {"x": 1e400, "y": 0, "w": 1, "h": 1}}}, "meta": {"image": "art/blob.png"}})");
-    message = io_error([&] { io::load_texturepacker(atlas); });
+    message = io_error([&] { io::read_atlas(atlas); });
     EXPECT_TRUE(has(message, "a.json") && !has(message, "[json.exception")) << message;
 }
 
@@ -206,7 +206,7 @@ TEST(HostileMemory, HugeTilesetOfOneTexelTilesIsNotTabulated) {
     // tile before the last.
     std::string path = dir.write("m.tmx", map_text(tileset, one_cell(0x0fffffffu)));
     // Before: a 268M-entry tile table (over 5 GB) was built first.
-    Scene s = io::load_scene(path);
+    Scene s = io::read_scene(path);
     ASSERT_EQ(s.elements.size(), 1u);
     EXPECT_EQ(s.elements[0].rect, (Rect{16382, 16383, 1, 1}));
 }
@@ -215,10 +215,10 @@ TEST(HostileMemory, LargestTileIdIsSparse) {
     SceneDir dir("hostile_tile_id");
     dir.standard_art();
     std::string tileset = R"(<tileset firstgid="1" name="c" tilewidth="8" tileheight="8"><tile id="16777215"><image source="art/blob.png" width="8" height="8"/></tile></tileset>)";
-    Scene s = io::load_scene(dir.write("m.tmx", map_text(tileset, one_cell(16777216))));
+    Scene s = io::read_scene(dir.write("m.tmx", map_text(tileset, one_cell(16777216))));
     ASSERT_EQ(s.elements.size(), 1u);
     EXPECT_EQ(s.elements[0].rect, (Rect{0, 0, 8, 8}));
-    std::string message = io_error([&] { io::load_scene(dir.write("n.tmx", map_text(tileset, one_cell(5)))); });
+    std::string message = io_error([&] { io::read_scene(dir.write("n.tmx", map_text(tileset, one_cell(5)))); });
     EXPECT_TRUE(has(message, "gid 5 is out of range")) << message;
 }
 
@@ -256,7 +256,7 @@ TEST(HostileMemory, OverlappingChunksCountEveryCell) {
     for (int k = 0; k < 4; ++k) chunks += chunk; // 64 in the measured file; the second is refused
     std::string text = infinite_map("orthogonal", chunks);
     text.replace(text.find(R"(encoding="csv")"), 14, R"(encoding="base64" compression="zlib")");
-    std::string message = io_error([&] { io::load_scene(dir.write("m.tmx", text)); });
+    std::string message = io_error([&] { io::read_scene(dir.write("m.tmx", text)); });
     EXPECT_TRUE(has(message, "chunk 1") && has(message, "kMaxLayerCells")) << message;
 }
 
@@ -270,16 +270,16 @@ TEST(HostileMemory, NonRegularFilesAreRefusedAsEveryInput) {
     fs::create_symlink("/dev/zero", dir.path("zero.tsx"));
     fs::create_symlink("/dev/zero", dir.path("zero.tx"));
     for (const char* input : {"fifo.json", "zero.json", "zero.tmx"})
-        EXPECT_TRUE(has(io_error([&] { io::load_scene(dir.path(input)); }), "not a regular file")) << input;
-    EXPECT_TRUE(has(io_error([&] { io::load_texturepacker(dir.path("zero.json")); }), "not a regular file"));
-    EXPECT_TRUE(has(io_error([&] { io::load_png(dir.path("art/zero.png")); }), "not a regular file"));
+        EXPECT_TRUE(has(io_error([&] { io::read_scene(dir.path(input)); }), "not a regular file")) << input;
+    EXPECT_TRUE(has(io_error([&] { io::read_atlas(dir.path("zero.json")); }), "not a regular file"));
+    EXPECT_TRUE(has(io_error([&] { io::read_png(dir.path("art/zero.png")); }), "not a regular file"));
     std::string scene = dir.write("s.json", R"({"images": [{"id": "z", "path": "art/zero.png"}], "elements": []})");
-    EXPECT_TRUE(has(io_error([&] { io::load_scene(scene); }), "not a regular file"));
+    EXPECT_TRUE(has(io_error([&] { io::read_scene(scene); }), "not a regular file"));
     std::string tsx = dir.write("tsx.tmx", map_text(R"(<tileset firstgid="1" source="zero.tsx"/>)", one_cell(1)));
-    EXPECT_TRUE(has(io_error([&] { io::load_scene(tsx); }), "not a regular file"));
+    EXPECT_TRUE(has(io_error([&] { io::read_scene(tsx); }), "not a regular file"));
     std::string tx = dir.write("tx.tmx", map_text(R"(<tileset firstgid="1" name="t" tilewidth="8" tileheight="8"><image source="art/tiles.png" width="16" height="8"/></tileset>)",
                                                   R"(<objectgroup name="o"><object id="1" template="zero.tx"/></objectgroup>)"));
-    EXPECT_TRUE(has(io_error([&] { io::load_scene(tx); }), "not a regular file"));
+    EXPECT_TRUE(has(io_error([&] { io::read_scene(tx); }), "not a regular file"));
 }
 
 TEST(HostileMemory, AtlasFramesAreFoundByName) {
@@ -288,7 +288,7 @@ TEST(HostileMemory, AtlasFramesAreFoundByName) {
     std::string frames;
     for (int i = 0; i < 2000; ++i)
         frames += (i ? "," : "") + std::string("\"f") + std::to_string(i) + R"(": {"frame": {"x": 0, "y": 0, "w": 1, "h": 1}})";
-    io::Atlas atlas = io::load_texturepacker(dir.write("a.json", R"({"frames": {)" + frames + R"(}, "meta": {"image": "art/blob.png"}})"));
+    io::Atlas atlas = io::read_atlas(dir.write("a.json", R"({"frames": {)" + frames + R"(}, "meta": {"image": "art/blob.png"}})"));
     EXPECT_EQ(atlas.by_name.size(), 2000u);
     ASSERT_NE(atlas.find("f1999"), nullptr);
     EXPECT_EQ(atlas.find("f1999")->name, "f1999");
@@ -306,14 +306,14 @@ TEST(HostileMemory, AtlasHashKeepsFileOrderAndRefusesDuplicateNames) {
     SceneDir dir("hostile_atlas_order");
     dir.standard_art();
     auto frame = [](const char* name) { return std::string("\"") + name + R"(": {"frame": {"x": 0, "y": 0, "w": 1, "h": 1}})"; };
-    io::Atlas atlas = io::load_texturepacker(
+    io::Atlas atlas = io::read_atlas(
         dir.write("a.json", "{\"frames\": {" + frame("zeta") + "," + frame("alpha") + "," + frame("mid") + R"(}, "meta": {"image": "art/blob.png"}})"));
     ASSERT_EQ(atlas.frames.size(), 3u);
     EXPECT_EQ(atlas.frames[0].name, "zeta");
     EXPECT_EQ(atlas.frames[1].name, "alpha");
     EXPECT_EQ(atlas.frames[2].name, "mid");
     std::string e = io_error([&] {
-        io::load_texturepacker(dir.write("d.json", "{\"frames\": {" + frame("a") + "," + frame("a") + R"(}, "meta": {"image": "art/blob.png"}})"));
+        io::read_atlas(dir.write("d.json", "{\"frames\": {" + frame("a") + "," + frame("a") + R"(}, "meta": {"image": "art/blob.png"}})"));
     });
     EXPECT_TRUE(has(e, "d.json")) << e;
     EXPECT_TRUE(has(e, "duplicate frame name")) << e;

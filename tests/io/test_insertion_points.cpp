@@ -74,11 +74,11 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 
 TEST(InsertionPoints, SceneJsonKeyReadsSortedAndWritesBack) {
     Dir dir;
-    const Scene s = io::load_scene(twelve_elements(dir));
+    const Scene s = io::read_scene(twelve_elements(dir));
     EXPECT_EQ(s.insertion_points, (std::vector<std::size_t>{4, 9}));
     const std::string text = io::scene_to_json_text(s, dir.path("again.json"));
     EXPECT_NE(text.find("\"insertion_points\""), std::string::npos) << text;
-    EXPECT_EQ(io::load_scene(dir.write("again.json", text)).insertion_points, s.insertion_points);
+    EXPECT_EQ(io::read_scene(dir.write("again.json", text)).insertion_points, s.insertion_points);
     // Without points: no key (files as before).
     Scene none = s;
     none.insertion_points.clear();
@@ -90,13 +90,13 @@ TEST(InsertionPoints, SceneJsonKeyErrorsNameTheFile) {
     for (const char* bad : {R"(, "insertion_points": [13])", R"(, "insertion_points": [-1])", R"(, "insertion_points": ["a"])",
                             R"(, "insertion_points": 3)", R"(, "insertion_points": [1.5])"}) {
         const std::string path = twelve_elements(dir, bad);
-        const std::string error = error_of([&] { io::load_scene(path); });
+        const std::string error = error_of([&] { io::read_scene(path); });
         EXPECT_NE(error.find("scene.json: "), std::string::npos) << bad << ": " << error;
         EXPECT_NE(error.find("insertion"), std::string::npos) << bad << ": " << error;
         EXPECT_EQ(error.find('\n'), std::string::npos) << error;
     }
     // 12 (on top) is fine.
-    EXPECT_EQ(io::load_scene(twelve_elements(dir, R"(, "insertion_points": [12])")).insertion_points, std::vector<std::size_t>{12});
+    EXPECT_EQ(io::read_scene(twelve_elements(dir, R"(, "insertion_points": [12])")).insertion_points, std::vector<std::size_t>{12});
 }
 
 TEST(InsertionPoints, InsertAtNamesElementIndicesOfScenes) {
@@ -104,10 +104,10 @@ TEST(InsertionPoints, InsertAtNamesElementIndicesOfScenes) {
     const std::string path = twelve_elements(dir);
     io::LoadOptions options;
     options.insert_at = {"0", "9", "12"};
-    EXPECT_EQ(io::load_scene(path, options).insertion_points, (std::vector<std::size_t>{0, 4, 9, 12}));
+    EXPECT_EQ(io::read_scene(path, options).insertion_points, (std::vector<std::size_t>{0, 4, 9, 12}));
     for (const char* bad : {"13", "x", "-1", "", "4x"}) {
         options.insert_at = {bad};
-        const std::string error = error_of([&] { io::load_scene(path, options); });
+        const std::string error = error_of([&] { io::read_scene(path, options); });
         EXPECT_NE(error.find("scene.json: --insert-at '" + std::string(bad) + "': not an element index in 0..12"), std::string::npos) << error;
     }
 }
@@ -128,15 +128,15 @@ TEST(InsertionPoints, TiledObjectLayersAndNamedLayers) {
     Dir dir;
     const std::string path = dir.write("map.tmx", map_xml(kLayers));
     // ground 0-1, game 2, deco 3-4, roof 5-6.
-    Scene s = io::load_scene(path);
+    Scene s = io::read_scene(path);
     ASSERT_EQ(s.elements.size(), 7u);
     EXPECT_EQ(s.insertion_points, std::vector<std::size_t>{3});
     io::LoadOptions options;
     options.insert_at = {"deco", "ground", "hidden", "game"};
-    s = io::load_scene(path, options);
+    s = io::read_scene(path, options);
     EXPECT_EQ(s.insertion_points, (std::vector<std::size_t>{2, 3, 5}));
     options.insert_at = {"nope"};
-    EXPECT_EQ(error_of([&] { io::load_scene(path, options); }), path + ": --insert-at 'nope': the map has no layer of that name");
+    EXPECT_EQ(error_of([&] { io::read_scene(path, options); }), path + ": --insert-at 'nope': the map has no layer of that name");
 }
 
 // A background colour is an element before every layer: the points move
@@ -144,7 +144,7 @@ TEST(InsertionPoints, TiledObjectLayersAndNamedLayers) {
 // element too low).
 TEST(InsertionPoints, TiledBackgroundColourKeepsPointsAfterTheirLayer) {
     Dir dir;
-    const Scene s = io::load_scene(dir.write("bg.tmx", map_xml(kLayers, "backgroundcolor=\"#102030\"")));
+    const Scene s = io::read_scene(dir.write("bg.tmx", map_xml(kLayers, "backgroundcolor=\"#102030\"")));
     ASSERT_EQ(s.elements.size(), 8u);
     EXPECT_TRUE(s.images[std::size_t(s.elements[0].image)].has_fill);
     EXPECT_EQ(s.insertion_points, std::vector<std::size_t>{4});

@@ -136,7 +136,7 @@ TEST(MemoryLimits, CoreRefusesAnAnalysisOverItsScratchLimitAndThrowsNothing) {
 
 TEST(MemoryLimits, AnAnalysisOverTheBudgetNamesFileRectAndLimit) {
     SceneDir dir("mem_analysis_limit");
-    io::save_png(dir.path("art/wall.png"), opaque_image(96, 64).view());
+    io::write_png(dir.path("art/wall.png"), opaque_image(96, 64).view());
     const std::string scene =
         dir.write("s.json", R"({"images": [{"id": "w", "path": "art/wall.png"}], "elements": [{"image": "w", "rect": [8, 0, 80, 64]}]})");
     pipeline::MemoryBudget small(analysis_scratch_bytes({8, 0, 80, 64}, {}) - 1);
@@ -211,7 +211,7 @@ TEST(MemoryLimits, WorkersReserveFromOneBudgetAndOutputMatchesOneThread) {
         for (int y = 0; y < 64; ++y)
             for (int x = 0; x < 64; ++x)
                 if ((x - 32) * (x - 32) + (y - 32) * (y - 32) > (20 + 2 * i) * (20 + 2 * i)) image.rgba[std::size_t(y * 64 + x) * 4 + 3] = 0;
-        io::save_png(dir.path("art/" + std::to_string(i) + ".png"), image.view());
+        io::write_png(dir.path("art/" + std::to_string(i) + ".png"), image.view());
         images += std::string(i ? "," : "") + R"({"id": ")" + std::to_string(i) + R"(", "path": "art/)" + std::to_string(i) + R"(.png"})";
         elements += std::string(i ? "," : "") + R"({"image": ")" + std::to_string(i) + R"("})";
     }

@@ -39,21 +39,21 @@ std::string write_png(int color_type, int bit_depth, int w, int h, const std::ve
 TEST(Png, RoundTripRgba) {
     Image img = test::ascii_image({"#.+", "+#."});
     std::string path = (std::filesystem::temp_directory_path() / "dc_roundtrip.png").string();
-    io::save_png(path, img.view());
-    Image back = io::load_png(path);
+    io::write_png(path, img.view());
+    Image back = io::read_png(path);
     EXPECT_EQ(back.width, 3);
     EXPECT_EQ(back.height, 2);
     EXPECT_EQ(back.rgba, img.rgba);
 }
 
 TEST(Png, GreyIsOpaque) {
-    Image img = io::load_png(write_png(PNG_COLOR_TYPE_GRAY, 8, 2, 1, {10, 200}));
+    Image img = io::read_png(write_png(PNG_COLOR_TYPE_GRAY, 8, 2, 1, {10, 200}));
     EXPECT_EQ(img.rgba[3], 255);
     EXPECT_EQ(img.rgba[4], 200);
 }
 
 TEST(Png, PaletteWithTrns) {
-    Image img = io::load_png(write_png(PNG_COLOR_TYPE_PALETTE, 8, 3, 1, {0, 1, 2}, {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}}, {0, 128}));
+    Image img = io::read_png(write_png(PNG_COLOR_TYPE_PALETTE, 8, 3, 1, {0, 1, 2}, {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}}, {0, 128}));
     EXPECT_EQ(img.rgba[3], 0);
     EXPECT_EQ(img.rgba[7], 128);
     EXPECT_EQ(img.rgba[11], 255);
@@ -63,13 +63,13 @@ TEST(Png, PaletteWithTrns) {
 TEST(Png, SixteenBitRgbaKeepsAlphaClasses) {
     // Two texels: alpha 0xFFFF and 0x0000 (big-endian 16-bit samples).
     std::vector<std::uint8_t> row{0x12, 0x34, 0x56, 0x78, 0x9a, 0xbc, 0xff, 0xff, 0, 0, 0, 0, 0, 0, 0, 0};
-    Image img = io::load_png(write_png(PNG_COLOR_TYPE_RGBA, 16, 2, 1, row));
+    Image img = io::read_png(write_png(PNG_COLOR_TYPE_RGBA, 16, 2, 1, row));
     EXPECT_EQ(img.rgba[3], 255);
     EXPECT_EQ(img.rgba[7], 0);
 }
 
 TEST(Png, RgbIsOpaque) {
-    Image img = io::load_png(write_png(PNG_COLOR_TYPE_RGB, 8, 1, 1, {1, 2, 3}));
+    Image img = io::read_png(write_png(PNG_COLOR_TYPE_RGB, 8, 1, 1, {1, 2, 3}));
     EXPECT_EQ(img.rgba, (std::vector<std::uint8_t>{1, 2, 3, 255}));
 }
 
@@ -77,14 +77,14 @@ TEST(Png, CorruptAndMissingFilesGiveOneLineErrors) {
     std::string path = (std::filesystem::temp_directory_path() / "dc_corrupt.png").string();
     std::ofstream(path) << "not a png at all";
     try {
-        io::load_png(path);
+        io::read_png(path);
         FAIL();
     } catch (const depthcull::Error& e) {
         std::string m = e.what();
         EXPECT_NE(m.find(path), std::string::npos);
         EXPECT_EQ(m.find('\n'), std::string::npos);
     }
-    EXPECT_THROW(io::load_png("/nonexistent/x.png"), depthcull::Error);
+    EXPECT_THROW(io::read_png("/nonexistent/x.png"), depthcull::Error);
 }
 
 TEST(Png, TruncatedFileIsAnError) {

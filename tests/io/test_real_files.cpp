@@ -49,7 +49,7 @@ Scene load_warned(const std::string& scene, std::vector<std::string>* lines, boo
     io::LoadOptions options;
     options.warning = [lines](const std::string& line) { lines->push_back(line); };
     options.strict = strict;
-    return io::load_scene(scene, options);
+    return io::read_scene(scene, options);
 }
 
 } // namespace
@@ -59,14 +59,14 @@ TEST(RealFiles, PngGammaChunkKeepsTheFilesSamplesSoAColourKeyMatches) {
     // trans=808080 keyed nothing. WebGL, stb_image and Tiled use 0x80.
     const fs::path dir = scratch();
     const std::string path = write(dir / "linear.png", test::png_bytes(2, 1, {0x80, 0x80, 0x80, 0x10, 0x20, 0x30}, false, 1.0));
-    const Image image = io::load_image(path);
+    const Image image = io::read_image(path);
     ASSERT_EQ(image.width, 2);
     EXPECT_EQ(image.rgba, (std::vector<std::uint8_t>{0x80, 0x80, 0x80, 255, 0x10, 0x20, 0x30, 255}));
     SceneImage keyed;
     keyed.path = path;
     keyed.has_trans = true;
     keyed.trans = 0x808080;
-    const Image key = io::load_scene_image(keyed);
+    const Image key = io::read_scene_image(keyed);
     EXPECT_EQ(key.rgba[3], 0);   // keyed
     EXPECT_EQ(key.rgba[7], 255); // not
 }
@@ -76,7 +76,7 @@ TEST(RealFiles, SixteenBitPngRoundsToEightBitsWithoutALinearConversion) {
     // sRGB (the simplified API's way) it became 76.
     const fs::path dir = scratch();
     const std::vector<std::uint8_t> samples{0x12, 0x34, 0x80, 0x80, 0xff, 0xff};
-    const Image image = io::load_image(write(dir / "deep.png", test::png_bytes(1, 1, samples, true)));
+    const Image image = io::read_image(write(dir / "deep.png", test::png_bytes(1, 1, samples, true)));
     auto round8 = [](unsigned v) { return std::uint8_t((v * 255 + 32767) / 65535); };
     EXPECT_EQ(image.rgba, (std::vector<std::uint8_t>{round8(0x1234), round8(0x8080), 255, 255}));
 }
@@ -88,7 +88,7 @@ TEST(RealFiles, CmykJpegConvertsToRgbWithAWarning) {
     const std::uint8_t stored[4] = {255, 0, 255, 255};
     const std::string path = write(dir / "cmyk.jpg", test::cmyk_jpeg_bytes(16, 16, stored));
     std::vector<std::string> warnings;
-    const Image image = io::load_image(path, &warnings);
+    const Image image = io::read_image(path, &warnings);
     ASSERT_EQ(image.width, 16);
     for (std::size_t i = 0; i < image.rgba.size(); i += 4) {
         EXPECT_NEAR(image.rgba[i], 255, 3);
@@ -104,7 +104,7 @@ TEST(RealFiles, AnimatedWebpGivesItsFirstFrameWithAWarning) {
     const fs::path dir = scratch();
     const std::string path = write(dir / "anim.webp", test::animated_webp_bytes(4, 3, {0xff0000ff, 0x0000ffff}));
     std::vector<std::string> warnings;
-    const Image image = io::load_image(path, &warnings);
+    const Image image = io::read_image(path, &warnings);
     ASSERT_EQ(image.width, 4);
     ASSERT_EQ(image.height, 3);
     for (std::size_t i = 0; i < image.rgba.size(); i += 4)
@@ -120,7 +120,7 @@ TEST(RealFiles, AtlasFramesAreTexelsOfTheDecodedPageNotOfMetaSize) {
     // warning; a frame outside the decoded page is refused even though the
     // stated size would hold it; --strict refuses the difference.
     const fs::path dir = scratch();
-    io::save_png((dir / "page.png").string(), test::ascii_image(std::vector<std::string>(32, std::string(32, '#'))).view());
+    io::write_png((dir / "page.png").string(), test::ascii_image(std::vector<std::string>(32, std::string(32, '#'))).view());
     auto atlas = [&](const std::string& name, int x) {
         return write(dir / name, R"({"frames": {"a": {"frame": {"x": )" + std::to_string(x) +
                                      R"(, "y": 0, "w": 8, "h": 8}}}, "meta": {"image": "page.png", "size": {"w": 64, "h": 64}}})");
@@ -145,9 +145,9 @@ TEST(RealFiles, AtlasFramesAreTexelsOfTheDecodedPageNotOfMetaSize) {
 
 TEST(RealFiles, MetaScaleIsWarnedAndFramesStayAtTexelSize) {
     const fs::path dir = scratch();
-    io::save_png((dir / "page.png").string(), test::ascii_image(std::vector<std::string>(8, std::string(8, '#'))).view());
+    io::write_png((dir / "page.png").string(), test::ascii_image(std::vector<std::string>(8, std::string(8, '#'))).view());
     write(dir / "half.json", R"({"frames": {"a": {"frame": {"x": 0, "y": 0, "w": 8, "h": 8}}}, "meta": {"image": "page.png", "scale": "0.5"}})");
-    EXPECT_EQ(io::load_texturepacker((dir / "half.json").string()).scale, 0.5);
+    EXPECT_EQ(io::read_atlas((dir / "half.json").string()).scale, 0.5);
     const std::string scene = write(dir / "scene.json", R"({"images": [{"id": "s", "atlas": "half.json"}], "elements": [{"image": "s", "frame": "a"}]})");
     std::vector<std::string> lines;
     const Scene s = load_warned(scene, &lines);
@@ -161,7 +161,7 @@ TEST(RealFiles, AsepriteTrimOneTexelPastSourceSizeLoadsWithAWarning) {
     const fs::path dir = scratch();
     const std::string json = write(dir / "ase.json", R"({"frames": {"walk 0": {"frame": {"x": 0, "y": 0, "w": 64, "h": 36}, "trimmed": true,
         "spriteSourceSize": {"x": 27, "y": 31, "w": 64, "h": 36}, "sourceSize": {"w": 90, "h": 80}}}, "meta": {"image": "ase.png"}})");
-    const io::Atlas a = io::load_texturepacker(json);
+    const io::Atlas a = io::read_atlas(json);
     ASSERT_EQ(a.frames.size(), 1u);
     EXPECT_EQ(a.frames[0].sprite_source, (Rect{27, 31, 64, 36}));
     ASSERT_EQ(a.warnings.size(), 1u);
@@ -176,7 +176,7 @@ TEST(RealFiles, AsepriteTrimOneTexelPastSourceSizeLoadsWithAWarning) {
 </dict></dict>
 <key>metadata</key><dict><key>format</key><integer>2</integer><key>textureFileName</key><string>ase.png</string><key>size</key><string>{64,36}</string></dict>
 </dict></plist>)");
-    const io::Atlas p = io::load_texturepacker(plist);
+    const io::Atlas p = io::read_atlas(plist);
     ASSERT_EQ(p.frames.size(), 1u);
     EXPECT_EQ(p.frames[0].sprite_source, (Rect{27, 31, 64, 36}));
     ASSERT_EQ(p.warnings.size(), 1u);
@@ -197,13 +197,13 @@ TEST(RealFiles, InvalidJsonIsReportedWithoutItsContent) {
         std::string file, error;
     };
     std::vector<Case> cases;
-    cases.push_back({tileset, error_of([&] { io::load_scene(map); })});
+    cases.push_back({tileset, error_of([&] { io::read_scene(map); })});
     const std::string tmj = write(dir / "m.tmj", "{\"layers\": [\n  \"" + secret + "\", " + secret + "]}");
-    cases.push_back({tmj, error_of([&] { io::load_scene(tmj); })});
+    cases.push_back({tmj, error_of([&] { io::read_scene(tmj); })});
     const std::string scene = write(dir / "s.json", "{\"images\": " + secret + "}");
-    cases.push_back({scene, error_of([&] { io::load_scene(scene); })});
+    cases.push_back({scene, error_of([&] { io::read_scene(scene); })});
     const std::string atlas = write(dir / "a.json", "{\"frames\": {\"" + secret + "\": 1e999}}");
-    cases.push_back({atlas, error_of([&] { io::load_texturepacker(atlas); })});
+    cases.push_back({atlas, error_of([&] { io::read_atlas(atlas); })});
     cases.push_back({"m.json", error_of([&] { io::meshes_from_json("{\"viewport\": " + secret, "m.json"); })});
     cases.push_back({"p.json", error_of([&] { pipeline::profile_from_json("[" + secret + "]", "p.json"); })});
     for (const Case& c : cases) {

@@ -16,7 +16,7 @@ std::string scene_text(const std::string& elements, const std::string& extra = "
 std::string load_error(const SceneDir& dir, const std::string& text) {
     std::string path = dir.write("scene.json", text);
     try {
-        io::load_scene(path);
+        io::read_scene(path);
     } catch (const depthcull::Error& e) {
         return e.what();
     }
@@ -31,7 +31,7 @@ TEST(SceneJson, LoadsFieldsAndDefaults) {
         {"image": "tiles", "rect": [8, 0, 8, 8], "transform": [0, 1, -1, 0, 30, 5], "color": [1, 0.5, 0.25, 0.75],
          "blend": "add", "unknown_field": 3})",
                                                               R"("filter": "linear", )"));
-    Scene s = io::load_scene(path);
+    Scene s = io::read_scene(path);
     EXPECT_EQ(s.viewport.width, 64);
     EXPECT_EQ(s.viewport.height, 48);
     EXPECT_EQ(s.filter, Filter::linear);
@@ -62,22 +62,22 @@ TEST(SceneJson, ImageFilesAreReadOnceAndDecodedFromMemory) {
     io::ImageFiles files;
     io::LoadOptions options;
     options.image_files = &files;
-    const Scene s = io::load_scene(path, options), plain = io::load_scene(path);
+    const Scene s = io::read_scene(path, options), plain = io::read_scene(path);
     ASSERT_EQ(s.images.size(), 2u);
     std::vector<Image> from_disk;
     for (std::size_t i = 0; i < s.images.size(); ++i) {
         EXPECT_NE(files.find(s.images[i].path), nullptr) << i;
         EXPECT_EQ(s.images[i].width, plain.images[i].width) << i;
         EXPECT_EQ(s.images[i].height, plain.images[i].height) << i;
-        from_disk.push_back(io::load_scene_image(s.images[i]));
+        from_disk.push_back(io::read_scene_image(s.images[i]));
     }
     std::filesystem::remove_all(dir.path("art"));
     for (std::size_t i = 0; i < s.images.size(); ++i) {
-        const Image decoded = io::load_scene_image(s.images[i], &files);
+        const Image decoded = io::read_scene_image(s.images[i], &files);
         EXPECT_EQ(decoded.width, from_disk[i].width) << i;
         EXPECT_EQ(decoded.rgba, from_disk[i].rgba) << i;
     }
-    EXPECT_THROW(io::load_scene_image(s.images[0]), depthcull::Error);
+    EXPECT_THROW(io::read_scene_image(s.images[0]), depthcull::Error);
 }
 
 // Past its budget ImageFiles keeps nothing more: the loader reads such a
@@ -90,11 +90,11 @@ TEST(SceneJson, ImageFilesPastTheirBudgetAreReadAgain) {
     io::ImageFiles files(blob); // room for blob.png alone
     io::LoadOptions options;
     options.image_files = &files;
-    const Scene s = io::load_scene(path, options);
+    const Scene s = io::read_scene(path, options);
     EXPECT_NE(files.find(s.images[0].path), nullptr);
     EXPECT_EQ(files.find(s.images[1].path), nullptr);
-    EXPECT_EQ(s.images[1].width, io::load_scene(path).images[1].width);
-    EXPECT_EQ(io::load_scene_image(s.images[1], &files).rgba, io::load_scene_image(s.images[1]).rgba);
+    EXPECT_EQ(s.images[1].width, io::read_scene(path).images[1].width);
+    EXPECT_EQ(io::read_scene_image(s.images[1], &files).rgba, io::read_scene_image(s.images[1]).rgba);
 }
 
 TEST(SceneJson, ColourKeysAreReadAndWrittenBack) {
@@ -102,12 +102,12 @@ TEST(SceneJson, ColourKeysAreReadAndWrittenBack) {
     dir.standard_art();
     std::string path = dir.write("scene.json", R"({"images": [{"id": "blob", "path": "art/blob.png", "trans": "#FF00ff"}],
                                                    "elements": [{"image": "blob"}]})");
-    Scene s = io::load_scene(path);
+    Scene s = io::read_scene(path);
     ASSERT_TRUE(s.images[0].has_trans);
     EXPECT_EQ(s.images[0].trans, 0xff00ffu);
     std::string text = io::scene_to_json_text(s, path);
     EXPECT_NE(text.find("\"trans\":\"ff00ff\""), std::string::npos) << text;
-    Scene again = io::load_scene(dir.write("again.json", text));
+    Scene again = io::read_scene(dir.write("again.json", text));
     EXPECT_TRUE(again.images[0].has_trans);
     EXPECT_EQ(again.images[0].trans, 0xff00ffu);
     std::string e = load_error(dir, R"({"images": [{"id": "blob", "path": "art/blob.png", "trans": "red"}], "elements": []})");
@@ -120,13 +120,13 @@ TEST(SceneJson, ViewportOverrideAndDefault) {
     dir.standard_art();
     std::string path = dir.write("scene.json", R"({"images": [{"id": "blob", "path": "art/blob.png"}],
         "elements": [{"image": "blob", "transform": [2, 0, 0, 2, 10, 20]}]})");
-    Scene s = io::load_scene(path);
+    Scene s = io::read_scene(path);
     EXPECT_EQ(s.viewport.x, 10);
     EXPECT_EQ(s.viewport.width, 16); // the elements' bounds
     io::LoadOptions o;
     o.has_viewport = true;
     o.viewport = {1, 2, 30, 40};
-    EXPECT_EQ(io::load_scene(path, o).viewport.height, 40);
+    EXPECT_EQ(io::read_scene(path, o).viewport.height, 40);
 }
 
 TEST(SceneJson, ErrorsNameTheFileAndElement) {
@@ -157,9 +157,9 @@ TEST(SceneJson, AtlasFramesResolveThroughTexturePacker) {
     std::string path = dir.write("scene.json", "{" + images + R"("elements": [
         {"image": "sheet", "frame": "circle.png", "transform": [1, 0, 0, 1, 5, 5]},
         {"image": "sheet", "frame": "ring.png"}]})");
-    Scene s = io::load_scene(path);
+    Scene s = io::read_scene(path);
     ASSERT_EQ(s.elements.size(), 2u);
-    const io::Atlas sheet = io::load_texturepacker(atlas);
+    const io::Atlas sheet = io::read_atlas(atlas);
     EXPECT_EQ(s.images[0].path, sheet.image_path);
     for (std::size_t i = 0; i < 2; ++i) {
         const io::AtlasFrame* frame = sheet.find(i == 0 ? "circle.png" : "ring.png");
@@ -171,7 +171,7 @@ TEST(SceneJson, AtlasFramesResolveThroughTexturePacker) {
     }
     std::string bad = dir.write("bad.json", "{" + images + R"("elements": [{"image": "sheet"}, {"image": "sheet", "frame": "nope.png"}]})");
     try {
-        io::load_scene(bad);
+        io::read_scene(bad);
         ADD_FAILURE() << "expected an error";
     } catch (const depthcull::Error& e) {
         EXPECT_NE(std::string(e.what()).find("element 1: atlas \"sheet\" has no frame \"nope.png\""), std::string::npos) << e.what();

@@ -39,7 +39,7 @@ RC_GTEST_PROP(SceneJsonFuzz, OnlyCleanErrors, ()) {
     if (*rc::gen::inRange(0, 4) == 0) scene["filter"] = *gen_value();
     std::string path = dir.write("fuzz.json", scene.dump());
     try {
-        Scene s = io::load_scene(path);
+        Scene s = io::read_scene(path);
         for (const Element& e : s.elements) {
             const SceneImage& img = s.images[std::size_t(e.image)];
             const ImageView view{nullptr, img.width, img.height, 0};

@@ -28,7 +28,7 @@ struct SceneDir {
         std::filesystem::remove_all(root, ec);
     }
     std::string path(const std::string& rel) const { return (root / rel).string(); }
-    void png(const std::string& rel, const std::vector<std::string>& rows) const { io::save_png(path(rel), ascii_image(rows).view()); }
+    void png(const std::string& rel, const std::vector<std::string>& rows) const { io::write_png(path(rel), ascii_image(rows).view()); }
     std::string write(const std::string& rel, const std::string& text) const {
         std::ofstream(path(rel)) << text;
         return path(rel);

@@ -1,4 +1,4 @@
-// A folder of sprites as a scene (io::load_sprite_folder): every PNG once,
+// A folder of sprites as a scene (io::read_sprite_folder): every PNG once,
 // in path order, in rows that never overlap.
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@ TEST(SpriteFolder, EveryPngOnceInRowsWithoutOverlap) {
     std::filesystem::create_directories(dir.path("art/sub"));
     dir.png("art/sub/wide.png", {std::string(1030, '#')});
     dir.write("art/notes.txt", "not an image");
-    Scene s = io::load_scene(dir.path("art"));
+    Scene s = io::read_scene(dir.path("art"));
     ASSERT_EQ(s.images.size(), 3u);
     EXPECT_EQ(s.images[0].id, "blob.png");
     EXPECT_EQ(s.images[1].id, "sub/wide.png");
@@ -30,7 +30,7 @@ TEST(SpriteFolder, EveryPngOnceInRowsWithoutOverlap) {
     EXPECT_EQ(s.viewport.height, 8 + 4 + 1 + 4 + 8);
     for (std::size_t i = 0; i < s.elements.size(); ++i) EXPECT_EQ(s.elements[i].rect, (Rect{0, 0, s.images[i].width, s.images[i].height}));
     // One PNG is a scene of one element.
-    Scene one = io::load_scene(dir.path("art/blob.png"));
+    Scene one = io::read_scene(dir.path("art/blob.png"));
     ASSERT_EQ(one.elements.size(), 1u);
     EXPECT_EQ(one.viewport.width, 8);
 }
@@ -40,7 +40,7 @@ TEST(SpriteFolder, AFolderWithoutPngsIsAnError) {
     std::filesystem::create_directories(dir.path("empty"));
     dir.write("empty/readme.txt", "x");
     try {
-        io::load_scene(dir.path("empty"));
+        io::read_scene(dir.path("empty"));
         FAIL() << "loaded";
     } catch (const depthcull::Error& e) {
         EXPECT_NE(std::string(e.what()).find("no PNG images"), std::string::npos) << e.what();

@@ -31,7 +31,7 @@ std::string write_temp(const std::string& name, const std::string& text) {
 
 std::string load_error(const std::string& path) {
     try {
-        io::load_texturepacker(path);
+        io::read_atlas(path);
     } catch (const depthcull::Error& e) {
         return e.what();
     }
@@ -63,7 +63,7 @@ double clipped_area(std::vector<Vec2> poly, double x, double y) {
 } // namespace
 
 TEST(TexturePacker, HashFormInFileOrder) {
-    io::Atlas atlas = io::load_texturepacker(example("sheet.json"));
+    io::Atlas atlas = io::read_atlas(example("sheet.json"));
     EXPECT_EQ(atlas.path, example("sheet.json"));
     EXPECT_EQ(fs::path(atlas.image_path).lexically_normal(), fs::path(example("sheet.png")).lexically_normal());
     EXPECT_EQ(atlas.width, 32);
@@ -88,8 +88,8 @@ TEST(TexturePacker, HashFormInFileOrder) {
 }
 
 TEST(TexturePacker, ArrayFormMatchesHashForm) {
-    io::Atlas hash = io::load_texturepacker(example("sheet.json"));
-    io::Atlas array = io::load_texturepacker(example("sheet-array.json"));
+    io::Atlas hash = io::read_atlas(example("sheet.json"));
+    io::Atlas array = io::read_atlas(example("sheet-array.json"));
     ASSERT_EQ(hash.frames.size(), array.frames.size());
     for (std::size_t i = 0; i < hash.frames.size(); ++i) {
         EXPECT_EQ(hash.frames[i].name, array.frames[i].name);
@@ -115,8 +115,8 @@ TEST(TexturePacker, PlaceTrimmedFrame) {
 // Drawing a rotated frame's element puts every stored texel where the
 // sprite's texel of the same colour belongs.
 TEST(TexturePacker, PlaceRotatedFrameDrawsTheSprite) {
-    io::Atlas atlas = io::load_texturepacker(example("sheet.json"));
-    Image page = io::load_png(atlas.image_path);
+    io::Atlas atlas = io::read_atlas(example("sheet.json"));
+    Image page = io::read_png(atlas.image_path);
     const io::AtlasFrame& ell = *atlas.find("ell.png");
     // The sprite as drawn by hand (before packing): 6x10, the L's bar in
     // columns 0-1 and its foot in rows 8-9, at (2, 0) of the 8x10 source.
@@ -181,10 +181,10 @@ TEST(TexturePackerPolygons, RoundTripCoversEveryTexel) {
         EXPECT_LT(stats.polygon_area, stats.frame_area);
         std::string path = write_temp(std::string("poly-") + name, text);
         // Still an atlas we (and TexturePacker readers) load, same frames.
-        io::Atlas atlas = io::load_texturepacker(example(name));
-        io::Atlas again = io::load_texturepacker(path);
+        io::Atlas atlas = io::read_atlas(example(name));
+        io::Atlas again = io::read_atlas(path);
         ASSERT_EQ(again.frames.size(), atlas.frames.size());
-        Image page = io::load_png(atlas.image_path);
+        Image page = io::read_png(atlas.image_path);
         nlohmann::json doc = nlohmann::json::parse(text);
         for (const io::AtlasFrame& frame : atlas.frames) {
             SCOPED_TRACE(frame.name);
@@ -245,7 +245,7 @@ TEST(TexturePacker, MutatedAtlasesFailCleanly) {
             }
             std::ofstream(path, std::ios::binary | std::ios::trunc) << mutated;
             try {
-                io::Atlas atlas = io::load_texturepacker(path);
+                io::Atlas atlas = io::read_atlas(path);
                 for (const io::AtlasFrame& f : atlas.frames) {
                     EXPECT_FALSE(f.frame.empty());
                     EXPECT_GE(f.frame.x, 0);

@@ -54,7 +54,7 @@ std::string layer_xml(const std::string& data_xml) { return "<layer name=\"groun
 
 std::string load_error(const std::string& path) {
     try {
-        io::load_scene(path);
+        io::read_scene(path);
     } catch (const depthcull::Error& e) {
         return e.what();
     }
@@ -63,17 +63,17 @@ std::string load_error(const std::string& path) {
 
 } // namespace
 
-TEST(Tiled, CsvLayerWithFlips) { expect_flips_map(io::load_scene(data("csv.tmx"))); }
-TEST(Tiled, Base64Layer) { expect_flips_map(io::load_scene(data("base64.tmx"))); }
-TEST(Tiled, Base64ZlibLayer) { expect_flips_map(io::load_scene(data("zlib.tmx"))); }
-TEST(Tiled, Base64GzipLayer) { expect_flips_map(io::load_scene(data("gzip.tmx"))); }
-TEST(Tiled, XmlTileLayer) { expect_flips_map(io::load_scene(data("xml.tmx"))); }
-TEST(Tiled, ExternalTileset) { expect_flips_map(io::load_scene(data("external.tmx"))); }
-TEST(Tiled, GzippedExternalTileset) { expect_flips_map(io::load_scene(data("external_gz.tmx"))); }
-TEST(Tiled, GzippedMap) { expect_flips_map(io::load_scene(data("whole.tmx.gz"))); }
+TEST(Tiled, CsvLayerWithFlips) { expect_flips_map(io::read_scene(data("csv.tmx"))); }
+TEST(Tiled, Base64Layer) { expect_flips_map(io::read_scene(data("base64.tmx"))); }
+TEST(Tiled, Base64ZlibLayer) { expect_flips_map(io::read_scene(data("zlib.tmx"))); }
+TEST(Tiled, Base64GzipLayer) { expect_flips_map(io::read_scene(data("gzip.tmx"))); }
+TEST(Tiled, XmlTileLayer) { expect_flips_map(io::read_scene(data("xml.tmx"))); }
+TEST(Tiled, ExternalTileset) { expect_flips_map(io::read_scene(data("external.tmx"))); }
+TEST(Tiled, GzippedExternalTileset) { expect_flips_map(io::read_scene(data("external_gz.tmx"))); }
+TEST(Tiled, GzippedMap) { expect_flips_map(io::read_scene(data("whole.tmx.gz"))); }
 
 TEST(Tiled, ImagePathsResolveRelativeToTheMap) {
-    Scene s = io::load_scene(data("external.tmx"));
+    Scene s = io::read_scene(data("external.tmx"));
     EXPECT_TRUE(fs::equivalent(s.images[0].path, data("tiles.png")));
 }
 
@@ -81,7 +81,7 @@ TEST(Tiled, ViewportCullsElements) {
     io::LoadOptions options;
     options.has_viewport = true;
     options.viewport = {4, 0, 4, 4};
-    Scene s = io::load_scene(data("csv.tmx"), options);
+    Scene s = io::read_scene(data("csv.tmx"), options);
     EXPECT_EQ(s.viewport.x, 4);
     EXPECT_EQ(s.viewport.width, 4);
     // Only the flipped tile at cell (1, 0) touches [4, 8) x [0, 4) with area.
@@ -90,7 +90,7 @@ TEST(Tiled, ViewportCullsElements) {
 }
 
 TEST(Tiled, TileObjectsGroupsOpacityTint) {
-    Scene s = io::load_scene(data("objects.tmx"));
+    Scene s = io::read_scene(data("objects.tmx"));
     ASSERT_EQ(s.images.size(), 2u);
     EXPECT_EQ(s.images[0].id, "a");
     EXPECT_EQ(s.images[1].id, "b");
@@ -108,7 +108,7 @@ TEST(Tiled, TileObjectsGroupsOpacityTint) {
 }
 
 TEST(Tiled, IsometricDrawsByScreenRows) {
-    Scene s = io::load_scene(data("iso.tmx"));
+    Scene s = io::read_scene(data("iso.tmx"));
     EXPECT_EQ(s.viewport.width, 16);
     EXPECT_EQ(s.viewport.height, 8);
     ASSERT_EQ(s.elements.size(), 4u);
@@ -119,7 +119,7 @@ TEST(Tiled, IsometricDrawsByScreenRows) {
 }
 
 TEST(Tiled, TallTilesOffsetsAndRenderOrder) {
-    Scene s = io::load_scene(data("tall.tmx"));
+    Scene s = io::read_scene(data("tall.tmx"));
     ASSERT_EQ(s.elements.size(), 2u);
     // left-up: column 1 first. Bottom of cell 4, + layer 0.5, + tileoffset -2 = 2.5; top = 2.5 - 8.
     expect_element(s, 0, "tall", {0, 0, 4, 8}, {1, 0, 0, 1, 7, -5.5}, {1, 1, 1, 0.5f});
@@ -129,7 +129,7 @@ TEST(Tiled, TallTilesOffsetsAndRenderOrder) {
 TEST(Tiled, RightUpRenderOrder) {
     TempMap m("ru.tmx", map_xml(layer_xml("<data encoding=\"csv\">1,2,3,4,1,2</data>"),
                                "orientation=\"orthogonal\" renderorder=\"right-up\" width=\"3\" height=\"2\""));
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     ASSERT_EQ(s.elements.size(), 6u);
     expect_element(s, 0, "tiles", {6, 6, 4, 4}, {1, 0, 0, 1, 0, 4});  // row 1 first
     expect_element(s, 3, "tiles", {1, 1, 4, 4}, {1, 0, 0, 1, 0, 0});
@@ -140,7 +140,7 @@ TEST(Tiled, AnimatedTileDrawsItsFirstFrame) {
                      data("tiles.png") + "\"/><tile id=\"0\"><animation><frame tileid=\"3\" duration=\"100\"/>"
                      "<frame tileid=\"0\" duration=\"100\"/></animation></tile></tileset>";
     TempMap m("anim.tmx", map_xml(layer_xml("<data encoding=\"csv\">1,0,0,0,0,0</data>"), "orientation=\"orthogonal\" width=\"3\" height=\"2\"", ts));
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     ASSERT_EQ(s.elements.size(), 1u);
     EXPECT_EQ(s.elements[0].rect, (Rect{6, 6, 4, 4}));
 }
@@ -150,7 +150,7 @@ TEST(Tiled, InfiniteMapChunks) {
                                  "<chunk x=\"-2\" y=\"0\" width=\"2\" height=\"1\">1,0</chunk>"
                                  "<chunk x=\"4\" y=\"1\" width=\"2\" height=\"1\">0,2</chunk></data></layer>",
                                  "orientation=\"orthogonal\" infinite=\"1\" width=\"30\" height=\"20\""));
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     ASSERT_EQ(s.elements.size(), 2u);
     expect_element(s, 0, "tiles", {1, 1, 4, 4}, {1, 0, 0, 1, -8, 0});
     expect_element(s, 1, "tiles", {6, 1, 4, 4}, {1, 0, 0, 1, 20, 4});
@@ -169,33 +169,33 @@ TEST(Tiled, TransColourKeyIsAppliedAtDecodeAndWritesNothing) {
     const char* old = std::getenv("XDG_CACHE_HOME");
     std::string saved = old ? old : "";
     ::setenv("XDG_CACHE_HOME", cache.c_str(), 1);
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     if (old) ::setenv("XDG_CACHE_HOME", saved.c_str(), 1);
     else ::unsetenv("XDG_CACHE_HOME");
     EXPECT_FALSE(std::filesystem::exists(cache));
     ASSERT_EQ(s.images.size(), 1u);
     ASSERT_TRUE(s.images[0].has_trans);
     EXPECT_EQ(s.images[0].trans, 0xff00ffu);
-    Image keyed = io::load_scene_image(s.images[0]);
+    Image keyed = io::read_scene_image(s.images[0]);
     ASSERT_EQ(keyed.width, 12);
     EXPECT_EQ(keyed.view().alpha(0, 0), 0);   // magenta gutter
     EXPECT_EQ(keyed.view().alpha(1, 1), 0);   // magenta texel inside tile 1
     EXPECT_EQ(keyed.view().alpha(2, 1), 255); // red
     EXPECT_EQ(keyed.view().alpha(6, 6), 128); // half-transparent yellow keeps its alpha
     // The file itself is untouched: a plain decode keeps magenta opaque.
-    EXPECT_EQ(io::load_png(s.images[0].path).view().alpha(0, 0), 255);
+    EXPECT_EQ(io::read_png(s.images[0].path).view().alpha(0, 0), 255);
     // Read through ImageFiles (as the pipeline loads), the key is applied
     // to the bytes the loader kept.
     io::ImageFiles files;
     io::LoadOptions options;
     options.image_files = &files;
-    const Scene kept = io::load_scene(m.path, options);
+    const Scene kept = io::read_scene(m.path, options);
     ASSERT_NE(files.find(kept.images[0].path), nullptr);
-    EXPECT_EQ(io::load_scene_image(kept.images[0], &files).rgba, keyed.rgba);
+    EXPECT_EQ(io::read_scene_image(kept.images[0], &files).rgba, keyed.rgba);
 }
 
 TEST(Tiled, ObjectTemplates) {
-    Scene s = io::load_scene(data("template.tmx"));
+    Scene s = io::read_scene(data("template.tmx"));
     ASSERT_EQ(s.elements.size(), 2u);
     // Template gid 2 of its tiles.tsx (firstgid 1) is map gid 6; the
     // instance overrides the height (8) and keeps the template's width (8).
@@ -209,18 +209,18 @@ TEST(Tiled, IsometricTileObject) {
     // alignment on isometric maps is bottom centre.
     TempMap m("isoobj.tmx", "<map orientation=\"isometric\" width=\"2\" height=\"2\" tilewidth=\"8\" tileheight=\"4\">" + tileset_xml() +
                                 "<objectgroup name=\"o\"><object id=\"1\" gid=\"1\" x=\"4\" y=\"4\"/></objectgroup></map>");
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     ASSERT_EQ(s.elements.size(), 1u);
     expect_element(s, 0, "tiles", {1, 1, 4, 4}, {1, 0, 0, 1, 6, 0});
 }
 
 TEST(Tiled, SceneJsonRoundTrip) {
-    // What import writes, load_scene reads back as the same scene.
+    // What import writes, read_scene reads back as the same scene.
     for (const char* name : {"csv.tmx", "objects.tmx", "iso.tmx", "tall.tmx"}) {
-        Scene s = io::load_scene(data(name));
+        Scene s = io::read_scene(data(name));
         TempMap m(std::string(name) + ".json", "");
         io::write_scene_json(m.path, s);
-        Scene back = io::load_scene(m.path);
+        Scene back = io::read_scene(m.path);
         ASSERT_EQ(back.elements.size(), s.elements.size()) << name;
         ASSERT_EQ(back.images.size(), s.images.size()) << name;
         EXPECT_EQ(back.viewport.width, s.viewport.width);
@@ -245,7 +245,7 @@ TEST(Tiled, StaggeredDrawsInScreenRasterOrder) {
     TempMap m("stag.tmx", "<map orientation=\"staggered\" staggeraxis=\"y\" staggerindex=\"odd\" width=\"2\" height=\"2\" "
                           "tilewidth=\"8\" tileheight=\"4\">" + tileset_xml() +
                           "<layer name=\"g\" width=\"2\" height=\"2\"><data encoding=\"csv\">1,2,3,4</data></layer></map>");
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     EXPECT_EQ(s.viewport.width, 20);
     EXPECT_EQ(s.viewport.height, 6);
     ASSERT_EQ(s.elements.size(), 4u);
@@ -261,7 +261,7 @@ TEST(Tiled, HexagonalRotationFlags) {
     TempMap m("hex.tmx", "<map orientation=\"hexagonal\" hexsidelength=\"2\" staggeraxis=\"x\" staggerindex=\"odd\" width=\"2\" "
                          "height=\"1\" tilewidth=\"4\" tileheight=\"4\">" + tileset_xml() +
                          "<layer name=\"g\" width=\"2\" height=\"1\"><data encoding=\"csv\">536870913,805306369</data></layer></map>");
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     ASSERT_EQ(s.elements.size(), 2u);
     const auto& t60 = s.elements[0].transform;
     EXPECT_NEAR(t60[0], 0.5, 1e-12);
@@ -278,7 +278,7 @@ TEST(Tiled, TileRenderSizeGridScalesTiles) {
     std::string ts = "<tileset firstgid=\"1\" name=\"tall\" tilewidth=\"4\" tileheight=\"8\" tilerendersize=\"grid\"><image source=\"" +
                      data("tall.png") + "\"/></tileset>";
     TempMap m("grid.tmx", map_xml(layer_xml("<data encoding=\"csv\">0,1,0,0,0,0</data>"), "orientation=\"orthogonal\" width=\"3\" height=\"2\"", ts));
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     ASSERT_EQ(s.elements.size(), 1u);
     expect_element(s, 0, "tall", {0, 0, 4, 8}, {1, 0, 0, 0.5, 4, 0});
 }
@@ -286,13 +286,13 @@ TEST(Tiled, TileRenderSizeGridScalesTiles) {
 TEST(Tiled, ImageLayer) {
     TempMap m("img.tmx", map_xml("<imagelayer name=\"sky\" offsetx=\"2\" offsety=\"1\" opacity=\"0.25\"><image source=\"" +
                                  data("b.png") + "\"/></imagelayer>"));
-    Scene s = io::load_scene(m.path);
+    Scene s = io::read_scene(m.path);
     ASSERT_EQ(s.elements.size(), 1u);
     expect_element(s, 0, "b", {0, 0, 6, 2}, {1, 0, 0, 1, 2, 1}, {1, 1, 1, 0.25f});
 }
 
 TEST(Tiled, SceneJsonText) {
-    Scene s = io::load_scene(data("csv.tmx"));
+    Scene s = io::read_scene(data("csv.tmx"));
     std::string out = (fs::path(data("csv.tmx")).parent_path() / "out.json").string();
     std::string text = io::scene_to_json_text(s, out);
     EXPECT_NE(text.find("{\"id\":\"tiles\",\"path\":\"tiles.png\"}"), std::string::npos) << text;
@@ -390,7 +390,7 @@ TEST(TiledErrors, MutatedMapsFailCleanly) {
             }
             std::ofstream(m.path, std::ios::binary | std::ios::trunc) << mutated;
             try {
-                Scene s = io::load_scene(m.path);
+                Scene s = io::read_scene(m.path);
                 EXPECT_LE(s.elements.size(), 64u) << name << " round " << round;
             } catch (const depthcull::Error& e) {
                 EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();

@@ -26,7 +26,7 @@ void import_all(const std::string& package, int expected_refusals) {
     std::int64_t elements = 0;
     for (const std::string& path : maps) {
         try {
-            Scene s = io::load_scene(path);
+            Scene s = io::read_scene(path);
             ++imported;
             elements += std::int64_t(s.elements.size());
             EXPECT_FALSE(s.elements.empty()) << path;

@@ -52,14 +52,14 @@ std::string map_xml(const std::string& body, const std::string& map_attrs = "", 
 
 // ---- JSON maps and tilesets, as Tiled 1.8.2 exported them from csv.tmx
 
-TEST(TiledJson, MapTmj) { expect_flips_map(io::load_scene(data("csv.tmj"))); }
-TEST(TiledJson, MapJsonToldByContent) { expect_flips_map(io::load_scene(data("flips_map.json"))); }
-TEST(TiledJson, TmxWithJsonTileset) { expect_flips_map(io::load_scene(data("external_json.tmx"))); }
-TEST(TiledJson, TmjWithJsonTileset) { expect_flips_map(io::load_scene(data("external_json.tmj"))); }
+TEST(TiledJson, MapTmj) { expect_flips_map(io::read_scene(data("csv.tmj"))); }
+TEST(TiledJson, MapJsonToldByContent) { expect_flips_map(io::read_scene(data("flips_map.json"))); }
+TEST(TiledJson, TmxWithJsonTileset) { expect_flips_map(io::read_scene(data("external_json.tmx"))); }
+TEST(TiledJson, TmjWithJsonTileset) { expect_flips_map(io::read_scene(data("external_json.tmj"))); }
 
 TEST(TiledJson, ZstdLayerData) {
-    expect_flips_map(io::load_scene(data("zstd.tmx")));  // made with the zstd tool
-    expect_flips_map(io::load_scene(data("zstd.tmj")));  // re-compressed by Tiled 1.8.2
+    expect_flips_map(io::read_scene(data("zstd.tmx")));  // made with the zstd tool
+    expect_flips_map(io::read_scene(data("zstd.tmj")));  // re-compressed by Tiled 1.8.2
 }
 
 TEST(TiledJson, OldTilesObjectAndBadJson) {
@@ -68,21 +68,21 @@ TEST(TiledJson, OldTilesObjectAndBadJson) {
     std::string map = t.write("old.tmj", R"({"width":1,"height":1,"tilewidth":3,"tileheight":5,"orientation":"orthogonal",
         "tilesets":[{"firstgid":1,"name":"c","tilewidth":3,"tileheight":5,"tiles":{"0":{"image":")" + data("a.png") + R"("}}}],
         "layers":[{"type":"tilelayer","name":"l","width":1,"height":1,"data":[1]}]})");
-    Scene s = io::load_scene(map);
+    Scene s = io::read_scene(map);
     ASSERT_EQ(s.elements.size(), 1u);
     expect_element(s, 0, "a", {0, 0, 3, 5}, {1, 0, 0, 1, 0, 0});
     std::string bad = t.write("bad.tmj", R"({"width":1,"height":1,"tilewidth":3,"tileheight":5,"layers":[{"type":"pie"}]})");
-    EXPECT_EQ(error_of([&] { io::load_scene(bad); }), bad + ": layer '': unknown layer type 'pie'");
+    EXPECT_EQ(error_of([&] { io::read_scene(bad); }), bad + ": layer '': unknown layer type 'pie'");
     std::string broken = t.write("broken.tmj", "{\"layers\": [");
-    EXPECT_NE(error_of([&] { io::load_scene(broken); }).find(broken + ": not valid JSON at line 1, column "), std::string::npos);
+    EXPECT_NE(error_of([&] { io::read_scene(broken); }).find(broken + ": not valid JSON at line 1, column "), std::string::npos);
     std::string gid = t.write("gid.tmj", R"({"width":1,"height":1,"tilewidth":3,"tileheight":5,"layers":[{"type":"tilelayer","width":1,"height":1,"data":[-1]}]})");
-    EXPECT_EQ(error_of([&] { io::load_scene(gid); }), gid + ": layer '': \"data\" holds a value that is not a gid (a whole number 0..4294967295)");
+    EXPECT_EQ(error_of([&] { io::read_scene(gid); }), gid + ": layer '': \"data\" holds a value that is not a gid (a whole number 0..4294967295)");
 }
 
 TEST(TiledJson, CorruptZstdIsOneLine) {
     TempDir t;
     std::string map = t.write("z.tmx", map_xml("<layer name=\"g\" width=\"3\" height=\"2\"><data encoding=\"base64\" compression=\"zstd\">AAAAAAAA</data></layer>"));
-    std::string e = error_of([&] { io::load_scene(map); });
+    std::string e = error_of([&] { io::read_scene(map); });
     EXPECT_EQ(e.rfind(map + ": layer 'g': corrupt zstd data (", 0), 0u) << e;
 }
 
@@ -92,11 +92,11 @@ TEST(TiledLayers, RepeatingImageLayerTilesTheCamera) {
     TempDir t;
     // a.png is 3x5; the camera 0,0,12,8; offset x 1: copies at x = -2, 1, 4, 7, 10.
     std::string map = t.write("r.tmx", map_xml("<imagelayer name=\"sky\" offsetx=\"1\" repeatx=\"1\"><image source=\"" + data("a.png") + "\"/></imagelayer>"));
-    Scene s = io::load_scene(map);
+    Scene s = io::read_scene(map);
     ASSERT_EQ(s.elements.size(), 5u);
     for (int k = 0; k < 5; ++k) expect_element(s, std::size_t(k), "a", {0, 0, 3, 5}, {1, 0, 0, 1, -2.0 + 3 * k, 0});
     std::string both = t.write("rb.tmx", map_xml("<imagelayer name=\"sky\" repeatx=\"1\" repeaty=\"1\"><image source=\"" + data("a.png") + "\"/></imagelayer>"));
-    s = io::load_scene(both);
+    s = io::read_scene(both);
     ASSERT_EQ(s.elements.size(), 8u); // 4 columns (0..11) x 2 rows (0..9)
     expect_element(s, 0, "a", {0, 0, 3, 5}, {1, 0, 0, 1, 0, 0});
     expect_element(s, 7, "a", {0, 0, 3, 5}, {1, 0, 0, 1, 9, 5});
@@ -106,14 +106,14 @@ TEST(TiledLayers, BackgroundColourIsAnOpaqueFirstElement) {
     TempDir t;
     std::string map = t.write("bg.tmx", map_xml("<layer name=\"g\" width=\"3\" height=\"2\"><data encoding=\"csv\">1,0,0,0,0,0</data></layer>",
                                                 "backgroundcolor=\"#102030\""));
-    Scene s = io::load_scene(map);
+    Scene s = io::read_scene(map);
     ASSERT_EQ(s.elements.size(), 2u);
     expect_element(s, 0, "background", {0, 0, kFillImageSide, kFillImageSide}, {12.0 / kFillImageSide, 0, 0, 8.0 / kFillImageSide, 0, 0});
     const SceneImage& bg = s.images.at(std::size_t(s.elements[0].image));
     EXPECT_TRUE(bg.has_fill);
     EXPECT_EQ(bg.fill, 0x102030u);
     EXPECT_TRUE(bg.path.empty());
-    Image pixels = io::load_scene_image(bg);
+    Image pixels = io::read_scene_image(bg);
     ASSERT_EQ(pixels.width, kFillImageSide);
     EXPECT_EQ(pixels.rgba[0], 0x10);
     EXPECT_EQ(pixels.rgba[1], 0x20);
@@ -123,13 +123,13 @@ TEST(TiledLayers, BackgroundColourIsAnOpaqueFirstElement) {
     std::string text = io::scene_to_json_text(s, (t.dir / "scene.json").string());
     EXPECT_NE(text.find("{\"id\":\"background\",\"fill\":\"102030\"}"), std::string::npos) << text;
     std::string scene = t.write("scene.json", text);
-    Scene back = io::load_scene(scene);
+    Scene back = io::read_scene(scene);
     ASSERT_EQ(back.images.size(), s.images.size());
     EXPECT_TRUE(back.images[std::size_t(back.elements[0].image)].has_fill);
     EXPECT_EQ(back.images[std::size_t(back.elements[0].image)].fill, 0x102030u);
     // ARGB: the alpha is the element's.
     std::string argb = t.write("argb.tmx", map_xml("", "backgroundcolor=\"#80102030\""));
-    s = io::load_scene(argb);
+    s = io::read_scene(argb);
     ASSERT_EQ(s.elements.size(), 1u);
     EXPECT_FLOAT_EQ(s.elements[0].color[3], float(0x80) / 255.0f);
 }
@@ -145,7 +145,7 @@ TEST(TiledLayers, ParallaxAtTheCameraWithANote) {
     options.note = [&](const std::string& line) { notes.push_back(line); };
     options.warning = [&](const std::string& line) { warnings.push_back(line); };
     options.strict = true; // a note is not a warning
-    Scene s = io::load_scene(map, options);
+    Scene s = io::read_scene(map, options);
     ASSERT_EQ(s.elements.size(), 1u);
     // Factors: x 0 (the group's, fixed to the camera), y 0.25.
     // x: 2 + (1 - 0) * (56 - 4) = 54; y: (1 - 0.25) * (24 - 0) = 18.
@@ -163,20 +163,20 @@ TEST(TiledLayers, UnsupportedFeaturesWarnOnceOrFailWithStrict) {
     io::LoadOptions options;
     std::vector<std::string> warnings;
     options.warning = [&](const std::string& line) { warnings.push_back(line); };
-    Scene s = io::load_scene(map, options);
+    Scene s = io::read_scene(map, options);
     EXPECT_EQ(s.elements.size(), 2u);
     EXPECT_EQ(s.animations.size(), 1u); // animated tiles are recorded, not warned about
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_EQ(warnings[0], map + ": object layer 'labels': text objects are not drawn");
     options.strict = true;
-    EXPECT_EQ(error_of([&] { io::load_scene(map, options); }), map + ": object layer 'labels': text objects are not drawn (--strict)");
+    EXPECT_EQ(error_of([&] { io::read_scene(map, options); }), map + ": object layer 'labels': text objects are not drawn (--strict)");
 }
 
 // ---- images by content
 
 TEST(ImageFormats, WebpLosslessEqualsThePng) {
-    Image png = io::load_png(data("a.png"));
-    Image webp = io::load_image(data("a_lossless.webp"));
+    Image png = io::read_png(data("a.png"));
+    Image webp = io::read_image(data("a_lossless.webp"));
     EXPECT_EQ(webp.width, png.width);
     EXPECT_EQ(webp.height, png.height);
     EXPECT_EQ(webp.rgba, png.rgba);
@@ -184,7 +184,7 @@ TEST(ImageFormats, WebpLosslessEqualsThePng) {
 
 TEST(ImageFormats, JpegAndOpaqueWebpAreFullyOpaque) {
     for (const char* name : {"opaque.jpg", "opaque.webp"}) {
-        Image image = io::load_image(data(name));
+        Image image = io::read_image(data(name));
         ASSERT_EQ(image.width, 4) << name;
         ASSERT_EQ(image.height, 3) << name;
         for (std::size_t i = 3; i < image.rgba.size(); i += 4) EXPECT_EQ(image.rgba[i], 255) << name;
@@ -200,13 +200,13 @@ TEST(ImageFormats, ToldByContentNotName) {
     TempDir t;
     std::string bytes = io::read_file(data("a.png"));
     std::string misnamed = t.write("really_a_png.jpg", bytes);
-    EXPECT_EQ(io::load_image(misnamed).rgba, io::load_png(data("a.png")).rgba);
+    EXPECT_EQ(io::read_image(misnamed).rgba, io::read_png(data("a.png")).rgba);
     std::string junk = t.write("junk.png", "hello");
-    EXPECT_EQ(error_of([&] { io::load_image(junk); }), junk + " is not a PNG, JPEG or WebP image");
+    EXPECT_EQ(error_of([&] { io::read_image(junk); }), junk + " is not a PNG, JPEG or WebP image");
     std::string cut = t.write("cut.jpg", io::read_file(data("opaque.jpg")).substr(0, 40));
-    EXPECT_EQ(error_of([&] { io::load_image(cut); }).rfind(cut + ": corrupt JPEG (", 0), 0u);
+    EXPECT_EQ(error_of([&] { io::read_image(cut); }).rfind(cut + ": corrupt JPEG (", 0), 0u);
     std::string webp = t.write("cut.webp", io::read_file(data("opaque.webp")).substr(0, 20));
-    EXPECT_EQ(error_of([&] { io::load_image(webp); }).rfind(webp + ": corrupt WebP (", 0), 0u);
+    EXPECT_EQ(error_of([&] { io::read_image(webp); }).rfind(webp + ": corrupt WebP (", 0), 0u);
 }
 
 TEST(ImageFormats, TiledMapWithJpegTiles) {
@@ -214,7 +214,7 @@ TEST(ImageFormats, TiledMapWithJpegTiles) {
     std::string map = t.write("j.tmx", "<map orientation=\"orthogonal\" width=\"1\" height=\"1\" tilewidth=\"4\" tileheight=\"3\">"
                                        "<tileset firstgid=\"1\" name=\"j\" tilewidth=\"4\" tileheight=\"3\"><image source=\"" + data("opaque.jpg") +
                                        "\"/></tileset><layer name=\"g\" width=\"1\" height=\"1\"><data encoding=\"csv\">1</data></layer></map>");
-    Scene s = io::load_scene(map);
+    Scene s = io::read_scene(map);
     ASSERT_EQ(s.images.size(), 1u);
     EXPECT_EQ(s.images[0].width, 4);
     EXPECT_EQ(s.images[0].height, 3);
@@ -258,7 +258,7 @@ TEST(TiledAnimation, OneAnalysisCoversEveryFrame) {
             if (x >= 4) sheet.rgba[std::size_t(y * 32 + 16 + x) * 4 + 3] = 255;
         }
     sheet.rgba[std::size_t(0 * 32 + 16 + 0) * 4 + 3] = 100; // B's top-left: translucent
-    io::save_png((t.dir / "anim.png").string(), sheet.view());
+    io::write_png((t.dir / "anim.png").string(), sheet.view());
     std::string map = t.write("a.tmx", "<map orientation=\"orthogonal\" width=\"1\" height=\"1\" tilewidth=\"16\" tileheight=\"16\">"
                                        "<tileset firstgid=\"1\" name=\"a\" tilewidth=\"16\" tileheight=\"16\"><image source=\"anim.png\"/>"
                                        "<tile id=\"0\"><animation><frame tileid=\"0\" duration=\"100\"/><frame tileid=\"1\" duration=\"250\"/></animation></tile>"
@@ -307,7 +307,7 @@ TEST(TiledAnimation, OneAnalysisCoversEveryFrame) {
     EXPECT_NE(text.find("\"animation\":0"), std::string::npos) << text;
     EXPECT_NE(text.find("{\"frames\":[{\"image\":\"anim\",\"rect\":[0,0,16,16],\"duration\":100},{\"image\":\"anim\",\"rect\":[16,0,16,16],\"duration\":250}]}"),
               std::string::npos) << text;
-    Scene back = io::load_scene(t.write("s.json", text));
+    Scene back = io::read_scene(t.write("s.json", text));
     ASSERT_EQ(back.animations.size(), 1u);
     EXPECT_EQ(back.animations[0].frames[1].rect, (Rect{16, 0, 16, 16}));
     EXPECT_EQ(back.animations[0].frames[1].duration_ms, 250);
@@ -344,7 +344,7 @@ TEST(TiledAnimation, FramesOfDifferentSizesWarn) {
     io::LoadOptions options;
     std::vector<std::string> warnings;
     options.warning = [&](const std::string& line) { warnings.push_back(line); };
-    Scene s = io::load_scene(map, options);
+    Scene s = io::read_scene(map, options);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_EQ(warnings[0], map + ": layer 'g': animated tile 2 of tileset 'c' has frames of different sizes: drawn at its first frame, not animated");
     EXPECT_EQ(s.elements.at(0).animation, -1);
@@ -357,7 +357,7 @@ TEST(TiledLayers, FillModePreserveAspectFitCentresTheScaledTile) {
                                        "<tileset firstgid=\"1\" name=\"c\" tilewidth=\"3\" tileheight=\"5\" tilerendersize=\"grid\" fillmode=\"preserve-aspect-fit\">"
                                        "<tile id=\"0\"><image source=\"" + data("a.png") + "\"/></tile></tileset>"
                                        "<layer name=\"g\" width=\"2\" height=\"1\"><data encoding=\"csv\">0,1</data></layer></map>");
-    Scene s = io::load_scene(map);
+    Scene s = io::read_scene(map);
     ASSERT_EQ(s.elements.size(), 1u);
     expect_element(s, 0, "a", {0, 0, 3, 5}, {0.8, 0, 0, 0.8, 4 + (4 - 2.4) / 2, 0});
 }
@@ -369,7 +369,7 @@ TEST(TiledJson, JsonTemplateInAJsonMap) {
     std::string map = t.write("m.tmj", R"({"type": "map", "orientation": "orthogonal", "width": 3, "height": 2, "tilewidth": 4, "tileheight": 4,
         "tilesets": [{"firstgid": 1, "source": ")" + data("tiles.tsj") + R"("}],
         "layers": [{"type": "objectgroup", "name": "things", "objects": [{"id": 1, "template": "t.tj", "x": 2, "y": 8}]}]})");
-    Scene s = io::load_scene(map);
+    Scene s = io::read_scene(map);
     ASSERT_EQ(s.elements.size(), 1u);
     // gid 2: tile (6,1); the template's 8x8 size scales it 2x; bottom-left at (2, 8).
     expect_element(s, 0, "tiles", {6, 1, 4, 4}, {2, 0, 0, 2, 2, 0});
@@ -381,7 +381,7 @@ TEST(TiledLayers, BlendModesWarn) {
     io::LoadOptions options;
     std::vector<std::string> warnings;
     options.warning = [&](const std::string& line) { warnings.push_back(line); };
-    io::load_scene(map, options);
+    io::read_scene(map, options);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_EQ(warnings[0], map + ": layer 'g': layer blend mode 'multiply' is drawn as normal");
 }
@@ -417,9 +417,9 @@ TEST(TiledJson, MutatedFilesFailCleanly) {
             }
             std::string path = t.write(c.name, mutated);
             try {
-                if (c.name == "c.plist") io::load_atlas(path);
-                else if (c.name == "tiles.tsj") io::load_scene(tsx_map);
-                else io::load_scene(path);
+                if (c.name == "c.plist") io::read_atlas(path);
+                else if (c.name == "tiles.tsj") io::read_scene(tsx_map);
+                else io::read_scene(path);
             } catch (const depthcull::Error& e) {
                 EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
             }

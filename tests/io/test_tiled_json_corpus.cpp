@@ -17,7 +17,7 @@ TEST(TiledJsonCorpus, ExportsImportLikeTheirTmx) {
     ASSERT_FALSE(exports.empty());
     for (const std::string& tmj : exports) {
         std::string tmx = tmj.substr(0, tmj.size() - std::string(".export.tmj").size()) + ".tmx";
-        Scene a = io::load_scene(tmx), b = io::load_scene(tmj);
+        Scene a = io::read_scene(tmx), b = io::read_scene(tmj);
         EXPECT_EQ(io::scene_to_json_text(a, ""), io::scene_to_json_text(b, "")) << tmj;
         EXPECT_FALSE(b.elements.empty()) << tmj;
     }

@@ -33,7 +33,7 @@ TEST(OpaqueCorpus, FastCoversAtLeastThePaperOnPingus) {
     for (std::size_t i = 0; i < files.size(); ++i) {
         Image image;
         try {
-            image = io::load_png(files[i]);
+            image = io::read_png(files[i]);
         } catch (const std::exception&) {
             continue; // unreadable files are io's business
         }
@@ -104,7 +104,7 @@ TEST(OpaqueCorpus, CoverOnPingus) {
     for (std::size_t i = 0; i < files.size(); ++i) {
         Image image;
         try {
-            image = io::load_png(files[i]);
+            image = io::read_png(files[i]);
         } catch (const std::exception&) {
             continue;
         }
@@ -152,7 +152,7 @@ TEST(OpaqueCorpus, LinearFilterGuaranteeOnPingus) {
     for (std::size_t i = 0; i < files.size(); i += 7) {
         Image image;
         try {
-            image = io::load_png(files[i]);
+            image = io::read_png(files[i]);
         } catch (const std::exception&) {
             continue;
         }

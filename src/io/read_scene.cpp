@@ -66,7 +66,7 @@ Scene with_insertion_points(Scene scene, const std::string& path, const LoadOpti
     return scene;
 }
 
-// `bytes` reads the file: load_scene reads it only once the format is known.
+// `bytes` reads the file: read_scene reads it only once the format is known.
 template <class Bytes>
 Scene load(const std::string& path, const LoadOptions& options, Bytes&& bytes) {
     if (options.has_viewport) check_viewport(options.viewport, path + ": --viewport");
@@ -78,18 +78,18 @@ Scene load(const std::string& path, const LoadOptions& options, Bytes&& bytes) {
             return is_tiled_json(text) ? tiled_map_from_bytes(text, path, options)
                                        : with_insertion_points(scene_json_from_text(text, path, options), path, options);
         }
-        if (is_sprite_source(path)) return with_insertion_points(load_sprite_folder(path, options), path, options);
+        if (is_sprite_source(path)) return with_insertion_points(read_sprite_folder(path, options), path, options);
         throw Error(path + ": unknown scene format (expected .json, .tmx, .tmj, either gzipped, a PNG or a directory of PNGs)");
     });
 }
 
 } // namespace
 
-Scene load_scene(const std::string& path, const LoadOptions& options) {
+Scene read_scene(const std::string& path, const LoadOptions& options) {
     return load(path, options, [&] { return read_file(path); });
 }
 
-Scene load_scene_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options) {
+Scene scene_from_bytes(std::string_view bytes, const std::string& path, const LoadOptions& options) {
     return load(path, options, [&] { return bytes; });
 }
 
