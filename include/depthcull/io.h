@@ -69,7 +69,7 @@ void check_json_document(std::string_view text, const std::string& path);
 [[noreturn]] void throw_json_error(const std::exception& e, std::string_view text, const std::string& path);
 
 // Colour keys (SceneImage::trans) as files write them: "rrggbb".
-std::string colour_key_text(std::uint32_t rgb);
+std::string color_key_text(std::uint32_t rgb);
 
 // PNG of any colour type libpng reads (grey, palette with tRNS, 16-bit,
 // RGB, RGBA), converted to RGBA8. Rejects images over kMaxImageSide /
@@ -121,7 +121,7 @@ private:
 // they hold it), its colour key (SceneImage::trans) applied.
 Image read_scene_image(const SceneImage& image, const ImageFiles* files = nullptr, std::vector<std::string>* warnings = nullptr);
 // Texels of colour 0xRRGGBB become fully transparent (alpha 0).
-void apply_colour_key(Image& image, std::uint32_t rgb);
+void apply_color_key(Image& image, std::uint32_t rgb);
 Image decode_png(const void* data, std::size_t size, const std::string& name);
 std::string encode_png(ImageView image);
 void write_png(const std::string& path, ImageView image); // atomic

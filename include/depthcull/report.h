@@ -76,7 +76,7 @@ Image difference_image(ImageView a, ImageView b, std::int64_t* pixels_differ = n
 // Overdraw counts (row-major) as colours in kHeatBuckets buckets:
 // 0, 1, ..., kHeatBuckets - 2, and "kHeatBuckets - 1 or more".
 inline constexpr int kHeatBuckets = 9;
-Rgba heat_colour(std::uint32_t count);
+Rgba heat_color(std::uint32_t count);
 Image heat_image(int width, int height, const std::vector<std::uint32_t>& counts);
 // The label of bucket i: "0", "1", ..., "8 or more".
 std::string heat_label(int bucket);
@@ -86,7 +86,7 @@ struct HeatmapPanel {
     const OverdrawMap* map = nullptr;
 };
 // `depthcull render --heatmap`: panels side by side, each pixel coloured by
-// heat_colour (the same buckets as the report), each title above its panel,
+// heat_color (the same buckets as the report), each title above its panel,
 // and a legend of the buckets below. Panels without a map (or whose counts
 // do not match its size) are left out.
 Image overdraw_heatmap(const std::vector<HeatmapPanel>& panels);

@@ -74,6 +74,16 @@ struct Animation {
     std::vector<AnimationFrame> frames;
 };
 
+// An animation's one analysis runs on animation_alpha's image: the frames'
+// alpha combined (0 where every frame is transparent, 255 where every frame
+// is opaque, 128 elsewhere), so boundary polygons hold the union of the
+// frames' non-transparent texels and opaque polygons only texels opaque in
+// all. place_animation_analysis then moves its polygons onto frame 0's
+// rect and asks each frame's page whether edges bleed
+// (src/scene/animation_frames.cpp).
+Image animation_alpha(const std::vector<ImageView>& images, const Animation& animation);
+void place_animation_analysis(ImageAnalysis& analysis, const std::vector<ImageView>& images, const Animation& animation);
+
 // Where moving sprites go between a static scene's elements (depthcull/
 // frame.h): before scene.elements[element] (elements.size(): on top), with
 // `levels` depth levels reserved for them, so at most that many sprites a

@@ -69,8 +69,8 @@ void check_documents_held(std::uint64_t bytes, const std::string& path);
 
 // Colour keys (SceneImage::trans) as files write them: "RRGGBB" or
 // "#RRGGBB" in, "rrggbb" out.
-std::uint32_t parse_colour_key(const std::string& text, const std::string& where);
-// colour_key_text: io.h.
+std::uint32_t parse_color_key(const std::string& text, const std::string& where);
+// color_key_text: io.h.
 
 // Whether `text` is UTF-8 (JSON's encoding); check_utf8 throws Error
 // "<where>: '<text>' is not valid UTF-8 ..." when it is not. Paths and

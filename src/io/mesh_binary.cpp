@@ -67,7 +67,7 @@ void binary_document(Sink& sink, const MeshesDocument& document, const std::stri
         o.pad4();
         o.put(std::int32_t(img.width));
         o.put(std::int32_t(img.height));
-        if (keys) o.put(std::uint32_t(img.has_fill ? kSolidFill | img.fill : img.has_trans ? kColourKeyed | img.trans : 0));
+        if (keys) o.put(std::uint32_t(img.has_fill ? kSolidFill | img.fill : img.has_trans ? kColorKeyed | img.trans : 0));
     }
     for (const Draw& d : meshes.draws) {
         o.put(std::uint32_t(d.image));

@@ -70,7 +70,7 @@ struct Reader {
     }
 };
 
-void read_header(Reader& in, MeshesDocument& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* colour_keys, bool* animations,
+void read_header(Reader& in, MeshesDocument& out, std::uint32_t* image_count, std::uint32_t* draw_count, bool* color_keys, bool* animations,
                  bool* points) {
     if (in.bytes.size() < 8 || !is_binary_meshes(in.bytes)) in.fail(0, "not a depthcull binary meshes file (no \"DCMESH\" magic)");
     in.pos = 8;
@@ -85,7 +85,7 @@ void read_header(Reader& in, MeshesDocument& out, std::uint32_t* image_count, st
     SceneMeshes& m = out.meshes;
     m.depth_test = flags & 1;
     m.filter = flags & 4 ? Filter::linear : Filter::nearest;
-    *colour_keys = flags & 2;
+    *color_keys = flags & 2;
     m.viewport.x = in.finite_double("viewport x");
     m.viewport.y = in.finite_double("viewport y");
     m.viewport.width = in.size_value("viewport width", INT32_MAX);
@@ -110,21 +110,21 @@ void read_header(Reader& in, MeshesDocument& out, std::uint32_t* image_count, st
                                std::to_string(in.left()) + " bytes left");
 }
 
-SceneImage read_image_entry(Reader& in, const std::string& base_dir, bool colour_keys) {
+SceneImage read_image_entry(Reader& in, const std::string& base_dir, bool color_keys) {
     SceneImage img;
     img.id = in.str("an image id");
     img.path = resolve_mesh_path(base_dir, in.str("an image path"));
     in.pad4("an image entry");
     img.width = in.size_value("image width", kMaxImageSide);
     img.height = in.size_value("image height", kMaxImageSide);
-    if (colour_keys) {
+    if (color_keys) {
         const std::size_t at = in.pos;
         const auto key = in.get<std::uint32_t>("an image colour key");
         // One encoding per value: a word with neither bit is 0.
-        if ((key & ~(kColourKeyed | kSolidFill | 0xffffffu)) || ((key & kColourKeyed) && (key & kSolidFill)) ||
-            (!(key & (kColourKeyed | kSolidFill)) && key))
+        if ((key & ~(kColorKeyed | kSolidFill | 0xffffffu)) || ((key & kColorKeyed) && (key & kSolidFill)) ||
+            (!(key & (kColorKeyed | kSolidFill)) && key))
             in.fail(at, "colour key " + std::to_string(key) + " has unknown bits");
-        img.has_trans = key & kColourKeyed;
+        img.has_trans = key & kColorKeyed;
         img.has_fill = key & kSolidFill;
         if (img.has_fill) {
             if (!img.path.empty()) in.fail(at, "a solid fill image names a path");
@@ -285,12 +285,12 @@ MeshesDocument read_binary(std::string_view bytes, const std::string& name, cons
     Reader in{bytes, name};
     MeshesDocument out;
     std::uint32_t image_count = 0, draw_count = 0;
-    bool colour_keys = false, animations = false, points = false;
-    read_header(in, out, &image_count, &draw_count, &colour_keys, &animations, &points);
+    bool color_keys = false, animations = false, points = false;
+    read_header(in, out, &image_count, &draw_count, &color_keys, &animations, &points);
     out.images.reserve(image_count);
-    for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image_entry(in, base_dir, colour_keys));
+    for (std::uint32_t i = 0; i < image_count; ++i) out.images.push_back(read_image_entry(in, base_dir, color_keys));
     // Bit 1 is set exactly when some image has a key or a fill (the writer's rule).
-    if (colour_keys && std::none_of(out.images.begin(), out.images.end(), [](const SceneImage& img) { return img.has_trans || img.has_fill; }))
+    if (color_keys && std::none_of(out.images.begin(), out.images.end(), [](const SceneImage& img) { return img.has_trans || img.has_fill; }))
         in.fail(12, "flags bit 1 (colour keys) is set but no image has a colour key or fill");
     out.meshes.draws.reserve(draw_count);
     std::size_t total_vertices = 0, total_indices = 0;

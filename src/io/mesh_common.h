@@ -12,7 +12,7 @@
 namespace depthcull::io {
 // Binary image entries with flags bit 1: u32 colour key, this bit set when
 // the image has one, 0xRRGGBB in the low bits.
-inline constexpr std::uint32_t kColourKeyed = 1u << 24;
+inline constexpr std::uint32_t kColorKeyed = 1u << 24;
 // ... or, with this bit instead, a solid-colour image (SceneImage::has_fill,
 // 0xRRGGBB in the low bits; its path is empty).
 inline constexpr std::uint32_t kSolidFill = 1u << 25;

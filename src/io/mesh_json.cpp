@@ -102,11 +102,11 @@ void json_document(Sink& sink, const MeshesDocument& document, const std::string
         append_int(s, img.height);
         if (img.has_trans) {
             s += ", \"trans\": ";
-            append_string(s, colour_key_text(img.trans));
+            append_string(s, color_key_text(img.trans));
         }
         if (img.has_fill) {
             s += ", \"fill\": ";
-            append_string(s, colour_key_text(img.fill));
+            append_string(s, color_key_text(img.fill));
         }
         s += "}";
     }

@@ -84,11 +84,11 @@ SceneImage read_image_entry(const Context& ctx, const json& v, const std::string
     img.height = int(integer(ctx, field(ctx, v, where, "height"), at(where, "height"), kMaxImageSide));
     if (v.contains("trans")) {
         img.has_trans = true;
-        img.trans = parse_colour_key(string(ctx, v["trans"], at(where, "trans")), ctx.name + ": " + at(where, "trans"));
+        img.trans = parse_color_key(string(ctx, v["trans"], at(where, "trans")), ctx.name + ": " + at(where, "trans"));
     }
     if (v.contains("fill")) {
         img.has_fill = true;
-        img.fill = parse_colour_key(string(ctx, v["fill"], at(where, "fill")), ctx.name + ": " + at(where, "fill"));
+        img.fill = parse_color_key(string(ctx, v["fill"], at(where, "fill")), ctx.name + ": " + at(where, "fill"));
         img.path.clear();
     }
     return img;

@@ -160,7 +160,7 @@ Image read_png(const std::string& path) {
     return decode_png(bytes.data(), bytes.size(), path);
 }
 
-std::uint32_t parse_colour_key(const std::string& text, const std::string& where) {
+std::uint32_t parse_color_key(const std::string& text, const std::string& where) {
     std::string_view hex = text;
     if (!hex.empty() && hex[0] == '#') hex.remove_prefix(1);
     std::uint32_t value = 0;
@@ -170,13 +170,13 @@ std::uint32_t parse_colour_key(const std::string& text, const std::string& where
     return value;
 }
 
-std::string colour_key_text(std::uint32_t rgb) {
+std::string color_key_text(std::uint32_t rgb) {
     char text[8];
     std::snprintf(text, sizeof text, "%06x", unsigned(rgb & 0xffffffu));
     return text;
 }
 
-void apply_colour_key(Image& image, std::uint32_t rgb) {
+void apply_color_key(Image& image, std::uint32_t rgb) {
     const std::uint8_t r = std::uint8_t(rgb >> 16), g = std::uint8_t(rgb >> 8), b = std::uint8_t(rgb);
     for (std::size_t i = 0; i + 3 < image.rgba.size(); i += 4)
         if (image.rgba[i] == r && image.rgba[i + 1] == g && image.rgba[i + 2] == b) image.rgba[i + 3] = 0;
@@ -197,7 +197,7 @@ Image read_scene_image(const SceneImage& image, const ImageFiles* files, std::ve
     }
     const std::string* bytes = files ? files->find(image.path) : nullptr;
     Image out = bytes ? decode_image(bytes->data(), bytes->size(), image.path, warnings) : read_image(image.path, warnings);
-    if (image.has_trans) apply_colour_key(out, image.trans);
+    if (image.has_trans) apply_color_key(out, image.trans);
     return out;
 }
 

@@ -194,13 +194,13 @@ void parse_images(const json& images, const std::string& path, const fs::path& b
             img.path = entries[i].atlas.image_path;
         } else if (v.contains("fill")) {
             img.has_fill = true;
-            img.fill = parse_colour_key(string_field(c, v, "fill"), path + ": image " + std::to_string(i));
+            img.fill = parse_color_key(string_field(c, v, "fill"), path + ": image " + std::to_string(i));
         } else {
             img.path = resolve(base, string_field(c, v, "path"));
         }
         if (v.contains("trans")) {
             img.has_trans = true;
-            img.trans = parse_colour_key(string_field(c, v, "trans"), path + ": image " + std::to_string(i));
+            img.trans = parse_color_key(string_field(c, v, "trans"), path + ": image " + std::to_string(i));
         }
         try {
             if (img.has_fill) img.width = img.height = kFillImageSide;

@@ -49,14 +49,14 @@ std::string scene_to_json_text(const Scene& scene, const std::string& output_pat
     for (const SceneImage& image : scene.images) {
         if (image.has_fill) {
             check_utf8(image.id, output_name(output_path) + ": image id");
-            images.push_back({{"id", image.id}, {"fill", colour_key_text(image.fill)}});
+            images.push_back({{"id", image.id}, {"fill", color_key_text(image.fill)}});
             continue;
         }
         std::string path = output_relative_path(image.path, output_path);
         check_utf8(image.id, output_name(output_path) + ": image id");
         check_utf8(path, output_name(output_path) + ": image \"" + image.id + "\": path");
         Json entry = {{"id", image.id}, {"path", std::move(path)}};
-        if (image.has_trans) entry["trans"] = colour_key_text(image.trans);
+        if (image.has_trans) entry["trans"] = color_key_text(image.trans);
         images.push_back(std::move(entry));
     }
     doc["images"] = std::move(images);

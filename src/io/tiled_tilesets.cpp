@@ -168,12 +168,12 @@ int ImageTable::add(const std::string& base_dir, const std::string& source, cons
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec)) throw Error(where + ": image '" + source + "' not found (" + resolved.string() + ")");
     std::string path = resolved.string();
-    std::string key = path + "\n" + (trans.empty() ? std::string() : colour_key_text(parse_colour_key(trans, where)));
+    std::string key = path + "\n" + (trans.empty() ? std::string() : color_key_text(parse_color_key(trans, where)));
     if (auto it = by_key_.find(key); it != by_key_.end()) return it->second;
     SceneImage image;
     if (!trans.empty()) {
         image.has_trans = true;
-        image.trans = parse_colour_key(trans, where);
+        image.trans = parse_color_key(trans, where);
     }
     image_size(path, &image.width, &image.height, files_);
     // Ids: the file stem, numbered when two files share a stem.
@@ -190,7 +190,7 @@ int ImageTable::add(const std::string& base_dir, const std::string& source, cons
 }
 
 int ImageTable::add_fill(std::uint32_t rgb) {
-    std::string key = "\nfill " + colour_key_text(rgb);
+    std::string key = "\nfill " + color_key_text(rgb);
     if (auto it = by_key_.find(key); it != by_key_.end()) return it->second;
     SceneImage image;
     image.has_fill = true;

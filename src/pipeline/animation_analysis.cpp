@@ -11,33 +11,9 @@ namespace depthcull::pipeline {
 
 ImageAnalysis analyze_animation(const std::vector<ImageView>& images, const Animation& animation, const AnalyzeOptions& options,
                                 const std::string& cache_dir, bool* hit, const std::string& name, MemoryBudget* budget) {
-    const AnimationFrame& first = animation.frames.front();
-    const int w = first.rect.w, h = first.rect.h;
-    Image combined;
-    combined.width = w;
-    combined.height = h;
-    combined.rgba.assign(std::size_t(w) * std::size_t(h) * 4, 0);
-    std::vector<std::uint8_t> any(std::size_t(w) * std::size_t(h), 0), all(std::size_t(w) * std::size_t(h), 1);
-    for (const AnimationFrame& f : animation.frames) {
-        const ImageView& view = images[std::size_t(f.image)];
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const std::uint8_t a = view.alpha(f.rect.x + x, f.rect.y + y);
-                const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
-                any[i] |= a != 0;
-                all[i] &= a == 255;
-            }
-    }
-    for (std::size_t i = 0; i < any.size(); ++i) combined.rgba[4 * i + 3] = all[i] ? 255 : any[i] ? 128 : 0;
-    ImageAnalysis a = analyze_cached(combined.view(), {0, 0, w, h}, options, cache_dir, hit, name, budget);
-    const double dx = first.rect.x, dy = first.rect.y;
-    for (auto* polygons : {&a.boundary, &a.opaque})
-        for (Polygon& p : *polygons)
-            for (Vec2& v : p) v = {v.x + dx, v.y + dy};
-    a.rect = first.rect;
-    // The combined image has no neighbours: ask each frame's page.
-    a.bleeding_edges = false;
-    for (const AnimationFrame& f : animation.frames) a.bleeding_edges |= edges_bleed(images[std::size_t(f.image)], f.rect);
+    const Image combined = animation_alpha(images, animation);
+    ImageAnalysis a = analyze_cached(combined.view(), {0, 0, combined.width, combined.height}, options, cache_dir, hit, name, budget);
+    place_animation_analysis(a, images, animation);
     return a;
 }
 

@@ -132,7 +132,7 @@ std::string file_identity(const std::string& path) {
 std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (std::uint64_t(1) << 20) - 1) >> 20) + " MiB"; }
 
 std::string image_name(const std::string& path, const SceneImage& img, std::size_t i) {
-    return path + ": image " + std::to_string(i) + " \"" + img.id + "\" (" + (img.has_fill ? "fill " + io::colour_key_text(img.fill) : img.path) + ")";
+    return path + ": image " + std::to_string(i) + " \"" + img.id + "\" (" + (img.has_fill ? "fill " + io::color_key_text(img.fill) : img.path) + ")";
 }
 
 } // namespace
@@ -190,8 +190,8 @@ PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& se
     for (std::size_t i = 0; i < scene.images.size(); ++i) {
         if (!shown[i]) continue;
         const SceneImage& img = scene.images[i];
-        auto [it, fresh] = decode_of_key.emplace(img.has_fill ? "\nfill " + io::colour_key_text(img.fill)
-                                                              : file_identity(img.path) + (img.has_trans ? "\n" + io::colour_key_text(img.trans) : std::string()),
+        auto [it, fresh] = decode_of_key.emplace(img.has_fill ? "\nfill " + io::color_key_text(img.fill)
+                                                              : file_identity(img.path) + (img.has_trans ? "\n" + io::color_key_text(img.trans) : std::string()),
                                                  to_decode.size());
         out.pixels[i] = it->second;
         if (!fresh) continue;

@@ -25,7 +25,7 @@ constexpr Rgba kText{230, 230, 230, 255};
 
 } // namespace
 
-Rgba heat_colour(std::uint32_t count) { return kHeat[std::min<std::uint32_t>(count, kHeatBuckets - 1)]; }
+Rgba heat_color(std::uint32_t count) { return kHeat[std::min<std::uint32_t>(count, kHeatBuckets - 1)]; }
 
 std::string heat_label(int bucket) {
     return bucket >= kHeatBuckets - 1 ? std::to_string(kHeatBuckets - 1) + " or more" : std::to_string(bucket);
@@ -38,7 +38,7 @@ Image heat_image(int width, int height, const std::vector<std::uint32_t>& counts
     out.height = height;
     out.rgba.resize(counts.size() * 4);
     for (std::size_t i = 0; i < counts.size(); ++i) {
-        const Rgba c = heat_colour(counts[i]);
+        const Rgba c = heat_color(counts[i]);
         out.rgba[i * 4] = c.r, out.rgba[i * 4 + 1] = c.g, out.rgba[i * 4 + 2] = c.b, out.rgba[i * 4 + 3] = 255;
     }
     return out;
@@ -76,7 +76,7 @@ Image overdraw_heatmap(const std::vector<HeatmapPanel>& panels) {
         const int top = kMargin + title_h;
         for (int j = 0; j < p.map->height; ++j)
             for (int i = 0; i < p.map->width; ++i)
-                canvas.blend(x + i, top + j, heat_colour(p.map->counts[std::size_t(j) * std::size_t(p.map->width) + std::size_t(i)]));
+                canvas.blend(x + i, top + j, heat_color(p.map->counts[std::size_t(j) * std::size_t(p.map->width) + std::size_t(i)]));
         x += panel_width(p) + kMargin;
     }
 
@@ -84,7 +84,7 @@ Image overdraw_heatmap(const std::vector<HeatmapPanel>& panels) {
     x = kMargin;
     for (int b = 0; b < kHeatBuckets; ++b) {
         const int sy = legend_y + title_h;
-        canvas.fill_rect(x, sy, kSwatch, kSwatch, heat_colour(std::uint32_t(b)));
+        canvas.fill_rect(x, sy, kSwatch, kSwatch, heat_color(std::uint32_t(b)));
         canvas.text(x, sy + kSwatch + 4, heat_label(b), kText, kScale);
         x += column_width(b) + kSwatchGap;
     }

@@ -209,7 +209,7 @@ std::string report_html(const RunReport& run) {
         if (!r.heatmaps.empty()) {
             h += "<h3>Overdraw per pixel</h3>\n<div class=\"legend\">fragments shaded per pixel: ";
             for (int b = 0; b < kHeatBuckets; ++b) {
-                const Rgba c = heat_colour(std::uint32_t(b));
+                const Rgba c = heat_color(std::uint32_t(b));
                 char colour[8];
                 std::snprintf(colour, sizeof colour, "#%02x%02x%02x", c.r, c.g, c.b);
                 h += "<span class=\"swatch\"><span style=\"background:" + std::string(colour) + "\"></span>" + heat_label(b) + "</span>";

@@ -265,34 +265,11 @@ void append_animated_runs(const Scene& scene, const SceneMeshes& meshes) {
     g_result.insert(g_result.end(), runs.begin(), runs.end());
 }
 
-// pipeline::analyze_animation without the cache: the analysis of an image
-// combining the frames' alpha (0 where every frame is transparent, 255
-// where every frame is opaque, 128 elsewhere), polygons moved onto frame
-// 0's rect. Keep the two the same (the wasm test compares with optimize).
+// pipeline::analyze_animation without the cache (the same two core steps).
 ImageAnalysis analyze_animation_frames(const std::vector<ImageView>& images, const Animation& animation, const AnalyzeOptions& options) {
-    const AnimationFrame& first = animation.frames.front();
-    const int w = first.rect.w, h = first.rect.h;
-    std::vector<std::uint8_t> combined(std::size_t(w) * std::size_t(h) * 4, 0);
-    std::vector<std::uint8_t> any(std::size_t(w) * std::size_t(h), 0), all(std::size_t(w) * std::size_t(h), 1);
-    for (const AnimationFrame& f : animation.frames) {
-        const ImageView& view = images[std::size_t(f.image)];
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const std::uint8_t a = view.alpha(f.rect.x + x, f.rect.y + y);
-                const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
-                any[i] |= a != 0;
-                all[i] &= a == 255;
-            }
-    }
-    for (std::size_t i = 0; i < any.size(); ++i) combined[4 * i + 3] = all[i] ? 255 : any[i] ? 128 : 0;
-    ImageAnalysis a = analyze_image(ImageView{combined.data(), w, h, std::ptrdiff_t(w) * 4}, {0, 0, w, h}, options);
-    const double dx = first.rect.x, dy = first.rect.y;
-    for (auto* polygons : {&a.boundary, &a.opaque})
-        for (Polygon& p : *polygons)
-            for (Vec2& v : p) v = {v.x + dx, v.y + dy};
-    a.rect = first.rect;
-    a.bleeding_edges = false;
-    for (const AnimationFrame& f : animation.frames) a.bleeding_edges |= edges_bleed(images[std::size_t(f.image)], f.rect);
+    const Image combined = animation_alpha(images, animation);
+    ImageAnalysis a = analyze_image(combined.view(), {0, 0, combined.width, combined.height}, options);
+    place_animation_analysis(a, images, animation);
     return a;
 }
 
@@ -603,7 +580,7 @@ int dcw_scene_add_image(double handle, const std::uint8_t* rgba, double width, d
         pixels.assign(rgba, rgba + std::size_t(w) * std::size_t(h) * 4);
         std::string k = img.path;
         if (key >= 0) {
-            // io::apply_colour_key: only alpha changes.
+            // io::apply_color_key: only alpha changes.
             img.has_trans = true;
             img.trans = std::uint32_t(key);
             const std::uint8_t r = std::uint8_t(key >> 16), g = std::uint8_t(key >> 8), b = std::uint8_t(key);

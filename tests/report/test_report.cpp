@@ -98,12 +98,12 @@ TEST(Report, HeatLegendLastBucketSaysOrMore) {
     EXPECT_EQ(report::heat_label(0), "0");
     EXPECT_EQ(report::heat_label(report::kHeatBuckets - 1), std::to_string(report::kHeatBuckets - 1) + " or more");
     // Counts past the last bucket share its colour.
-    const report::Rgba a = report::heat_colour(report::kHeatBuckets - 1), b = report::heat_colour(1000);
+    const report::Rgba a = report::heat_color(report::kHeatBuckets - 1), b = report::heat_color(1000);
     EXPECT_TRUE(a.r == b.r && a.g == b.g && a.b == b.b);
 }
 
 // `render --heatmap` draws on the report's buckets (one set of heat
-// colours): panels side by side, each pixel heat_colour of its count, the
+// colours): panels side by side, each pixel heat_color of its count, the
 // same picture for the same counts.
 TEST(Report, OverdrawHeatmapPanelsUseTheReportsBuckets) {
     depthcull::OverdrawMap a{3, 2, {0, 1, 2, 3, 8, 40}}, b{2, 1, {5, 9}};
@@ -114,7 +114,7 @@ TEST(Report, OverdrawHeatmapPanelsUseTheReportsBuckets) {
     const int x0 = 8, y0 = 8 + 14 + 6;
     for (int j = 0; j < a.height; ++j)
         for (int i = 0; i < a.width; ++i) {
-            const report::Rgba c = report::heat_colour(a.counts[std::size_t(j * a.width + i)]);
+            const report::Rgba c = report::heat_color(a.counts[std::size_t(j * a.width + i)]);
             const std::uint8_t* p = pixel(h, x0 + i, y0 + j);
             EXPECT_TRUE(p[0] == c.r && p[1] == c.g && p[2] == c.b && p[3] == 255) << i << "," << j;
         }
@@ -122,12 +122,12 @@ TEST(Report, OverdrawHeatmapPanelsUseTheReportsBuckets) {
     EXPECT_EQ(0, std::memcmp(pixel(h, x0 + 1, y0 + 1), pixel(h, x0 + 2, y0 + 1), 4));
     // The second panel starts after the first's title (wider than its map).
     const int x1 = x0 + report::text_width("overpaint  od 2.0", 2) + 8;
-    const report::Rgba c9 = report::heat_colour(9);
+    const report::Rgba c9 = report::heat_color(9);
     EXPECT_EQ(pixel(h, x1 + 1, y0)[0], c9.r);
     EXPECT_EQ(pixel(h, x1 + 1, y0)[2], c9.b);
     // The legend holds every bucket's colour.
     for (int bucket = 0; bucket < report::kHeatBuckets; ++bucket) {
-        const report::Rgba c = report::heat_colour(std::uint32_t(bucket));
+        const report::Rgba c = report::heat_color(std::uint32_t(bucket));
         bool found = false;
         for (int y = y0 + a.height; y < h.height && !found; ++y)
             for (int x = 0; x < h.width && !found; ++x) {
