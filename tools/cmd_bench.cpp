@@ -269,111 +269,66 @@ json to_json(const std::vector<SceneResult>& results, const std::string& rendere
             {"scenes", scenes}};
 }
 
-void run_bench(BenchArgs& args) {
-    if (args.sprites > 0 || args.bunnymark > 0)
-        return run_sprite_bench({args.scenes, args.sprites, args.bunnymark, args.frames_option->count() ? args.frames : 60, args.seed,
-                                 args.json_output, args.output, args.quiet, args.lp_threads, &args.input});
-    const std::vector<render::Mode> modes = parse_modes(args.modes);
-    args.instrumented = args.shader == BenchArgs::Shader::instrumented;
-    // llvmpipe reads LP_NUM_THREADS when the context is made; pin it so
-    // timings from different runs and machines are comparable.
-    if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
-    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
-    const char* lp_threads = std::getenv("LP_NUM_THREADS");
-
-    // Checked first, committed together at the end: a failure writes none.
-    RunOutputs outputs(args.scenes);
-    outputs.add(args.output);
-    outputs.add(args.report);
-    args.opaque_given = args.input.opaque;
-    std::unique_ptr<render::GlRenderer> renderer;
-    std::unique_ptr<render::GlHost> host;
-    std::string description;
-    if (args.instrumented) {
-        renderer = open_renderer(args.input);
-        description = renderer->description();
-    } else {
-        std::string error;
-        host = render::GlHost::create({args.input.platform}, render::GlApi::desktop, &error);
-        if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
-        description = host->description();
+// One scene of a bench (or report) run: optimized through the pipeline,
+// drawn by the instrumented renderer or the runtime in every mode, its
+// predictions and (for --report) its report section added to `run`.
+SceneResult bench_scene(const std::string& path, BenchArgs& args, const std::vector<render::Mode>& modes, render::GlRenderer* renderer,
+                        render::GlHost* host, Progress& progress, RunOutputs& outputs, report::RunReport& run) {
+    args.input.opaque = args.opaque_given;
+    const pipeline::OptimizeResult result =
+        optimize_for_render(path, args.input, args.quiet, [&](const char* stage) { progress.stage(path + ": " + stage); });
+    const pipeline::PreparedScene& prepared = result.prepared;
+    const std::optional<pipeline::TargetPlan>& plan = result.plan;
+    // The options section of the report says whether the (last) choice drew the opaque pass.
+    args.input.opaque = result.reconstruct.opaque_polygons;
+    check_frame_fits(path, prepared, args.input);
+    outputs.add_inputs(scene_inputs(path, prepared.scene));
+    progress.stage(path + ": drawing");
+    render::MeasureOptions options;
+    options.modes = modes;
+    options.frames = args.frames;
+    options.warmup = args.warmup;
+    options.reconstruct = result.reconstruct;
+    options.keep_frames = !args.report.empty();
+    SceneResult r;
+    r.path = path;
+    if (plan) {
+        r.target = plan->profile.name;
+        predict_modes(prepared, options, plan->profile, renderer ? std::vector<render::Mode>{} : modes_in_order(modes), &r);
     }
-    const char* command = args.report_only ? "report" : "bench";
-    std::vector<SceneResult> results;
-    report::RunReport run;
-    Progress progress(command, "scenes", args.scenes.size(), args.quiet);
-    for (const std::string& path : args.scenes) {
-        args.input.opaque = args.opaque_given;
-        const pipeline::OptimizeResult result =
-            optimize_for_render(path, args.input, args.quiet, [&](const char* stage) { progress.stage(path + ": " + stage); });
-        const pipeline::PreparedScene& prepared = result.prepared;
-        const std::optional<pipeline::TargetPlan>& plan = result.plan;
-        // The options section of the report says whether the (last) choice drew the opaque pass.
-        args.input.opaque = result.reconstruct.opaque_polygons;
-        check_frame_fits(path, prepared, args.input);
-        outputs.add_inputs(scene_inputs(path, prepared.scene));
-        progress.stage(path + ": drawing");
-        render::MeasureOptions options;
-        options.modes = modes;
-        options.frames = args.frames;
-        options.warmup = args.warmup;
-        options.reconstruct = result.reconstruct;
-        options.keep_frames = !args.report.empty();
-        SceneResult r;
-        r.path = path;
-        if (plan) {
-            r.target = plan->profile.name;
-            predict_modes(prepared, options, plan->profile, renderer ? std::vector<render::Mode>{} : modes_in_order(modes), &r);
-        }
-        r.elements = prepared.scene.elements.size();
-        try {
-            if (renderer)
-                r.m = render::measure_scene(*renderer, prepared.scene, image_views(prepared), prepared.analysis, options);
-            else
-                r.rt = render::measure_runtime(*host, prepared.scene, image_views(prepared), prepared.analysis, options);
-        } catch (const render::Error& e) {
-            throw CliError(path + ": " + e.what());
-        }
-        if (!args.report.empty()) {
-            progress.stage(path + ": report");
-            run.scenes.push_back(scene_report(path, result, renderer ? nullptr : &r.rt, renderer ? &r.m : nullptr));
-            if (!r.predicted.empty()) {
-                // Same order: predict_modes predicted rt.modes' modes.
-                report::SceneReport& sr = run.scenes.back();
-                sr.target = r.target;
-                sr.limit_ms = r.limit_ms;
-                for (std::size_t mi = 0; mi < sr.rows.size() && mi < r.predicted.size(); ++mi) sr.rows[mi].predicted_ms = r.predicted[mi];
-            }
-            r.covered = run.scenes.back().covered;
-            // The frames live on in the report; drop them here.
-            for (auto& mode : r.m.modes) mode.frame = {};
-            for (auto& mode : r.rt.modes) mode.frame = {};
-        } else {
-            OverdrawMap ideal;
-            ideal_overdraw(prepared.scene, image_views(prepared), &ideal);
-            r.covered = covered_share(ideal);
-        }
-        results.push_back(std::move(r));
-        progress.add();
+    r.elements = prepared.scene.elements.size();
+    try {
+        if (renderer)
+            r.m = render::measure_scene(*renderer, prepared.scene, image_views(prepared), prepared.analysis, options);
+        else
+            r.rt = render::measure_runtime(*host, prepared.scene, image_views(prepared), prepared.analysis, options);
+    } catch (const render::Error& e) {
+        throw CliError(path + ": " + e.what());
     }
-    progress.finish();
     if (!args.report.empty()) {
-        run.title = args.scenes.size() == 1 ? "depthcull report: " + args.scenes.front() : "depthcull report: " + std::to_string(args.scenes.size()) + " scenes";
-        run.command = g_command_line;
-        run.renderer = description;
-        run.options = report_options(args.input, args.frames, args.warmup, args.instrumented ? "instrumented (render --compare's)" : "runtime (plain sprite, depthcull::runtime)");
-        outputs.stage(args.report, report::report_html(run));
+        progress.stage(path + ": report");
+        run.scenes.push_back(scene_report(path, result, renderer ? nullptr : &r.rt, renderer ? &r.m : nullptr));
+        if (!r.predicted.empty()) {
+            // Same order: predict_modes predicted rt.modes' modes.
+            report::SceneReport& sr = run.scenes.back();
+            sr.target = r.target;
+            sr.limit_ms = r.limit_ms;
+            for (std::size_t mi = 0; mi < sr.rows.size() && mi < r.predicted.size(); ++mi) sr.rows[mi].predicted_ms = r.predicted[mi];
+        }
+        r.covered = run.scenes.back().covered;
+        // The frames live on in the report; drop them here.
+        for (auto& mode : r.m.modes) mode.frame = {};
+        for (auto& mode : r.rt.modes) mode.frame = {};
+    } else {
+        OverdrawMap ideal;
+        ideal_overdraw(prepared.scene, image_views(prepared), &ideal);
+        r.covered = covered_share(ideal);
     }
-    const auto report_written = [&] {
-        if (!args.report.empty() && !args.quiet)
-            std::fprintf(stderr, "depthcull: %s: report of %zu scene%s written to %s\n", command, args.scenes.size(),
-                         args.scenes.size() == 1 ? "" : "s", args.report.c_str());
-    };
-    if (args.report_only) {
-        outputs.commit();
-        return report_written();
-    }
+    return r;
+}
 
+// The bench's table (or JSON) with the notes on its columns.
+std::string bench_text(const std::vector<SceneResult>& results, const std::string& description, const BenchArgs& args, const char* lp_threads) {
     std::string text;
     if (args.json_output) {
         text = to_json(results, description, args, lp_threads).dump(1) + "\n";
@@ -410,6 +365,65 @@ void run_bench(BenchArgs& args) {
                     "#   is on no texel edge (with nearest filtering it must be 0).\n";
         }
     }
+    return text;
+}
+
+void run_bench(BenchArgs& args) {
+    if (args.sprites > 0 || args.bunnymark > 0)
+        return run_sprite_bench({args.scenes, args.sprites, args.bunnymark, args.frames_option->count() ? args.frames : 60, args.seed,
+                                 args.json_output, args.output, args.quiet, args.lp_threads, &args.input});
+    const std::vector<render::Mode> modes = parse_modes(args.modes);
+    args.instrumented = args.shader == BenchArgs::Shader::instrumented;
+    // llvmpipe reads LP_NUM_THREADS when the context is made; pin it so
+    // timings from different runs and machines are comparable.
+    if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
+    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
+    const char* lp_threads = std::getenv("LP_NUM_THREADS");
+
+    // Checked first, committed together at the end: a failure writes none.
+    RunOutputs outputs(args.scenes);
+    outputs.add(args.output);
+    outputs.add(args.report);
+    args.opaque_given = args.input.opaque;
+    std::unique_ptr<render::GlRenderer> renderer;
+    std::unique_ptr<render::GlHost> host;
+    std::string description;
+    if (args.instrumented) {
+        renderer = open_renderer(args.input);
+        description = renderer->description();
+    } else {
+        std::string error;
+        host = render::GlHost::create({args.input.platform}, render::GlApi::desktop, &error);
+        if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
+        description = host->description();
+    }
+    const char* command = args.report_only ? "report" : "bench";
+    std::vector<SceneResult> results;
+    report::RunReport run;
+    Progress progress(command, "scenes", args.scenes.size(), args.quiet);
+    for (const std::string& path : args.scenes) {
+        results.push_back(bench_scene(path, args, modes, renderer.get(), host.get(), progress, outputs, run));
+        progress.add();
+    }
+    progress.finish();
+    if (!args.report.empty()) {
+        run.title = args.scenes.size() == 1 ? "depthcull report: " + args.scenes.front() : "depthcull report: " + std::to_string(args.scenes.size()) + " scenes";
+        run.command = g_command_line;
+        run.renderer = description;
+        run.options = report_options(args.input, args.frames, args.warmup, args.instrumented ? "instrumented (render --compare's)" : "runtime (plain sprite, depthcull::runtime)");
+        outputs.stage(args.report, report::report_html(run));
+    }
+    const auto report_written = [&] {
+        if (!args.report.empty() && !args.quiet)
+            std::fprintf(stderr, "depthcull: %s: report of %zu scene%s written to %s\n", command, args.scenes.size(),
+                         args.scenes.size() == 1 ? "" : "s", args.report.c_str());
+    };
+    if (args.report_only) {
+        outputs.commit();
+        return report_written();
+    }
+
+    const std::string text = bench_text(results, description, args, lp_threads);
     outputs.stage(args.output.empty() ? "-" : args.output, text);
     outputs.commit();
     report_written();
