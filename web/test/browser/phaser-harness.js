@@ -60,6 +60,25 @@ function uprightImage(scene, tex, f, x, y, sx, sy) {
   return scene.add.image(x + sx * lx, y + sy * (ly + h), 'sheet', key).setOrigin(0).setScale(sy, sx).setRotation(-Math.PI / 2);
 }
 
+// A game showing a scene's viewport over a plain backdrop, its images
+// loaded with nearest filtering (the meshes' document and scene JSON read
+// unless given).
+async function sceneGame(sceneUrl, meshesUrl, doc, meshes) {
+  doc ??= await (await fetch(sceneUrl)).json();
+  meshes ??= await loadMeshes(meshesUrl);
+  const { width, height } = meshes.viewport;
+  const { game, scene } = await makeGame(width, height, (s) => {
+    for (const img of doc.images) if (!img.fill) s.load.image(img.id, new URL(img.path, sceneUrl).href);
+  });
+  for (const img of doc.images) {
+    if (img.fill || img.trans) throw new Error(`image ${img.id}: fill and trans images are not in this test`);
+    scene.textures.get(img.id).setFilter(Phaser.Textures.FilterMode.NEAREST);
+  }
+  scene.cameras.main.setScroll(meshes.viewport.x, meshes.viewport.y);
+  scene.add.rectangle(0, 0, width, height, 0x336699).setOrigin(0).setScrollFactor(0);
+  return { doc, meshes, width, height, game, scene };
+}
+
 window.phaserTest = {
   // upright: the Images show each (rotated) frame from its page rectangle
   // as stored, turned back by -90 degrees, instead of by Phaser's frame
@@ -113,18 +132,7 @@ window.phaserTest = {
   },
 
   async layer({ sceneUrl, meshesUrl, frames = 2 }) {
-    const doc = await (await fetch(sceneUrl)).json();
-    const meshes = await loadMeshes(meshesUrl);
-    const { width, height } = meshes.viewport;
-    const { game, scene } = await makeGame(width, height, (s) => {
-      for (const img of doc.images) if (!img.fill) s.load.image(img.id, new URL(img.path, sceneUrl).href);
-    });
-    for (const img of doc.images) {
-      if (img.fill || img.trans) throw new Error(`image ${img.id}: fill and trans images are not in this test`);
-      scene.textures.get(img.id).setFilter(Phaser.Textures.FilterMode.NEAREST);
-    }
-    scene.cameras.main.setScroll(meshes.viewport.x, meshes.viewport.y);
-    scene.add.rectangle(0, 0, width, height, 0x336699).setOrigin(0).setScrollFactor(0);
+    const { doc, meshes, width, height, game, scene } = await sceneGame(sceneUrl, meshesUrl);
     const blends = { alpha: Phaser.BlendModes.NORMAL, add: Phaser.BlendModes.ADD, multiply: Phaser.BlendModes.MULTIPLY };
     const elements = [];
     const plain = doc.elements.map((e, n) => {
@@ -181,16 +189,7 @@ window.phaserTest = {
     const meshes = await loadMeshes(meshesUrl);
     if (meshes.insertionPoints.length !== 1) throw new Error(`expected one insertion point, the meshes have ${meshes.insertionPoints.length}`);
     const depthcull = await loadDepthcull();
-    const { width, height } = meshes.viewport;
-    const { game, scene } = await makeGame(width, height, (s) => {
-      for (const img of doc.images) if (!img.fill) s.load.image(img.id, new URL(img.path, sceneUrl).href);
-    });
-    for (const img of doc.images) {
-      if (img.fill || img.trans) throw new Error(`image ${img.id}: fill and trans images are not in this test`);
-      scene.textures.get(img.id).setFilter(Phaser.Textures.FilterMode.NEAREST);
-    }
-    scene.cameras.main.setScroll(meshes.viewport.x, meshes.viewport.y);
-    scene.add.rectangle(0, 0, width, height, 0x336699).setOrigin(0).setScrollFactor(0);
+    const { width, height, game, scene } = await sceneGame(sceneUrl, meshesUrl, doc, meshes);
 
     // Up to 6 pictures: whole images of untransformed-size elements, their
     // pixels decoded without premultiplication for the analysis.
