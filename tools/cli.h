@@ -4,7 +4,6 @@
 // 1 an error in the input or output, 2 a usage error.
 #pragma once
 
-#include <chrono>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -17,6 +16,7 @@
 #include "depthcull/io.h"
 #include "depthcull/pipeline.h"
 #include "depthcull/scene.h"
+#include "pipeline/stopwatch.h"
 
 namespace depthcull::cli {
 
@@ -43,16 +43,8 @@ void add_calibrate_command(CLI::App& app);
 // The command line as given (set by main), for reports.
 extern std::string g_command_line;
 
-// Wall time since construction. Timing lives here, at the edge: the
-// library's result values hold no clock readings, so they are the same on
-// every run.
-class Stopwatch {
-public:
-    double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
-
-private:
-    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
+// Wall time at the edge (src/pipeline/stopwatch.h, pipeline::optimize's).
+using pipeline::Stopwatch;
 
 // `path` empty or "-": stdout; otherwise written atomically.
 void write_output(const std::string& path, const std::string& text);

@@ -2,25 +2,17 @@
 // settle, decode, analyze, plan for a target, reconstruct), and the one
 // place they are timed. Every command that optimizes a scene, the C API and
 // the examples call it, so a new stage is added here once.
-#include <chrono>
 #include <cstdint>
 #include <string>
 #include <utility>
 
 #include "depthcull/target.h"
 #include "pipeline/stages.h"
+#include "pipeline/stopwatch.h"
 
 namespace depthcull::pipeline {
 
 namespace {
-
-class Stopwatch {
-public:
-    double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
-
-private:
-    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
 
 void announce(const OptimizeOptions& options, const char* stage) {
     if (options.stage) options.stage(stage);
@@ -89,8 +81,10 @@ OptimizeResult optimize(const std::string& path, const OptimizeOptions& options)
 
 OptimizeResult optimize(SceneSource source, const OptimizeOptions& options) {
     OptimizeResult out;
-    if (!options.target.empty())
-        throw depthcull::Error("target " + options.target + ": planning needs the scene's pixels; optimize the scene file instead");
+    // A target given by name or already resolved (OptimizeOptions::profile).
+    if (!options.target.empty() || options.profile)
+        throw depthcull::Error("target " + (options.profile ? options.profile->name : options.target) +
+                               ": planning needs the scene's pixels; optimize the scene file instead");
     const Settled settled = settle(source.scene, options);
     out.prepared.scene = std::move(source.scene);
     out.prepared.scene.filter = settled.filter;

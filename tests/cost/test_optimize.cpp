@@ -144,6 +144,10 @@ TEST(Optimize, ASceneInMemoryGivesTheFilesMeshes) {
     o.target = "llvmpipe";
     const pipeline::SceneSource source{from_file.prepared.scene, from_file.prepared.analysis};
     EXPECT_TRUE(has(io_error([&] { pipeline::optimize(source, o); }), "needs the scene's pixels"));
+    // A profile the caller resolved (the CLI's --target auto) needs them too.
+    o.target.clear();
+    o.profile = pipeline::resolve_target("llvmpipe");
+    EXPECT_TRUE(has(io_error([&] { pipeline::optimize(source, o); }), "target llvmpipe: planning needs the scene's pixels"));
 }
 
 // Without meshes asked for (render, bench, report build each mode's own),
