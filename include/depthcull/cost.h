@@ -123,6 +123,16 @@ struct TargetCandidates {
     std::vector<int> max_vertices; // per candidate, for reports
 };
 
+// The vertex budgets each image rect is analyzed at for a target: 4, 6, 8
+// below the cap, then the cap (max_vertices, at least
+// kMinBoundaryVertices). pipeline::plan_target and the wasm reconstruction
+// both plan with these, so their choices agree.
+std::vector<int> target_budgets(int max_vertices);
+
+// Most opaque pieces per image rect the target's cover plan analyzes
+// (OpaqueMethod::cover, issue 25).
+inline constexpr int kCoverPlanPolygons = 64;
+
 struct TargetChoice {
     // What reconstruct_scene should take: each chosen analysis once, and
     // per element an index into them (analysis.of(i) is nullptr where the

@@ -182,9 +182,6 @@ struct TargetPlan {
     bool opaque_cover = false;
 };
 
-// Most opaque pieces per image rect plan_target's cover plan analyzes.
-inline constexpr int kCoverPlanPolygons = 64;
-
 // Analyzes each distinct image rect of `prepared` at a few vertex budgets
 // (4, 6, 8 up to options.analyze's cap) with the profile's MIN_OPAQUE_AREA
 // (through the cache), then choose_for_target. Deterministic; never

@@ -560,4 +560,13 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
     return out;
 }
 
+std::vector<int> target_budgets(int max_vertices) {
+    const int cap = std::max(kMinBoundaryVertices, max_vertices);
+    std::vector<int> budgets;
+    for (int b : {4, 6, 8})
+        if (b < cap) budgets.push_back(b);
+    budgets.push_back(cap);
+    return budgets;
+}
+
 } // namespace depthcull

@@ -24,10 +24,7 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
     plan.profile = profile;
     const Scene& scene = prepared.scene;
     AnalyzeOptions analyze = analysis_options(options, scene); // the settled filter
-    const int cap = std::max(kMinBoundaryVertices, analyze.boundary.max_vertices);
-    for (int b : {4, 6, 8})
-        if (b < cap) plan.budgets.push_back(b);
-    plan.budgets.push_back(cap);
+    plan.budgets = target_budgets(analyze.boundary.max_vertices);
     CostProfile priced = profile;
     if (occluders) priced.fragment_rejected_ns = 0;
     plan.min_opaque_area = min_opaque_area(priced);

@@ -811,14 +811,9 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         // fast one on ties); the choice made before optimize adds the
         // insertion points.
         reconstruct.merge_opaque = true;
-        const int cap = std::max(kMinBoundaryVertices, analyze.boundary.max_vertices);
-        std::vector<int> budgets;
-        for (int b : {4, 6, 8})
-            if (b < cap) budgets.push_back(b);
-        budgets.push_back(cap);
+        const std::vector<int> budgets = target_budgets(analyze.boundary.max_vertices);
         analyze.opaque.min_area = depthcull::min_opaque_area(cost); // the function, not the parameter
         const std::size_t nb = budgets.size();
-        constexpr int kCoverPlanPolygons = 64; // pipeline::kCoverPlanPolygons (pipeline.h; not in the wasm core)
         std::vector<OpaqueMethod> methods{analyze.opaque.method};
         if (analyze.opaque.method == OpaqueMethod::fast && analyze.opaque.max_polygons > 0) methods.push_back(OpaqueMethod::cover);
         std::vector<std::vector<ImageAnalysis>> planned(methods.size());
