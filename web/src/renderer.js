@@ -56,6 +56,32 @@ const STATE = [
   'DEPTH_CLEAR_VALUE', 'CULL_FACE',
 ];
 
+// The attributes of the bound VAO over the bound ARRAY_BUFFER: 9 floats a
+// vertex, or with colour bytes (setMeshes' and draw's colorByte) 5 floats
+// and 4 normalized bytes (24 bytes).
+function setVertexLayout(gl, colorBytes) {
+  const stride = colorBytes ? 24 : VERTEX_FLOATS * 4;
+  gl.enableVertexAttribArray(0);
+  gl.vertexAttribPointer(0, 3, gl.FLOAT, false, stride, 0);
+  gl.enableVertexAttribArray(1);
+  gl.vertexAttribPointer(1, 2, gl.FLOAT, false, stride, 12);
+  gl.enableVertexAttribArray(2);
+  if (colorBytes) gl.vertexAttribPointer(2, 4, gl.UNSIGNED_BYTE, true, stride, 20);
+  else gl.vertexAttribPointer(2, 4, gl.FLOAT, false, stride, 20);
+}
+
+// `src`'s 9-float vertices into the 24-byte layout from vertex `at` of
+// f32/u8 (views of one buffer): position and uv as floats, the colour as
+// colorByte's bytes.
+function packVertices(src, f32, u8, at, colorByte) {
+  const n = src.length / VERTEX_FLOATS;
+  for (let k = 0; k < n; ++k) {
+    const s = k * VERTEX_FLOATS, d = (at + k) * 6;
+    for (let c = 0; c < 5; ++c) f32[d + c] = src[s + c];
+    for (let c = 0; c < 4; ++c) u8[(d + 5) * 4 + c] = colorByte(src[s + 5 + c], c);
+  }
+}
+
 function compile(gl, type, source) {
   const shader = gl.createShader(type);
   gl.shaderSource(shader, source);
@@ -166,12 +192,7 @@ export class MeshRenderer {
     for (const d of meshes.draws) {
       const n = d.vertices.length / VERTEX_FLOATS;
       if (!colorByte) f32.set(d.vertices, v * VERTEX_FLOATS);
-      else
-        for (let k = 0; k < n; ++k) {
-          const src = k * VERTEX_FLOATS, dst = (v + k) * 6;
-          for (let c = 0; c < 5; ++c) f32[dst + c] = d.vertices[src + c];
-          for (let c = 0; c < 4; ++c) u8[(dst + 5) * 4 + c] = colorByte(d.vertices[src + 5 + c], c);
-        }
+      else packVertices(d.vertices, f32, u8, v, colorByte);
       for (let k = 0; k < d.indices.length; ++k) indices[i + k] = d.indices[k] + v;
       this.draws.push({ image: d.image, pass: d.pass, blend: d.blend, first: i, count: d.indices.length });
       v += n;
@@ -186,13 +207,7 @@ export class MeshRenderer {
       gl.bufferData(gl.ARRAY_BUFFER, u8, gl.STATIC_DRAW);
       gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.ibo); // VAO state
       gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, indices, gl.STATIC_DRAW);
-      gl.enableVertexAttribArray(0);
-      gl.vertexAttribPointer(0, 3, gl.FLOAT, false, stride, 0);
-      gl.enableVertexAttribArray(1);
-      gl.vertexAttribPointer(1, 2, gl.FLOAT, false, stride, 12);
-      gl.enableVertexAttribArray(2);
-      if (colorByte) gl.vertexAttribPointer(2, 4, gl.UNSIGNED_BYTE, true, stride, 20);
-      else gl.vertexAttribPointer(2, 4, gl.FLOAT, false, stride, 20);
+      setVertexLayout(gl, !!colorByte);
     } finally {
       this.#restore(saved);
     }
@@ -292,14 +307,7 @@ export class MeshRenderer {
     gl.bindVertexArray(this.frameVao);
     gl.bindBuffer(gl.ARRAY_BUFFER, this.frameVbo);
     if (this.frameBytes !== bytes) {
-      const stride = bytes ? 24 : VERTEX_FLOATS * 4;
-      gl.enableVertexAttribArray(0);
-      gl.vertexAttribPointer(0, 3, gl.FLOAT, false, stride, 0);
-      gl.enableVertexAttribArray(1);
-      gl.vertexAttribPointer(1, 2, gl.FLOAT, false, stride, 12);
-      gl.enableVertexAttribArray(2);
-      if (bytes) gl.vertexAttribPointer(2, 4, gl.UNSIGNED_BYTE, true, stride, 20);
-      else gl.vertexAttribPointer(2, 4, gl.FLOAT, false, stride, 20);
+      setVertexLayout(gl, bytes);
       this.frameBytes = bytes;
     }
     // Pixi quantises a sprite's tint and alpha to bytes (pixiColorByte):
@@ -313,12 +321,7 @@ export class MeshRenderer {
         this.frameStagingF32 = new Float32Array(this.frameStaging);
         this.frameStagingU8 = new Uint8Array(this.frameStaging);
       }
-      const src = frame.vertices, f32 = this.frameStagingF32, u8 = this.frameStagingU8;
-      for (let k = 0; k < n; ++k) {
-        const s = k * VERTEX_FLOATS, d = k * 6;
-        for (let c = 0; c < 5; ++c) f32[d + c] = src[s + c];
-        for (let c = 0; c < 4; ++c) u8[(d + 5) * 4 + c] = colorByte(src[s + 5 + c], c);
-      }
+      packVertices(frame.vertices, this.frameStagingF32, this.frameStagingU8, 0, colorByte);
       vertices = this.frameStagingU8.subarray(0, n * 24);
     }
     const cap = this.frameCapacity;
