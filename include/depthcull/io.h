@@ -308,16 +308,9 @@ std::string godot_polygon_scene(const AtlasFrame& frame, const std::vector<Polyg
 // writes and a game loads, in two forms (JSON and a compact little-endian
 // binary) holding the same content.
 
-// A run of a draw's vertices that shows an animated element: an engine
-// maps their u, v from frame 0's rect to the current frame's
-// (docs/mesh-format.md, "animated").
-struct AnimatedRun {
-    std::uint32_t draw = 0;
-    std::uint32_t first_vertex = 0;
-    std::uint32_t vertex_count = 0;
-    std::uint32_t animation = 0; // index into the animations
-    friend bool operator==(const AnimatedRun&, const AnimatedRun&) = default;
-};
+// A run of a draw's vertices that shows an animated element
+// (depthcull::AnimatedRun, scene.h), as the files' "animated" lists them.
+using AnimatedRun = depthcull::AnimatedRun;
 
 // Everything a meshes file holds, in either form: what meshes_document
 // makes from a scene and what the readers give back. Writing a document

@@ -462,4 +462,21 @@ SceneMeshes compose_frame(const SceneMeshes& static_meshes, const SceneMeshes& d
 // element_spans: as ReconstructOptions::element_spans.
 SceneMeshes overpaint_meshes(const Scene& scene, double coverage_margin = 0, bool element_spans = false);
 
+// A run of a draw's vertices that shows an animated element: an engine
+// maps their u, v from frame 0's rect to the current frame's
+// (docs/mesh-format.md, "animated").
+struct AnimatedRun {
+    std::uint32_t draw = 0;
+    std::uint32_t first_vertex = 0;
+    std::uint32_t vertex_count = 0;
+    std::uint32_t animation = 0; // index into the animations
+    friend bool operator==(const AnimatedRun&, const AnimatedRun&) = default;
+};
+
+// The animated runs of `meshes` (made with ReconstructOptions::element_spans)
+// over `scene`: adjacent spans of one element are one run; none without
+// animations. The meshes files' writers (io) and the wasm reconstruction
+// list these (src/scene/animation_frames.cpp).
+std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes);
+
 } // namespace depthcull

@@ -177,29 +177,14 @@ void json_document(Sink& sink, const MeshesDocument& document, const std::string
     s += "}\n";
 }
 
-// The animated runs of `meshes` (made with element spans) over `scene`:
-// adjacent spans of one element are one run.
-std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes) {
-    std::vector<AnimatedRun> runs;
-    if (scene.animations.empty()) return runs;
-    for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
-        const Draw& draw = meshes.draws[d];
-        if (draw.element_spans.empty() && draw.vertex_count() > 0)
-            throw Error("meshes of an animated scene need their element spans (ReconstructOptions::element_spans)");
-        const std::vector<ElementSpan>& spans = draw.element_spans;
-        for (std::size_t j = 0; j < spans.size();) {
-            // Adjacent spans of one element are one run.
-            std::size_t next = j + 1;
-            while (next < spans.size() && spans[next].element == spans[j].element) ++next;
-            const std::size_t first = spans[j].first_vertex, end = next < spans.size() ? spans[next].first_vertex : draw.vertex_count();
-            const std::uint32_t element = spans[j].element;
-            const int animation = element < scene.elements.size() ? scene.elements[element].animation : -1;
-            if (animation >= 0 && end > first)
-                runs.push_back({std::uint32_t(d), std::uint32_t(first), std::uint32_t(end - first), std::uint32_t(animation)});
-            j = next;
-        }
-    }
-    return runs;
+// The animated runs (depthcull::animated_runs), refused where an animated
+// scene's meshes lack the element spans they are read from.
+std::vector<AnimatedRun> checked_animated_runs(const Scene& scene, const SceneMeshes& meshes) {
+    if (!scene.animations.empty())
+        for (const Draw& draw : meshes.draws)
+            if (draw.element_spans.empty() && draw.vertex_count() > 0)
+                throw Error("meshes of an animated scene need their element spans (ReconstructOptions::element_spans)");
+    return animated_runs(scene, meshes);
 }
 
 } // namespace
@@ -208,7 +193,7 @@ MeshesDocument meshes_document(const Scene& scene, SceneMeshes meshes) {
     MeshesDocument document;
     document.images = scene.images;
     document.animations = scene.animations;
-    document.animated = animated_runs(scene, meshes);
+    document.animated = checked_animated_runs(scene, meshes);
     document.meshes = std::move(meshes);
     return document;
 }

@@ -1,4 +1,4 @@
-// One analysis for an animation's frames (Element::animation): the image it
+// Animations (Element::animation). One analysis for an animation's frames (Element::animation): the image it
 // runs on and how its polygons land on frame 0's rect. Shared by the
 // pipeline (through the cache) and the wasm reconstruction (no cache), so
 // both give the same polygons.
@@ -38,6 +38,26 @@ void place_animation_analysis(ImageAnalysis& a, const std::vector<ImageView>& im
     // The combined image has no neighbours: ask each frame's page.
     a.bleeding_edges = false;
     for (const AnimationFrame& f : animation.frames) a.bleeding_edges |= edges_bleed(images[std::size_t(f.image)], f.rect);
+}
+
+std::vector<AnimatedRun> animated_runs(const Scene& scene, const SceneMeshes& meshes) {
+    std::vector<AnimatedRun> runs;
+    if (scene.animations.empty()) return runs;
+    for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
+        const Draw& draw = meshes.draws[d];
+        const std::vector<ElementSpan>& spans = draw.element_spans;
+        for (std::size_t j = 0; j < spans.size();) {
+            std::size_t next = j + 1;
+            while (next < spans.size() && spans[next].element == spans[j].element) ++next;
+            const std::size_t first = spans[j].first_vertex, end = next < spans.size() ? spans[next].first_vertex : draw.vertex_count();
+            const std::uint32_t element = spans[j].element;
+            const int animation = element < scene.elements.size() ? scene.elements[element].animation : -1;
+            if (animation >= 0 && end > first)
+                runs.push_back({std::uint32_t(d), std::uint32_t(first), std::uint32_t(end - first), std::uint32_t(animation)});
+            j = next;
+        }
+    }
+    return runs;
 }
 
 } // namespace depthcull

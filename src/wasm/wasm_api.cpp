@@ -242,27 +242,13 @@ void append_meshes(const SceneMeshes& m) {
     }
 }
 
-// The animated runs of `meshes` (io::animated_runs: the meshes files'
-// "animated"): per draw, runs of vertices of one animated element, as
-// draw, first vertex, vertex count, animation.
+// The animated runs of `meshes` (the meshes files' "animated"): their
+// count, then per run draw, first vertex, vertex count, animation.
 void append_animated_runs(const Scene& scene, const SceneMeshes& meshes) {
-    std::vector<double> runs;
-    for (std::size_t d = 0; d < meshes.draws.size(); ++d) {
-        const Draw& draw = meshes.draws[d];
-        const std::vector<ElementSpan>& spans = draw.element_spans;
-        for (std::size_t j = 0; j < spans.size();) {
-            std::size_t next = j + 1; // adjacent spans of one element are one run
-            while (next < spans.size() && spans[next].element == spans[j].element) ++next;
-            const std::size_t first = spans[j].first_vertex, end = next < spans.size() ? spans[next].first_vertex : draw.vertex_count();
-            const std::uint32_t element = spans[j].element;
-            const int animation = element < scene.elements.size() ? scene.elements[element].animation : -1;
-            if (animation >= 0 && end > first)
-                for (double v : {double(d), double(first), double(end - first), double(animation)}) runs.push_back(v);
-            j = next;
-        }
-    }
-    g_result.push_back(double(runs.size() / 4));
-    g_result.insert(g_result.end(), runs.begin(), runs.end());
+    const std::vector<AnimatedRun> runs = animated_runs(scene, meshes);
+    g_result.push_back(double(runs.size()));
+    for (const AnimatedRun& r : runs)
+        for (std::uint32_t v : {r.draw, r.first_vertex, r.vertex_count, r.animation}) g_result.push_back(double(v));
 }
 
 // pipeline::analyze_animation without the cache (the same two core steps).
