@@ -73,9 +73,7 @@ void run_sprite_bench(const SpriteBenchArgs& args) {
     }
     RunOutputs outputs(args.scenes);
     outputs.add(args.output);
-    std::string error;
-    auto host = render::GlHost::create({input.platform}, render::GlApi::desktop, &error);
-    if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
+    auto host = open_host(input.platform);
     std::string text;
     nlohmann::json scenes = nlohmann::json::array();
     Progress progress("bench", "scenes", args.scenes.size(), args.quiet);

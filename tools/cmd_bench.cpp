@@ -392,9 +392,7 @@ void run_bench(BenchArgs& args) {
         renderer = open_renderer(args.input);
         description = renderer->description();
     } else {
-        std::string error;
-        host = render::GlHost::create({args.input.platform}, render::GlApi::desktop, &error);
-        if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
+        host = open_host(args.input.platform);
         description = host->description();
     }
     const char* command = args.report_only ? "report" : "bench";

@@ -15,6 +15,7 @@
 
 #if defined(DEPTHCULL_HAVE_RENDER) && defined(DEPTHCULL_HAVE_RUNTIME)
 #include "calibrate.h"
+#include "render_common.h"
 #endif
 
 #if defined(DEPTHCULL_HAVE_RENDER) && defined(DEPTHCULL_HAVE_RUNTIME)
@@ -233,9 +234,7 @@ namespace {
 void run_calibrate(const CalibrateArgs& args) {
     if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
     else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
-    std::string error;
-    auto host = render::GlHost::create({args.platform}, render::GlApi::desktop, &error);
-    if (!host) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
+    auto host = open_host(args.platform);
     CostProfile wall;
     CostProfile p = measure_profile(*host, args.quick, args.quiet, &wall);
     if (!args.name.empty()) p.name = args.name;

@@ -54,11 +54,27 @@ std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared) {
     return prepared.views();
 }
 
+namespace {
+// What the CLI adds to render::NoContext's one line.
+CliError no_context(const render::NoContext& e) {
+    return CliError(std::string(e.what()) + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
+}
+} // namespace
+
 std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& in) {
-    std::string error;
-    auto renderer = render::GlRenderer::create({in.platform}, &error);
-    if (!renderer) throw CliError(error + " (headless rendering needs Mesa's EGL: apt-get install libegl-mesa0 libgl1-mesa-dri)");
-    return renderer;
+    try {
+        return render::GlRenderer::create({in.platform});
+    } catch (const render::NoContext& e) {
+        throw no_context(e);
+    }
+}
+
+std::unique_ptr<render::GlHost> open_host(render::GlPlatform platform) {
+    try {
+        return render::GlHost::create({platform}, render::GlApi::desktop);
+    } catch (const render::NoContext& e) {
+        throw no_context(e);
+    }
 }
 
 double covered_share(const OverdrawMap& ideal) {

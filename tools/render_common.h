@@ -38,8 +38,11 @@ pipeline::OptimizeResult optimize_for_render(const std::string& path, const Rend
                                              const std::function<void(const char*)>& stage = {});
 std::vector<ImageView> image_views(const pipeline::PreparedScene& prepared);
 
-// Throws CliError("no OpenGL context: ...") when none can be made.
+// Throws CliError("no OpenGL context: ... (headless rendering needs
+// Mesa's EGL: ...)") when none can be made; other render::Errors pass.
 std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& input);
+// The same for a desktop GL host of depthcull::runtime.
+std::unique_ptr<render::GlHost> open_host(render::GlPlatform platform);
 
 } // namespace depthcull::cli
 

@@ -20,11 +20,13 @@ CostProfile resolve_cli_target(const std::string& target, bool quiet) {
     // llvmpipe reads LP_NUM_THREADS when the context is made: pinned as
     // bench and calibrate pin it, so the renderer measured is the one drawn.
     if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
-    std::string error;
-    auto host = render::GlHost::create({}, render::GlApi::desktop, &error);
-    if (!host)
-        throw CliError("--target auto: no OpenGL renderer found (" + error +
+    std::unique_ptr<render::GlHost> host;
+    try {
+        host = render::GlHost::create({}, render::GlApi::desktop);
+    } catch (const render::NoContext& e) {
+        throw CliError("--target auto: no OpenGL renderer found (" + std::string(e.what()) +
                        "): give --target llvmpipe, ipad1 or a profile file from `depthcull calibrate`");
+    }
     const std::string renderer = host->description();
     const pipeline::AutoProfile found = pipeline::auto_profile(
         renderer, pipeline::default_profile_cache_dir(),

@@ -31,6 +31,14 @@ struct Error : depthcull::Error {
     using depthcull::Error::Error;
 };
 
+// No OpenGL context can be made ("no OpenGL context: ...": no Mesa/EGL
+// driver installed, none on the platform asked for, or a GL without the
+// functions we need). Callers skip (tests) or exit (the CLI, with a hint
+// to install Mesa) on this one; any other render::Error is a bug to report.
+struct NoContext : Error {
+    using Error::Error;
+};
+
 // ---- Comparing frames
 
 struct ImageDiff {
@@ -86,11 +94,10 @@ struct FrameCounts {
 // one thread are fine (each makes its context current before GL calls).
 class GlRenderer {
 public:
-    // nullptr and *error set when no context can be made ("no OpenGL
-    // context: ...", e.g. no Mesa/EGL driver installed; callers skip or
-    // exit on this) or the shaders do not build ("no usable OpenGL: ...",
-    // a bug to report, not to skip).
-    static std::unique_ptr<GlRenderer> create(const GlOptions& options, std::string* error);
+    // Never null. Throws NoContext when no context can be made, Error when
+    // the shaders do not build ("no usable OpenGL: ...", a bug to report,
+    // not to skip).
+    static std::unique_ptr<GlRenderer> create(const GlOptions& options);
     ~GlRenderer();
     GlRenderer(const GlRenderer&) = delete;
     GlRenderer& operator=(const GlRenderer&) = delete;
@@ -154,8 +161,9 @@ enum class GlApi {
 // calibration; examples/runtime_frame.cpp shows the same in plain EGL.
 class GlHost {
 public:
-    // nullptr and *error set ("no OpenGL context: ...") when none can be made.
-    static std::unique_ptr<GlHost> create(const GlOptions& options, GlApi api, std::string* error);
+    // Never null. Throws NoContext ("no OpenGL context: ...") when none can
+    // be made.
+    static std::unique_ptr<GlHost> create(const GlOptions& options, GlApi api);
     ~GlHost();
     GlHost(const GlHost&) = delete;
     GlHost& operator=(const GlHost&) = delete;

@@ -36,7 +36,7 @@ struct GlHost::Impl {
 GlHost::GlHost(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 GlHost::~GlHost() = default;
 
-std::unique_ptr<GlHost> GlHost::create(const GlOptions& options, GlApi api, std::string* error) {
+std::unique_ptr<GlHost> GlHost::create(const GlOptions& options, GlApi api) {
     auto impl = std::make_unique<Impl>();
     impl->context.gles = api == GlApi::gles;
     std::string why = create_gl_context(options.platform, &impl->context);
@@ -44,10 +44,7 @@ std::unique_ptr<GlHost> GlHost::create(const GlOptions& options, GlApi api, std:
         std::string missing = impl->gl.load(&GlHost::get_proc_address, true);
         if (!missing.empty()) why = impl->context.platform + ": GL lacks " + missing;
     }
-    if (!why.empty()) {
-        if (error) *error = "no OpenGL context: " + why;
-        return nullptr;
-    }
+    if (!why.empty()) throw NoContext("no OpenGL context: " + why);
     auto text = [&](GLenum name) { return runtime::gl_text(impl->gl, name); };
     const std::string renderer = text(GL_RENDERER);
     impl->description = renderer + ", " + (api == GlApi::gles ? "" : "OpenGL ") + text(GL_VERSION) + ", " + impl->context.platform;

@@ -239,22 +239,17 @@ struct GlRenderer::Impl {
 GlRenderer::GlRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 GlRenderer::~GlRenderer() = default;
 
-std::unique_ptr<GlRenderer> GlRenderer::create(const GlOptions& options, std::string* error) {
+std::unique_ptr<GlRenderer> GlRenderer::create(const GlOptions& options) {
     auto impl = std::make_unique<Impl>();
-    impl->host = GlHost::create(options, GlApi::desktop, error); // "no OpenGL context: ..." when it fails
-    if (!impl->host) return nullptr;
+    impl->host = GlHost::create(options, GlApi::desktop); // NoContext when it fails
     runtime::GlFunctions& gl = impl->gl;
     std::string missing = gl.load(&GlHost::get_proc_address, true);
     if (missing.empty() && !gl.GetQueryObjectui64v) missing = "glGetQueryObjectui64v"; // draw_counted's
     if (!missing.empty()) {
         gl.DeleteProgram = nullptr; // nothing was created
-        if (error) *error = "no OpenGL context: " + impl->host->description() + ": GL lacks " + missing;
-        return nullptr;
+        throw NoContext("no OpenGL context: " + impl->host->description() + ": GL lacks " + missing);
     }
-    if (std::string why = impl->build_programs(); !why.empty()) {
-        if (error) *error = "no usable OpenGL: " + why;
-        return nullptr;
-    }
+    if (std::string why = impl->build_programs(); !why.empty()) throw Error("no usable OpenGL: " + why);
     gl.GenQueries(1, &impl->query);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
     gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);

@@ -25,8 +25,14 @@ Image sprite() {
 
 struct Host {
     std::unique_ptr<render::GlHost> host;
-    std::string why;
-    Host() { host = render::GlHost::create({}, render::GlApi::desktop, &why); }
+    std::string why; // render::NoContext's, when there is no host
+    Host() {
+        try {
+            host = render::GlHost::create({}, render::GlApi::desktop);
+        } catch (const render::NoContext& e) {
+            why = e.what();
+        }
+    }
 };
 
 // The host's loader as C sees it.
@@ -34,10 +40,7 @@ dc_gl_function gl_function(const char* name) { return reinterpret_cast<dc_gl_fun
 
 #define NEED_HOST(h)                                                                   \
     Host h;                                                                            \
-    if (!h.host) {                                                                     \
-        if (h.why.rfind("no OpenGL context", 0) == 0) GTEST_SKIP() << h.why;           \
-        FAIL() << h.why;                                                               \
-    }
+    if (!h.host) GTEST_SKIP() << h.why
 
 TEST(CApiRuntime, DrawsWhatTheCppRuntimeDraws) {
     NEED_HOST(h);

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <random>
 
 #include "depthcull/overdraw.h"
@@ -13,17 +15,32 @@
 namespace depthcull {
 namespace {
 
-render::GlRenderer* shared_renderer(std::string* why) {
+// null with *why set when there is no renderer; *no_context when no GL
+// context exists at all (skip rather than fail).
+render::GlRenderer* shared_renderer(std::string* why, bool* no_context) {
     static std::string error;
-    static std::unique_ptr<render::GlRenderer> renderer = render::GlRenderer::create({}, &error);
+    static bool none = false;
+    static std::unique_ptr<render::GlRenderer> renderer = [] {
+        try {
+            return render::GlRenderer::create({});
+        } catch (const render::NoContext& e) {
+            error = e.what();
+            none = true;
+        } catch (const render::Error& e) {
+            error = e.what();
+        }
+        return std::unique_ptr<render::GlRenderer>();
+    }();
     *why = error;
+    *no_context = none;
     return renderer.get();
 }
 
 #define REQUIRE_GL(r)                                                                                                      \
     std::string why_no_gl;                                                                                                 \
-    render::GlRenderer* r = shared_renderer(&why_no_gl);                                                                   \
-    if (!r && why_no_gl.rfind("no OpenGL context", 0) == 0) GTEST_SKIP() << why_no_gl;                                   \
+    bool no_gl_context = false;                                                                                            \
+    render::GlRenderer* r = shared_renderer(&why_no_gl, &no_gl_context);                                                   \
+    if (!r && no_gl_context) GTEST_SKIP() << why_no_gl;                                                                    \
     if (!r) FAIL() << why_no_gl
 
 // maps: element_maps of the scene the meshes' element spans name.
@@ -237,10 +254,11 @@ TEST(GlRender, EglPlatformsDrawTheSameFrame) {
     auto rs = test::mixed_scene();
     std::vector<Image> frames;
     for (auto platform : {render::GlPlatform::surfaceless, render::GlPlatform::device}) {
-        std::string error;
-        auto r = render::GlRenderer::create({platform}, &error);
-        if (!r) {
-            std::printf("skipping one platform: %s\n", error.c_str());
+        std::unique_ptr<render::GlRenderer> r;
+        try {
+            r = render::GlRenderer::create({platform});
+        } catch (const render::NoContext& e) {
+            std::printf("skipping one platform: %s\n", e.what());
             continue;
         }
         r->set_images(rs.views(), Filter::nearest);
@@ -250,6 +268,56 @@ TEST(GlRender, EglPlatformsDrawTheSameFrame) {
     shared->set_images(rs.views(), Filter::nearest);
     const Image reference = draw(*shared, overpaint_meshes(rs.scene, 0, true), nullptr, element_maps(rs.scene));
     for (const Image& f : frames) EXPECT_EQ(f.rgba, reference.rgba);
+}
+
+} // namespace
+} // namespace depthcull
+
+namespace depthcull {
+namespace {
+
+// glvnd's libEGL reads __EGL_VENDOR_LIBRARY_FILENAMES once, at the first EGL
+// call; a path with no vendor file leaves EGL without a driver, so no
+// platform has a context on any machine. The "threadsafe" death test runs
+// the statement in this program started afresh (with the variable set), as
+// other tests here have loaded the driver already. The child prints the
+// message in brackets and exits 0 when it is NoContext's one line.
+constexpr const char* kNoVendor = "/nonexistent/depthcull_no_egl_vendor.json";
+
+[[noreturn]] void exit_with(const render::NoContext& e) {
+    std::fprintf(stderr, "[%s]\n", e.what());
+    std::_Exit(std::strchr(e.what(), '\n') ? 3 : 0);
+}
+
+TEST(GlRenderDeathTest, NoContextIsThrownNotNull) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const char* before = std::getenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+    const std::string saved = before ? before : "";
+    ::setenv("__EGL_VENDOR_LIBRARY_FILENAMES", kNoVendor, 1);
+    EXPECT_EXIT(
+        {
+            try {
+                auto host = render::GlHost::create({render::GlPlatform::device}, render::GlApi::desktop);
+                std::fprintf(stderr, "a host: %s\n", host ? host->description().c_str() : "null");
+            } catch (const render::NoContext& e) {
+                exit_with(e);
+            }
+            std::_Exit(2);
+        },
+        ::testing::ExitedWithCode(0), "\\[no OpenGL context: EGL device: [^]]*\\]");
+    EXPECT_EXIT(
+        {
+            try {
+                auto renderer = render::GlRenderer::create({});
+                std::fprintf(stderr, "a renderer: %s\n", renderer ? renderer->description().c_str() : "null");
+            } catch (const render::NoContext& e) {
+                exit_with(e);
+            }
+            std::_Exit(2);
+        },
+        ::testing::ExitedWithCode(0), "\\[no OpenGL context: [^]]*\\]");
+    if (before) ::setenv("__EGL_VENDOR_LIBRARY_FILENAMES", saved.c_str(), 1);
+    else ::unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
 }
 
 } // namespace
