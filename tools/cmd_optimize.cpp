@@ -82,7 +82,8 @@ std::string figures(const pipeline::PreparedScene& p, const SceneStats& o, const
     return buf;
 }
 
-void run_optimize(OptimizeArgs& args) {
+// Step 1: what pipeline::optimize is asked for.
+pipeline::OptimizeOptions options_from_args(const OptimizeArgs& args) {
     pipeline::OptimizeOptions o;
     o.prepare = args.prepare;
     // No opaque pass: skip the opaque search rather than compute and drop it.
@@ -95,30 +96,45 @@ void run_optimize(OptimizeArgs& args) {
     // Depth ranges for moving sprites at the scene's insertion points
     // (object layers, the scene JSON's, --insert-at), written into the files.
     o.insertion_levels = args.insertion_levels >= 0 ? args.insertion_levels : args.prepare.load.insert_at.empty() ? 0 : 1024;
-    // Checked before the analysis, staged and committed together at the end:
-    // a failure writes neither file.
-    const bool hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();
-    const bool json = !hold_back && (!args.output.empty() || args.binary.empty());
-    const std::string json_path = args.output.empty() ? "-" : args.output;
-    RunOutputs outputs({args.scene});
-    if (json) outputs.add(json_path);
-    outputs.add(args.binary);
-    pipeline::OptimizeResult result;
-    {
-        Progress progress("optimize", "images analyzed", 0, args.quiet);
-        o.prepare.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
-        result = pipeline::optimize(args.scene, o);
-    }
-    const pipeline::PreparedScene& prepared = result.prepared;
-    const SceneMeshes& meshes = result.meshes; // moved into the files' document below
-    const ReconstructOptions& options = result.reconstruct;
-    outputs.add_inputs(scene_inputs(args.scene, prepared.scene));
+    return o;
+}
 
+// Where the meshes go: the JSON (to json_path, "-" for stdout), held back
+// (no -o on a terminal), and/or the binary form.
+struct MeshOutputs {
+    bool hold_back = false;
+    bool json = false;
+    std::string json_path;
+};
+
+// Step 2: the outputs, checked before the analysis, staged and committed
+// together at the end: a failure writes neither file.
+MeshOutputs declare_outputs(const OptimizeArgs& args, RunOutputs& outputs) {
+    MeshOutputs where;
+    where.hold_back = args.output.empty() && args.binary.empty() && stdout_is_terminal();
+    where.json = !where.hold_back && (!args.output.empty() || args.binary.empty());
+    where.json_path = args.output.empty() ? "-" : args.output;
+    if (where.json) outputs.add(where.json_path);
+    outputs.add(args.binary);
+    return where;
+}
+
+// Step 3: the pipeline, with the images analyzed as progress.
+pipeline::OptimizeResult optimize_with_progress(const OptimizeArgs& args, pipeline::OptimizeOptions o) {
+    Progress progress("optimize", "images analyzed", 0, args.quiet);
+    o.prepare.progress = [&progress](std::size_t done, std::size_t total) { progress.set(done, total); };
+    return pipeline::optimize(args.scene, o);
+}
+
+// Step 4: warnings about the run, and the reconstruction's status as an error.
+void check_reconstruction(const OptimizeArgs& args, std::int64_t insertion_levels, const pipeline::OptimizeResult& result) {
+    const pipeline::PreparedScene& prepared = result.prepared;
+    const ReconstructOptions& options = result.reconstruct;
     if (args.reconstruct.sort == SortMethod::paper && prepared.scene.elements.size() > kPaperSortMaxElements)
         std::fprintf(stderr, "depthcull: warning: --sort paper is quadratic (paper 2.3.1); %zu elements may take long\n",
                      prepared.scene.elements.size());
     if (result.plan && !args.quiet) std::fprintf(stderr, "depthcull: %s\n", pipeline::target_summary(args.scene, *result.plan).c_str());
-    if (o.insertion_levels > 0 && options.insertion_points.empty())
+    if (insertion_levels > 0 && options.insertion_points.empty())
         std::fprintf(stderr, "depthcull: warning: %s: --insertion-levels: the scene has no insertion point (no object layer, no "
                              "\"insertion_points\", no --insert-at); the meshes reserve none\n", args.scene.c_str());
     switch (result.status) {
@@ -128,35 +144,35 @@ void run_optimize(OptimizeArgs& args) {
         throw CliError(args.scene + ": more than " + std::to_string(kMaxDepthLevels) + " depth levels (overlap chains" +
                        (options.insertion_points.empty() ? "" : " and the insertion points' levels") + " too long for a 24-bit depth buffer)");
     }
-    if (meshes.stats.depth_bits > 16)
+    if (result.meshes.stats.depth_bits > 16)
         std::fprintf(stderr, "depthcull: warning: %s: %" PRId64 " depth levels need a 24-bit depth buffer (16-bit holds %" PRId64 ")\n",
-                     args.scene.c_str(), meshes.stats.depth_levels, kMaxDepthLevels16);
+                     args.scene.c_str(), result.meshes.stats.depth_levels, kMaxDepthLevels16);
+}
 
-    // The analysis figure counts the target's extra budgets too.
-    const StageSeconds seconds{result.seconds.analysis + result.seconds.planning, result.seconds.reconstruction};
-    // The files' document; stats.seconds is the reconstruction's wall time,
-    // measured by the pipeline at its edge, or 0 (--no-timing): the writers
-    // read no clock.
-    io::MeshesDocument document = io::meshes_document(prepared.scene, std::move(result.meshes));
-    if (args.timing) document.seconds = seconds.reconstruction;
+// Step 5: the files, staged and committed together.
+void write_meshes(const OptimizeArgs& args, const MeshOutputs& where, RunOutputs& outputs, const io::MeshesDocument& document) {
     if (!args.binary.empty())
         outputs.stage(args.binary, [&](const io::WriteBytes& write) { io::stream_meshes_binary(write, document, args.binary); });
     // No -o on a terminal: 100 KB of JSON on the screen helps nobody; say
     // where it goes instead (-o - still prints it; a pipe gets it as before).
-    if (hold_back) {
+    if (where.hold_back) {
         std::size_t bytes = 0; // counted as it is made, not built
         io::stream_meshes_json([&bytes](std::string_view piece) { bytes += piece.size(); }, document, "");
         std::fprintf(stderr,
                      "depthcull: optimize: the meshes JSON (%zu KB) is not printed on a terminal: give -o MESHES.json and/or "
                      "--binary MESHES.bin to write it, -o - to print it, or pipe stdout\n",
                      (bytes + 1023) / 1024);
-    } else if (json) {
+    } else if (where.json) {
         // Streamed: a large scene's meshes JSON is never one string.
         const std::string path = args.output == "-" ? std::string() : args.output;
-        outputs.stage(json_path, [&](const io::WriteBytes& write) { io::stream_meshes_json(write, document, path); });
+        outputs.stage(where.json_path, [&](const io::WriteBytes& write) { io::stream_meshes_json(write, document, path); });
     }
     outputs.commit();
+}
 
+// Step 6: before and after, as --stats' table or one line.
+void print_figures(const OptimizeArgs& args, const MeshOutputs& where, const pipeline::PreparedScene& prepared,
+                   const ReconstructOptions& options, const SceneMeshes& meshes, const StageSeconds& seconds) {
     // Counted, not built: the other columns' meshes are never drawn here.
     const SceneStats overpaint = overpaint_stats(prepared.scene);
     SceneStats rects;
@@ -167,15 +183,34 @@ void run_optimize(OptimizeArgs& args) {
         const Viewport& vp = prepared.scene.viewport;
         const bool overdraw = vp.width > 0 && vp.height > 0 && vp.width <= kMaxImageSide && vp.height <= kMaxImageSide;
         OverdrawFigures od;
-        if (overdraw) od = overdraw_figures(prepared, document.meshes);
-        const std::string text = figures(prepared, overpaint, rects, document.meshes.stats, overdraw ? &od : nullptr, seconds);
-        bool json_on_stdout = !hold_back && args.binary.empty() && (args.output.empty() || args.output == "-");
+        if (overdraw) od = overdraw_figures(prepared, meshes);
+        const std::string text = figures(prepared, overpaint, rects, meshes.stats, overdraw ? &od : nullptr, seconds);
+        bool json_on_stdout = !where.hold_back && args.binary.empty() && (args.output.empty() || args.output == "-");
         std::fputs(text.c_str(), json_on_stdout ? stderr : stdout);
     } else if (!args.quiet) {
         std::fprintf(stderr, "depthcull: %s: draw calls %" PRId64 " -> %" PRId64 ", triangles %" PRId64 " -> %" PRId64 ", depth levels %" PRId64 "\n",
-                     args.scene.c_str(), overpaint.draw_calls, document.meshes.stats.draw_calls, overpaint.triangles,
-                     document.meshes.stats.triangles, document.meshes.stats.depth_levels);
+                     args.scene.c_str(), overpaint.draw_calls, meshes.stats.draw_calls, overpaint.triangles,
+                     meshes.stats.triangles, meshes.stats.depth_levels);
     }
+}
+
+void run_optimize(OptimizeArgs& args) {
+    const pipeline::OptimizeOptions o = options_from_args(args);
+    RunOutputs outputs({args.scene});
+    const MeshOutputs where = declare_outputs(args, outputs);
+    pipeline::OptimizeResult result = optimize_with_progress(args, o);
+    outputs.add_inputs(scene_inputs(args.scene, result.prepared.scene));
+    check_reconstruction(args, o.insertion_levels, result);
+
+    // The analysis figure counts the target's extra budgets too.
+    const StageSeconds seconds{result.seconds.analysis + result.seconds.planning, result.seconds.reconstruction};
+    // The files' document; stats.seconds is the reconstruction's wall time,
+    // measured by the pipeline at its edge, or 0 (--no-timing): the writers
+    // read no clock.
+    io::MeshesDocument document = io::meshes_document(result.prepared.scene, std::move(result.meshes));
+    if (args.timing) document.seconds = seconds.reconstruction;
+    write_meshes(args, where, outputs, document);
+    print_figures(args, where, result.prepared, result.reconstruct, document.meshes, seconds);
 }
 
 } // namespace
