@@ -138,75 +138,93 @@ CostProfile solve(const std::vector<Timing>& t, bool cpu, int w, int h, int n_dr
     return p;
 }
 
-} // namespace
+// The microbenchmarks' sizes: --quick's take seconds, the full ones about
+// a minute.
+struct Sizes {
+    int w = 0, h = 0;
+    int frames = 0;
+    int n_draws = 0, n_tris = 0, n_slivers = 0;
+    int layers = 0;
+    double sliver_len = 0, sliver_width = 1.0 / 16;
+};
 
-CostProfile measure_profile(render::GlHost& host, bool quick, bool quiet, CostProfile* wall) {
-    const int w = quick ? 256 : 1024, h = quick ? 192 : 768;
-    const int frames = quick ? 3 : 41;
-    const int n_draws = quick ? 200 : 4000, n_tris = quick ? 2000 : 40000, n_slivers = quick ? 200 : 4000;
-    const int layers = quick ? 2 : 8;
-    const double sliver_len = quick ? 128 : 512, sliver_width = 1.0 / 16;
-    Bench bench(host, frames);
+Sizes sizes(bool quick) {
+    Sizes s;
+    s.w = quick ? 256 : 1024;
+    s.h = quick ? 192 : 768;
+    s.frames = quick ? 3 : 41;
+    s.n_draws = quick ? 200 : 4000;
+    s.n_tris = quick ? 2000 : 40000;
+    s.n_slivers = quick ? 200 : 4000;
+    s.layers = quick ? 2 : 8;
+    s.sliver_len = quick ? 128 : 512;
+    return s;
+}
 
-    std::vector<SceneMeshes> cases;
+// Step 1: the empty frames and the vertex-side cases (draw calls,
+// triangles, slivers, texture switches), in solve's order.
+void add_vertex_cases(const Sizes& z, std::vector<SceneMeshes>& cases) {
+    const int w = z.w, h = z.h;
     cases.push_back(frame(w, h, false));         // empty
     cases.push_back(frame(w / 2, h / 2, false)); // empty, a quarter of the pixels
     cases.push_back(frame(w, h, true));          // empty with the depth clear
-    {
-        SceneMeshes m = frame(w, h, false); // draw calls: one one-pixel triangle each, one texture
-        for (int i = 0; i < n_draws; ++i) {
-            m.draws.push_back(draw(0, Pass::blend));
-            const double x = i % (w - 2), y = (i / (w - 2)) % (h - 2);
-            add_triangle(m.draws.back(), x, y, x + 1, y, x, y + 1, 0);
-        }
-        cases.push_back(m);
-        SceneMeshes t = frame(w, h, false); // triangles: one-pixel ones in one draw
-        t.draws.push_back(draw(0, Pass::blend));
-        for (int i = 0; i < n_tris; ++i) {
-            const double x = i % (w - 2), y = (i / (w - 2)) % (h - 2);
-            add_triangle(t.draws.back(), x, y, x + 1, y, x, y + 1, 0);
-        }
-        cases.push_back(t);
-        SceneMeshes s = frame(w, h, false); // slivers: long perimeter, few fragments
-        s.draws.push_back(draw(0, Pass::blend));
-        for (int i = 0; i < n_slivers; ++i) {
-            const double y = 1 + (i % (h - 2)), x = (i / (h - 2)) % 8;
-            add_triangle(s.draws.back(), x, y, x + sliver_len, y + 0.5, x, y + sliver_width, 0);
-        }
-        cases.push_back(s);
-        SceneMeshes sw = m; // texture switches: the same draws alternating textures
-        for (std::size_t i = 0; i < sw.draws.size(); ++i) sw.draws[i].image = int(i % 2);
-        cases.push_back(sw);
+    SceneMeshes m = frame(w, h, false); // draw calls: one one-pixel triangle each, one texture
+    for (int i = 0; i < z.n_draws; ++i) {
+        m.draws.push_back(draw(0, Pass::blend));
+        const double x = i % (w - 2), y = (i / (w - 2)) % (h - 2);
+        add_triangle(m.draws.back(), x, y, x + 1, y, x, y + 1, 0);
     }
-    {
-        SceneMeshes b = frame(w, h, false); // blended fragments
-        for (int k = 0; k < layers; ++k) {
-            b.draws.push_back(draw(0, Pass::blend));
-            add_quad(b.draws.back(), 0, 0, w, h, 0);
-        }
-        cases.push_back(b);
-        SceneMeshes o = frame(w, h, true); // opaque-pass fragments, each layer nearer: all written
-        for (int k = 0; k < layers; ++k) {
-            o.draws.push_back(draw(0, Pass::opaque));
-            add_quad(o.draws.back(), 0, 0, w, h, float(k + 1) / float(layers + 2));
-        }
-        cases.push_back(o);
-        SceneMeshes r = frame(w, h, true); // one opaque layer in front, blend layers rejected behind it
-        r.draws.push_back(draw(0, Pass::opaque));
-        add_quad(r.draws.back(), 0, 0, w, h, 0.9f);
-        for (int k = 0; k < layers; ++k) {
-            r.draws.push_back(draw(0, Pass::blend));
-            add_quad(r.draws.back(), 0, 0, w, h, 0.1f);
-        }
-        cases.push_back(r);
+    cases.push_back(m);
+    SceneMeshes t = frame(w, h, false); // triangles: one-pixel ones in one draw
+    t.draws.push_back(draw(0, Pass::blend));
+    for (int i = 0; i < z.n_tris; ++i) {
+        const double x = i % (w - 2), y = (i / (w - 2)) % (h - 2);
+        add_triangle(t.draws.back(), x, y, x + 1, y, x, y + 1, 0);
     }
-    // Sliver fragments: rows crossed where the sliver is at least a pixel centre wide (about half its length).
-    const double sliver_frags = sliver_len * sliver_width; // area of the sliver; 0.5 px tall over its length
+    cases.push_back(t);
+    SceneMeshes s = frame(w, h, false); // slivers: long perimeter, few fragments
+    s.draws.push_back(draw(0, Pass::blend));
+    for (int i = 0; i < z.n_slivers; ++i) {
+        const double y = 1 + (i % (h - 2)), x = (i / (h - 2)) % 8;
+        add_triangle(s.draws.back(), x, y, x + z.sliver_len, y + 0.5, x, y + z.sliver_width, 0);
+    }
+    cases.push_back(s);
+    SceneMeshes sw = m; // texture switches: the same draws alternating textures
+    for (std::size_t i = 0; i < sw.draws.size(); ++i) sw.draws[i].image = int(i % 2);
+    cases.push_back(sw);
+}
+
+// Step 2: the fragment-side cases (blended, opaque, rejected), after them.
+void add_fragment_cases(const Sizes& z, std::vector<SceneMeshes>& cases) {
+    const int w = z.w, h = z.h, layers = z.layers;
+    SceneMeshes b = frame(w, h, false); // blended fragments
+    for (int k = 0; k < layers; ++k) {
+        b.draws.push_back(draw(0, Pass::blend));
+        add_quad(b.draws.back(), 0, 0, w, h, 0);
+    }
+    cases.push_back(b);
+    SceneMeshes o = frame(w, h, true); // opaque-pass fragments, each layer nearer: all written
+    for (int k = 0; k < layers; ++k) {
+        o.draws.push_back(draw(0, Pass::opaque));
+        add_quad(o.draws.back(), 0, 0, w, h, float(k + 1) / float(layers + 2));
+    }
+    cases.push_back(o);
+    SceneMeshes r = frame(w, h, true); // one opaque layer in front, blend layers rejected behind it
+    r.draws.push_back(draw(0, Pass::opaque));
+    add_quad(r.draws.back(), 0, 0, w, h, 0.9f);
+    for (int k = 0; k < layers; ++k) {
+        r.draws.push_back(draw(0, Pass::blend));
+        add_quad(r.draws.back(), 0, 0, w, h, 0.1f);
+    }
+    cases.push_back(r);
+}
+
+// Step 3: each case's median frame time.
+std::vector<Timing> time_cases(Bench& bench, const std::vector<SceneMeshes>& cases, bool quick, bool quiet) {
     Progress progress("calibrate", "microbenchmarks", cases.size(), quiet);
     std::vector<Timing> t;
     // Two rounds, taking each case's lower median: a shared machine's load
     // falls on whichever case it hits.
-    std::vector<Timing> second;
     for (const SceneMeshes& m : cases) {
         t.push_back(bench.time(m));
         progress.add();
@@ -218,12 +236,31 @@ CostProfile measure_profile(render::GlHost& host, bool quick, bool quiet, CostPr
             t[i].wall_ms = std::min(t[i].wall_ms, again.wall_ms);
         }
     progress.finish();
-    CostProfile p = solve(t, true, w, h, n_draws, n_tris, n_slivers, sliver_len, sliver_frags, layers);
-    if (wall) *wall = solve(t, false, w, h, n_draws, n_tris, n_slivers, sliver_len, sliver_frags, layers);
+    return t;
+}
+
+// Step 4: the terms for one clock.
+CostProfile solve(const std::vector<Timing>& t, bool cpu, const Sizes& z) {
+    // Sliver fragments: rows crossed where the sliver is at least a pixel centre wide (about half its length).
+    const double sliver_frags = z.sliver_len * z.sliver_width; // area of the sliver; 0.5 px tall over its length
+    return solve(t, cpu, z.w, z.h, z.n_draws, z.n_tris, z.n_slivers, z.sliver_len, sliver_frags, z.layers);
+}
+
+} // namespace
+
+CostProfile measure_profile(render::GlHost& host, bool quick, bool quiet, CostProfile* wall) {
+    const Sizes z = sizes(quick);
+    Bench bench(host, z.frames);
+    std::vector<SceneMeshes> cases;
+    add_vertex_cases(z, cases);
+    add_fragment_cases(z, cases);
+    const std::vector<Timing> t = time_cases(bench, cases, quick, quiet);
+    CostProfile p = solve(t, true, z);
+    if (wall) *wall = solve(t, false, z);
     p.name = host.is_software() ? "calibrated-software" : "calibrated";
     p.renderer = host.description() + ", LP_NUM_THREADS=" + (std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "");
     p.source = std::string("depthcull calibrate") + (quick ? " --quick" : "") + ": process CPU ms, medians of " +
-               std::to_string(frames) + " frames per microbenchmark at " + std::to_string(w) + "x" + std::to_string(h);
+               std::to_string(z.frames) + " frames per microbenchmark at " + std::to_string(z.w) + "x" + std::to_string(z.h);
     std::string what;
     if (!profile_is_complete(p, &what)) throw CliError("calibrate: the measured term " + what + " is not a finite number >= 0");
     return p;
