@@ -162,7 +162,9 @@ std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
     return distinct_names(stems, 4); // .png, .svg
 }
 
-Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base, RunOutputs& outputs) {
+// The input's image, decoded, and the rect analysed in it (the whole image
+// when none was given).
+Image read_input(const Input& in, const AnalyzeArgs& args, std::vector<std::string>* warnings, Rect* rect_out) {
     // The analysis' memory is checked on the header, before the decode:
     // a 649-byte JPEG can say 16384^2.
     int header_w = 0, header_h = 0;
@@ -171,54 +173,64 @@ Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string
     if (!header_rect.empty() && header_rect.x >= 0 && header_rect.y >= 0 && header_rect.x <= header_w - header_rect.w &&
         header_rect.y <= header_h - header_rect.h)
         pipeline::check_analysis_memory(in.path, header_rect, args.options);
-    std::vector<std::string> warnings;
-    Image image = io::read_image(in.path, &warnings);
-    if (args.strict && !warnings.empty()) throw CliError(warnings.front() + " (--strict)");
+    Image image = io::read_image(in.path, warnings);
+    if (args.strict && !warnings->empty()) throw CliError(warnings->front() + " (--strict)");
     Rect rect = in.has_rect ? in.rect : image.view().bounds();
     if (rect.empty() || !image.view().contains(rect))
         throw CliError(in.path + ": rectangle " + std::to_string(rect.x) + "," + std::to_string(rect.y) + "," +
                        std::to_string(rect.w) + "," + std::to_string(rect.h) + " is outside the " + std::to_string(image.width) +
                        "x" + std::to_string(image.height) + " image");
+    *rect_out = rect;
+    return image;
+}
+
+// --target: the analysis the profile chooses, into r.analysis and
+// r.chosen_budget.
+void analyze_for_target(const Image& image, const Rect& rect, const std::string& path, const AnalyzeArgs& args, Result& r) {
+    // As optimize --target plans each image (pipeline::plan_target): the
+    // budgets 4, 6, 8 up to the cap, MIN_OPAQUE_AREA from the profile;
+    // here the one that draws the image once at scale 1 the fastest,
+    // or its plain rect.
+    AnalyzeOptions o = args.options;
+    o.opaque.min_area = min_opaque_area(args.profile);
+    const int cap = std::max(kMinBoundaryVertices, o.boundary.max_vertices);
+    std::vector<int> budgets;
+    for (int b : {4, 6, 8})
+        if (b < cap) budgets.push_back(b);
+    budgets.push_back(cap);
+    std::vector<ImageAnalysis> analyses;
+    r.cache_hit = true;
+    for (int b : budgets) {
+        o.boundary.max_vertices = b;
+        bool hit = false;
+        analyses.push_back(pipeline::analyze_cached(image.view(), rect, o, args.cache_dir, &hit, path));
+        r.cache_hit = r.cache_hit && hit;
+    }
+    ImageAnalysis plain = analyses.back();
+    if (!plain.boundary.empty()) {
+        const double x0 = rect.x, y0 = rect.y, x1 = double(rect.x) + rect.w, y1 = double(rect.y) + rect.h;
+        plain.boundary = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+        plain.stats.boundary_area = double(rect.w) * rect.h;
+        plain.stats.boundary_vertices = 4;
+    }
+    std::vector<const ImageAnalysis*> candidates;
+    for (const ImageAnalysis& a : analyses) candidates.push_back(&a);
+    candidates.push_back(&plain);
+    const std::size_t c = pipeline::choose_image_candidate(candidates, args.profile);
+    r.analysis = *candidates[c];
+    r.chosen_budget = c < budgets.size() ? budgets[c] : 0;
+}
+
+Result analyze_input(const Input& in, const AnalyzeArgs& args, const std::string& preview_base, RunOutputs& outputs) {
+    std::vector<std::string> warnings;
+    Rect rect;
+    const Image image = read_input(in, args, &warnings, &rect);
     Result r;
     r.width = image.width;
     r.height = image.height;
     const Stopwatch stopwatch;
-    if (!args.has_profile) {
-        r.analysis = pipeline::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit, in.path);
-    } else {
-        // As optimize --target plans each image (pipeline::plan_target): the
-        // budgets 4, 6, 8 up to the cap, MIN_OPAQUE_AREA from the profile;
-        // here the one that draws the image once at scale 1 the fastest,
-        // or its plain rect.
-        AnalyzeOptions o = args.options;
-        o.opaque.min_area = min_opaque_area(args.profile);
-        const int cap = std::max(kMinBoundaryVertices, o.boundary.max_vertices);
-        std::vector<int> budgets;
-        for (int b : {4, 6, 8})
-            if (b < cap) budgets.push_back(b);
-        budgets.push_back(cap);
-        std::vector<ImageAnalysis> analyses;
-        r.cache_hit = true;
-        for (int b : budgets) {
-            o.boundary.max_vertices = b;
-            bool hit = false;
-            analyses.push_back(pipeline::analyze_cached(image.view(), rect, o, args.cache_dir, &hit, in.path));
-            r.cache_hit = r.cache_hit && hit;
-        }
-        ImageAnalysis plain = analyses.back();
-        if (!plain.boundary.empty()) {
-            const double x0 = rect.x, y0 = rect.y, x1 = double(rect.x) + rect.w, y1 = double(rect.y) + rect.h;
-            plain.boundary = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
-            plain.stats.boundary_area = double(rect.w) * rect.h;
-            plain.stats.boundary_vertices = 4;
-        }
-        std::vector<const ImageAnalysis*> candidates;
-        for (const ImageAnalysis& a : analyses) candidates.push_back(&a);
-        candidates.push_back(&plain);
-        const std::size_t c = pipeline::choose_image_candidate(candidates, args.profile);
-        r.analysis = *candidates[c];
-        r.chosen_budget = c < budgets.size() ? budgets[c] : 0;
-    }
+    if (!args.has_profile) r.analysis = pipeline::analyze_cached(image.view(), rect, args.options, args.cache_dir, &r.cache_hit, in.path);
+    else analyze_for_target(image, rect, in.path, args, r);
     r.seconds = stopwatch.seconds();
     r.warnings = std::move(warnings);
     if (!preview_base.empty()) {
@@ -297,89 +309,116 @@ std::string summary_text(const std::vector<Result>& results, double wall_seconds
     return buf;
 }
 
-void run_analyze(const AnalyzeArgs& args) {
-    const Stopwatch stopwatch;
-    std::vector<Input> inputs = expand_inputs(args.inputs);
+// Step 1: the inputs' paths, each a UTF-8 name (it goes into the JSON,
+// which must be UTF-8).
+std::vector<std::string> input_paths(const std::vector<Input>& inputs) {
     std::vector<std::string> paths;
     for (const Input& in : inputs) {
-        // The path goes into the JSON, which must be UTF-8.
         if (!io::valid_utf8(in.path)) throw CliError(in.path + ": file name is not valid UTF-8 (JSON output needs it)");
         paths.push_back(in.path);
     }
-    // Every output (the JSON, two previews per input) checked against every
-    // input and every other output before the first is written; all are
-    // committed together once every image is analyzed (`analyze . --preview
-    // .` would have replaced the images with their previews).
-    RunOutputs outputs(paths);
-    const bool json_output = !args.summary || !args.output.empty();
-    if (json_output) outputs.add(args.output.empty() ? "-" : args.output);
+    return paths;
+}
+
+// Step 2: each input's preview files (none without --preview), declared,
+// and their directory made.
+std::vector<std::string> declare_previews(const AnalyzeArgs& args, const std::vector<Input>& inputs, RunOutputs& outputs) {
     std::vector<std::string> previews(inputs.size());
-    if (!args.preview_dir.empty()) {
-        const std::vector<std::string> names = preview_names(inputs);
-        for (std::size_t i = 0; i < inputs.size(); ++i) {
-            previews[i] = (fs::path(args.preview_dir) / names[i]).string();
-            outputs.add(previews[i] + ".png");
-            outputs.add(previews[i] + ".svg");
-        }
-        std::error_code ec;
-        fs::create_directories(args.preview_dir, ec);
-        if (!fs::is_directory(args.preview_dir))
-            throw CliError(args.preview_dir + ": cannot create the preview directory" + (ec ? " (" + ec.message() + ")" : ""));
+    if (args.preview_dir.empty()) return previews;
+    const std::vector<std::string> names = preview_names(inputs);
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        previews[i] = (fs::path(args.preview_dir) / names[i]).string();
+        outputs.add(previews[i] + ".png");
+        outputs.add(previews[i] + ".svg");
     }
+    std::error_code ec;
+    fs::create_directories(args.preview_dir, ec);
+    if (!fs::is_directory(args.preview_dir))
+        throw CliError(args.preview_dir + ": cannot create the preview directory" + (ec ? " (" + ec.message() + ")" : ""));
+    return previews;
+}
+
+// Step 3: every input analysed, on args.threads workers.
+std::vector<Result> analyze_all(const AnalyzeArgs& args, const std::vector<Input>& inputs, const std::vector<std::string>& previews,
+                                RunOutputs& outputs) {
     std::vector<Result> results(inputs.size());
-    {
-        Progress progress("analyze", "images", inputs.size(), args.quiet);
-        pipeline::parallel_for(inputs.size(), args.threads, [&](std::size_t i) {
-            results[i] = analyze_input(inputs[i], args, previews[i], outputs);
-            progress.add();
-        });
-    }
-    const double wall = stopwatch.seconds();
-    // In input order, each line once (the cells of one sheet share theirs),
-    // whatever the threads did first.
+    Progress progress("analyze", "images", inputs.size(), args.quiet);
+    pipeline::parallel_for(inputs.size(), args.threads, [&](std::size_t i) {
+        results[i] = analyze_input(inputs[i], args, previews[i], outputs);
+        progress.add();
+    });
+    return results;
+}
+
+// Step 4: what the decodes assumed, in input order, each line once (the
+// cells of one sheet share theirs), whatever the threads did first.
+void print_warnings(const std::vector<Result>& results) {
     std::vector<std::string> warnings;
     for (const Result& r : results) warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
     io::LoadOptions report;
     report.warning = [](const std::string& line) { std::fprintf(stderr, "warning: %s\n", line.c_str()); };
     io::report_warnings(warnings, report);
+}
 
-    if (args.check) {
-        for (std::size_t i = 0; i < results.size(); ++i) {
-            if (results[i].uncontained || results[i].violations)
-                throw CliError(inputs[i].path + ": check failed: " + std::to_string(results[i].uncontained) +
-                               " non-transparent texels outside the boundary, " + std::to_string(results[i].violations) +
-                               " non-opaque texels touched by opaque polygons");
-        }
-        if (!args.quiet) {
-            std::int64_t texels = 0, opaque_polygons = 0, boundary_polygons = 0;
-            for (const Result& r : results) {
-                texels += r.analysis.stats.nontransparent_texels;
-                boundary_polygons += std::int64_t(r.analysis.boundary.size());
-                opaque_polygons += std::int64_t(r.analysis.opaque.size());
-            }
-            const bool linear = args.options.filter == Filter::linear;
-            std::fprintf(stderr,
-                         "depthcull: check passed: %zu images: all %" PRId64 " non-transparent texels%s lie inside the %" PRId64
-                         " boundary polygons, and the %" PRId64 " opaque polygons touch no texel that is not fully opaque%s\n",
-                         results.size(), texels, linear ? " (grown by half a texel for linear filtering)" : "", boundary_polygons,
-                         opaque_polygons, linear ? " (nor come within half a texel of one)" : "");
-        }
+// Step 5 (--check): the first input whose polygons fail stops the run;
+// else one line says what passed.
+void check_results(const AnalyzeArgs& args, const std::vector<Input>& inputs, const std::vector<Result>& results) {
+    for (std::size_t i = 0; i < results.size(); ++i) {
+        if (results[i].uncontained || results[i].violations)
+            throw CliError(inputs[i].path + ": check failed: " + std::to_string(results[i].uncontained) +
+                           " non-transparent texels outside the boundary, " + std::to_string(results[i].violations) +
+                           " non-opaque texels touched by opaque polygons");
     }
-    if (json_output) {
-        // One image per line: diffable, and still one JSON document.
-        std::string text = "{\"images\": [\n";
-        for (std::size_t i = 0; i < inputs.size(); ++i)
-            text += " " + result_json(inputs[i], results[i], args.timing, args).dump() + (i + 1 < inputs.size() ? ",\n" : "\n");
-        outputs.stage(args.output.empty() ? "-" : args.output, text + "]}\n");
+    if (args.quiet) return;
+    std::int64_t texels = 0, opaque_polygons = 0, boundary_polygons = 0;
+    for (const Result& r : results) {
+        texels += r.analysis.stats.nontransparent_texels;
+        boundary_polygons += std::int64_t(r.analysis.boundary.size());
+        opaque_polygons += std::int64_t(r.analysis.opaque.size());
     }
+    const bool linear = args.options.filter == Filter::linear;
+    std::fprintf(stderr,
+                 "depthcull: check passed: %zu images: all %" PRId64 " non-transparent texels%s lie inside the %" PRId64
+                 " boundary polygons, and the %" PRId64 " opaque polygons touch no texel that is not fully opaque%s\n",
+                 results.size(), texels, linear ? " (grown by half a texel for linear filtering)" : "", boundary_polygons,
+                 opaque_polygons, linear ? " (nor come within half a texel of one)" : "");
+}
+
+// Step 6: the JSON, one image per line: diffable, and still one JSON document.
+std::string results_json(const AnalyzeArgs& args, const std::vector<Input>& inputs, const std::vector<Result>& results) {
+    std::string text = "{\"images\": [\n";
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+        text += " " + result_json(inputs[i], results[i], args.timing, args).dump() + (i + 1 < inputs.size() ? ",\n" : "\n");
+    return text + "]}\n";
+}
+
+// Step 7 (--summary): the totals and the cache's share.
+void print_summary(const std::vector<Result>& results, double wall) {
+    std::string text = summary_text(results, wall);
+    int hits = 0;
+    for (const Result& r : results) hits += r.cache_hit;
+    text += "from the cache        " + std::to_string(hits) + " of " + std::to_string(results.size()) + " images\n";
+    std::fputs(text.c_str(), stdout);
+}
+
+void run_analyze(const AnalyzeArgs& args) {
+    const Stopwatch stopwatch;
+    std::vector<Input> inputs = expand_inputs(args.inputs);
+    // Every output (the JSON, two previews per input) checked against every
+    // input and every other output before the first is written; all are
+    // committed together once every image is analyzed (`analyze . --preview
+    // .` would have replaced the images with their previews).
+    RunOutputs outputs(input_paths(inputs));
+    const bool json_output = !args.summary || !args.output.empty();
+    if (json_output) outputs.add(args.output.empty() ? "-" : args.output);
+    const std::vector<std::string> previews = declare_previews(args, inputs, outputs);
+    const std::vector<Result> results = analyze_all(args, inputs, previews, outputs);
+    const double wall = stopwatch.seconds();
+    print_warnings(results);
+    if (args.check) check_results(args, inputs, results);
+    if (json_output) outputs.stage(args.output.empty() ? "-" : args.output, results_json(args, inputs, results));
     outputs.commit();
-    if (args.summary) {
-        std::string text = summary_text(results, wall);
-        int hits = 0;
-        for (const Result& r : results) hits += r.cache_hit;
-        text += "from the cache        " + std::to_string(hits) + " of " + std::to_string(results.size()) + " images\n";
-        std::fputs(text.c_str(), stdout);
-    }
+    if (args.summary) print_summary(results, wall);
     if (!args.preview_dir.empty() && !args.quiet)
         std::fprintf(stderr, "depthcull: %zu previews (PNG and SVG) in %s\n", inputs.size(), args.preview_dir.c_str());
 }
