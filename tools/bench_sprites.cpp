@@ -51,26 +51,82 @@ std::string layers_text(double layers) {
     return text;
 }
 
-} // namespace
-
-void run_sprite_bench(const SpriteBenchArgs& args) {
-    if (args.sprites > 0 && args.bunnymark > 0) throw UsageError("bench: --sprites and --bunnymark: give one");
-    const RenderInput& input = *args.input;
-    if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
+// llvmpipe reads LP_NUM_THREADS when the context is made: --lp-threads,
+// else 1 unless set. What is in force, for the header.
+const char* pin_lp_threads(int lp_threads) {
+    if (lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(lp_threads).c_str(), 1);
     else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
-    const char* lp_threads = std::getenv("LP_NUM_THREADS");
+    return std::getenv("LP_NUM_THREADS");
+}
+
+// What measure_sprites is asked for; with --target, options.target points
+// to *profile.
+render::SpriteBenchOptions sprite_options(const SpriteBenchArgs& args, CostProfile* profile) {
     render::SpriteBenchOptions options;
     options.sprites = args.bunnymark > 0 ? args.bunnymark : args.sprites;
     options.bunnymark = args.bunnymark > 0;
     options.frames = args.frames;
     options.seed = args.seed;
-    std::string target;
-    CostProfile profile;
-    if (!input.target.empty()) {
-        profile = resolve_cli_target(input.target, args.quiet);
-        options.target = &profile;
-        target = profile.name;
+    if (!args.input->target.empty()) {
+        *profile = resolve_cli_target(args.input->target, args.quiet);
+        options.target = profile;
     }
+    return options;
+}
+
+// One scene: prepared as optimize prepares it, then its sprites drawn.
+render::SpriteMeasurement measure_scene(const std::string& path, const RenderInput& input, const render::SpriteBenchOptions& options,
+                                        render::GlHost& host, RunOutputs& outputs, Progress& progress) {
+    progress.stage(path + ": analyzing");
+    // The static scene as optimize prepares it; the target prices the sprites here, not the scene.
+    RenderInput scene_input = input;
+    scene_input.target.clear();
+    const pipeline::OptimizeResult result = optimize_for_render(path, scene_input, true);
+    const pipeline::PreparedScene& prepared = result.prepared;
+    outputs.add_inputs(scene_inputs(path, prepared.scene));
+    progress.stage(path + ": drawing sprites");
+    try {
+        return render::measure_sprites(host, prepared.scene, image_views(prepared), prepared.analysis, options);
+    } catch (const render::Error& e) {
+        throw CliError(path + ": " + e.what());
+    }
+}
+
+// The two comment lines above a scene's table.
+std::string scene_header(const std::string& path, const render::SpriteBenchOptions& options, const render::SpriteMeasurement& m,
+                         const std::string& target, const std::string& renderer, const char* lp_threads) {
+    char header[1024];
+    const std::string where = options.bunnymark ? std::string("alone (bunnymark: no static scene)")
+                              : m.scene_point ? "before static element " + std::to_string(m.insertion_element) + " (the scene's first insertion point)"
+                                              : std::string("on top (the scene has no insertion point)");
+    std::snprintf(header, sizeof header,
+                  "# %s: %d moving sprites of %zu pictures (%zu with opaque polygons%s), %s; camera %g,%g %dx%d, %zu static elements on it;\n"
+                  "# %s, LP_NUM_THREADS=%s, %d frames, modes in turns frame by frame, seed %u\n",
+                  path.c_str(), options.sprites, m.pictures, m.pictures_with_opaque,
+                  target.empty() ? "" : (", --target " + target + ": those that pay over " + layers_text(m.layers_behind) + " layers behind").c_str(),
+                  where.c_str(), m.camera.x, m.camera.y, m.camera.width, m.camera.height, m.static_elements, renderer.c_str(),
+                  lp_threads ? lp_threads : "", options.frames, options.seed);
+    return header;
+}
+
+// Below the tables: what their columns mean.
+constexpr const char* kLegend =
+    "# plain batching: each element on the camera as its rect, painter's order, runs of one texture and blend merged, no depth;\n"
+    "# meshes only: static meshes reordered and batched once, sprites' boundary polygons batched per frame, no opaque pass;\n"
+    "# depth-culled: static meshes with the sprites' depth range reserved + FrameAssembler, opaque pass front to back first;\n"
+    "# draws, tris: as drawn (static + moving); fragments: shaded (GL_SAMPLES_PASSED); cpu ms: process CPU time building\n"
+    "#   the frame's geometry, drawing it and glFinish; diff/off: pixels differing from the overpaint of the same layers,\n"
+    "#   and of those the ones whose centre is on no texel edge (must be 0).\n";
+
+} // namespace
+
+void run_sprite_bench(const SpriteBenchArgs& args) {
+    if (args.sprites > 0 && args.bunnymark > 0) throw UsageError("bench: --sprites and --bunnymark: give one");
+    const RenderInput& input = *args.input;
+    const char* lp_threads = pin_lp_threads(args.lp_threads);
+    CostProfile profile;
+    const render::SpriteBenchOptions options = sprite_options(args, &profile);
+    const std::string target = options.target ? profile.name : std::string();
     RunOutputs outputs(args.scenes);
     outputs.add(args.output);
     auto host = open_host(input.platform);
@@ -78,51 +134,17 @@ void run_sprite_bench(const SpriteBenchArgs& args) {
     nlohmann::json scenes = nlohmann::json::array();
     Progress progress("bench", "scenes", args.scenes.size(), args.quiet);
     for (const std::string& path : args.scenes) {
-        progress.stage(path + ": analyzing");
-        // The static scene as optimize prepares it; the target prices the sprites here, not the scene.
-        RenderInput scene_input = input;
-        scene_input.target.clear();
-        const pipeline::OptimizeResult result = optimize_for_render(path, scene_input, true);
-        const pipeline::PreparedScene& prepared = result.prepared;
-        outputs.add_inputs(scene_inputs(path, prepared.scene));
-        progress.stage(path + ": drawing sprites");
-        render::SpriteMeasurement m;
-        try {
-            m = render::measure_sprites(*host, prepared.scene, image_views(prepared), prepared.analysis, options);
-        } catch (const render::Error& e) {
-            throw CliError(path + ": " + e.what());
-        }
-        if (args.json) {
-            scenes.push_back(to_json(path, options, m));
-        } else {
-            char header[1024];
-            const std::string where = options.bunnymark ? std::string("alone (bunnymark: no static scene)")
-                                      : m.scene_point ? "before static element " + std::to_string(m.insertion_element) + " (the scene's first insertion point)"
-                                                      : std::string("on top (the scene has no insertion point)");
-            std::snprintf(header, sizeof header,
-                          "# %s: %d moving sprites of %zu pictures (%zu with opaque polygons%s), %s; camera %g,%g %dx%d, %zu static elements on it;\n"
-                          "# %s, LP_NUM_THREADS=%s, %d frames, modes in turns frame by frame, seed %u\n",
-                          path.c_str(), options.sprites, m.pictures, m.pictures_with_opaque,
-                          target.empty() ? "" : (", --target " + target + ": those that pay over " + layers_text(m.layers_behind) + " layers behind").c_str(),
-                          where.c_str(), m.camera.x, m.camera.y, m.camera.width, m.camera.height, m.static_elements, host->description().c_str(),
-                          lp_threads ? lp_threads : "", options.frames, options.seed);
-            text += header + render::sprite_table(m);
-        }
+        const render::SpriteMeasurement m = measure_scene(path, input, options, *host, outputs, progress);
+        if (args.json) scenes.push_back(to_json(path, options, m));
+        else text += scene_header(path, options, m, target, host->description(), lp_threads) + render::sprite_table(m);
         progress.add();
     }
     progress.finish();
-    if (args.json) {
+    if (args.json)
         text = nlohmann::json{{"renderer", host->description()}, {"lp_num_threads", lp_threads ? lp_threads : ""}, {"target", target}, {"scenes", scenes}}
                    .dump(1) +
                "\n";
-    } else {
-        text += "# plain batching: each element on the camera as its rect, painter's order, runs of one texture and blend merged, no depth;\n"
-                "# meshes only: static meshes reordered and batched once, sprites' boundary polygons batched per frame, no opaque pass;\n"
-                "# depth-culled: static meshes with the sprites' depth range reserved + FrameAssembler, opaque pass front to back first;\n"
-                "# draws, tris: as drawn (static + moving); fragments: shaded (GL_SAMPLES_PASSED); cpu ms: process CPU time building\n"
-                "#   the frame's geometry, drawing it and glFinish; diff/off: pixels differing from the overpaint of the same layers,\n"
-                "#   and of those the ones whose centre is on no texel edge (must be 0).\n";
-    }
+    else text += kLegend;
     outputs.stage(args.output.empty() ? "-" : args.output, text);
     outputs.commit();
 }
