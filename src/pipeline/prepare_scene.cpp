@@ -135,28 +135,9 @@ std::string image_name(const std::string& path, const SceneImage& img, std::size
     return path + ": image " + std::to_string(i) + " \"" + img.id + "\" (" + (img.has_fill ? "fill " + io::color_key_text(img.fill) : img.path) + ")";
 }
 
-} // namespace
-
-PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& settings, Settled* settled) {
-    const PrepareOptions& options = settings.prepare;
-    PreparedScene out;
-    // The loaders read each image file whole for its size and keep it here;
-    // the decode below reads these bytes: each file is opened once.
-    io::ImageFiles files;
-    io::LoadOptions load = options.load;
-    load.image_files = &files;
-    out.scene = io::read_scene(path, load);
-    Scene& scene = out.scene;
-
-    // Settled once, before any pixel is decoded: a bad --target file fails
-    // before the work. From here on the scene's filter is the one in force.
-    Settled decided = settle(scene, settings);
-    scene.filter = decided.filter;
-    if (settled) *settled = std::move(decided);
-    const AnalyzeOptions analyze = analysis_options(options, scene);
-
-    // Animations are checked on their frames' rects, before any pixel is
-    // decoded: each frame is read once per texel to combine them.
+// Step 1: animations are checked on their frames' rects, before any pixel
+// is decoded: each frame is read once per texel to combine them.
+void check_animations(const std::string& path, const Scene& scene) {
     for (std::size_t a = 0; a < scene.animations.size(); ++a) {
         const Animation& animation = scene.animations[a];
         if (animation.frames.empty()) continue;
@@ -173,7 +154,12 @@ PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& se
                         std::to_string(first.rect.h) + " are " + std::to_string(texels) + " texels, more than " +
                         std::to_string(limits::kMaxAnimationTexels) + " (kMaxAnimationTexels)");
     }
+}
 
+// Step 2: which images are decoded, into out.pixels (each image's decode)
+// and the image index of each decode, returned; the decoded total checked
+// against the limit.
+std::vector<std::size_t> plan_decodes(const std::string& path, const Scene& scene, const PrepareOptions& options, PreparedScene& out) {
     // Only images an element shows are decoded (an animated element shows
     // all its frames' images), each (file, colour key) once: entries naming
     // one file, by any path or symlink, with one key share its pixels.
@@ -205,6 +191,12 @@ PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& se
                         " brings the decoded images to " + mib(total) + ", over the limit of " + mib(options.max_decoded_bytes) +
                         " (kMaxDecodedBytes)");
     }
+    return to_decode;
+}
+
+// Step 3: the decodes, into out.decoded, from the bytes the loaders kept.
+void decode_images(const std::string& path, const Scene& scene, const PrepareOptions& options, const std::vector<std::size_t>& to_decode,
+                   io::ImageFiles& files, PreparedScene& out) {
     out.decoded.resize(to_decode.size());
     // Decode warnings (a CMYK JPEG, an animated WebP) per image, reported
     // after the decodes in image order: the same lines for any thread count.
@@ -220,50 +212,91 @@ PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& se
                         std::to_string(img.width) + "x" + std::to_string(img.height));
     });
     for (const std::vector<std::string>& lines : warnings) io::report_warnings(lines, options.load);
-    files.clear(); // decoded: the compressed bytes are not needed again
-    const std::vector<ImageView> views = out.views();
+}
 
-    // Distinct (file, rect) in order of first use: deterministic indices.
-    // An animated element's analysis is its animation's (all frames).
+// What is analysed: each distinct (decode, rect), or animation, once.
+struct AnalysisWork {
+    std::vector<std::pair<std::size_t, Rect>> items; // (decode, rect)
+    std::vector<int> animation;                      // per item: the animation analysed, or -1
+    std::vector<std::size_t> of_element;             // per element: its item
+};
+
+// Step 4: distinct (file, rect) in order of first use: deterministic
+// indices. An animated element's analysis is its animation's (all frames).
+AnalysisWork distinct_work(const Scene& scene, const PreparedScene& out) {
     std::map<std::tuple<std::size_t, int, int, int, int>, std::size_t> distinct;
-    std::vector<std::size_t> element_slot(scene.elements.size());
-    std::vector<std::pair<std::size_t, Rect>> work;
-    std::vector<int> work_animation;
+    AnalysisWork work;
+    work.of_element.resize(scene.elements.size());
     for (std::size_t i = 0; i < scene.elements.size(); ++i) {
         const Element& e = scene.elements[i];
         std::size_t file = out.pixels[std::size_t(e.image)];
         auto key = e.animation >= 0 ? std::make_tuple(SIZE_MAX, e.animation, 0, 0, 0) : std::make_tuple(file, e.rect.x, e.rect.y, e.rect.w, e.rect.h);
-        auto [it, fresh] = distinct.emplace(key, work.size());
+        auto [it, fresh] = distinct.emplace(key, work.items.size());
         if (fresh) {
-            work.push_back({file, e.rect});
-            work_animation.push_back(e.animation);
+            work.items.push_back({file, e.rect});
+            work.animation.push_back(e.animation);
         }
-        element_slot[i] = it->second;
+        work.of_element[i] = it->second;
     }
+    return work;
+}
+
+// Step 5: each item analysed (through the cache), into out.analysis, with
+// the cache's hits counted.
+void analyze_work(const std::string& path, const Scene& scene, const AnalyzeOptions& analyze, const PrepareOptions& options,
+                  const std::vector<std::size_t>& to_decode, const AnalysisWork& work, PreparedScene& out) {
+    const std::vector<ImageView> views = out.views();
     std::vector<ImageAnalysis>& analyses = out.analysis.images;
-    analyses.resize(work.size());
-    std::vector<std::uint8_t> hit(work.size(), 0);
+    analyses.resize(work.items.size());
+    std::vector<std::uint8_t> hit(work.items.size(), 0);
     std::atomic<std::size_t> done{0};
-    parallel_for(work.size(), options.threads, [&](std::size_t k) {
+    parallel_for(work.items.size(), options.threads, [&](std::size_t k) {
         bool from_cache = false;
-        if (work_animation[k] >= 0) {
-            const Animation& animation = scene.animations[std::size_t(work_animation[k])];
+        if (work.animation[k] >= 0) {
+            const Animation& animation = scene.animations[std::size_t(work.animation[k])];
             const std::size_t image = std::size_t(animation.frames.front().image);
             analyses[k] = analyze_animation(views, animation, analyze, options.cache_dir, &from_cache,
-                                            image_name(path, scene.images[image], image) + ": animation " + std::to_string(work_animation[k]),
+                                            image_name(path, scene.images[image], image) + ": animation " + std::to_string(work.animation[k]),
                                             options.memory);
         } else {
-            const std::size_t image = to_decode[work[k].first];
-            analyses[k] = analyze_cached(out.decoded[work[k].first].view(), work[k].second, analyze, options.cache_dir, &from_cache,
+            const std::size_t image = to_decode[work.items[k].first];
+            analyses[k] = analyze_cached(out.decoded[work.items[k].first].view(), work.items[k].second, analyze, options.cache_dir, &from_cache,
                                          image_name(path, scene.images[image], image), options.memory);
         }
         hit[k] = from_cache;
-        if (options.progress) options.progress(++done, work.size());
+        if (options.progress) options.progress(++done, work.items.size());
     });
     out.analysis.of_element.resize(scene.elements.size());
-    for (std::size_t i = 0; i < scene.elements.size(); ++i) out.analysis.of_element[i] = std::uint32_t(element_slot[i]);
+    for (std::size_t i = 0; i < scene.elements.size(); ++i) out.analysis.of_element[i] = std::uint32_t(work.of_element[i]);
     for (std::uint8_t h : hit) out.cache_hits += h;
-    out.analyzed = int(work.size()) - out.cache_hits;
+    out.analyzed = int(work.items.size()) - out.cache_hits;
+}
+
+} // namespace
+
+PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& settings, Settled* settled) {
+    const PrepareOptions& options = settings.prepare;
+    PreparedScene out;
+    // The loaders read each image file whole for its size and keep it here;
+    // the decode below reads these bytes: each file is opened once.
+    io::ImageFiles files;
+    io::LoadOptions load = options.load;
+    load.image_files = &files;
+    out.scene = io::read_scene(path, load);
+    Scene& scene = out.scene;
+
+    // Settled once, before any pixel is decoded: a bad --target file fails
+    // before the work. From here on the scene's filter is the one in force.
+    Settled decided = settle(scene, settings);
+    scene.filter = decided.filter;
+    if (settled) *settled = std::move(decided);
+    const AnalyzeOptions analyze = analysis_options(options, scene);
+
+    check_animations(path, scene);
+    const std::vector<std::size_t> to_decode = plan_decodes(path, scene, options, out);
+    decode_images(path, scene, options, to_decode, files, out);
+    files.clear(); // decoded: the compressed bytes are not needed again
+    analyze_work(path, scene, analyze, options, to_decode, distinct_work(scene, out), out);
     return out;
 }
 
