@@ -147,16 +147,11 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
     return o;
 }
 
-report::SceneReport scene_report(const std::string& path, const pipeline::OptimizeResult& result, const render::RuntimeMeasurement* rt,
-                                 const render::SceneMeasurement* m) {
-    const pipeline::PreparedScene& prepared = result.prepared;
-    report::SceneReport r;
-    const Scene& scene = prepared.scene;
-    r.path = path;
-    r.width = scene.viewport.width;
-    r.height = scene.viewport.height;
-    r.elements = scene.elements.size();
-    r.images = prepared.analysis.images.size();
+namespace {
+
+// Table 2's rows as measured: by the runtime renderer (rt) or the
+// instrumented one (m).
+void add_measured_rows(report::SceneReport& r, const render::RuntimeMeasurement* rt, const render::SceneMeasurement* m) {
     const double pixels = double(r.width) * double(r.height);
     if (rt) {
         r.ideal_overdraw = rt->ideal_overdraw;
@@ -175,8 +170,12 @@ report::SceneReport scene_report(const std::string& path, const pipeline::Optimi
             if (mm.mode == render::Mode::optimized) r.optimized = mm.frame;
         }
     }
-    // Heatmaps by the CPU analyzers (they match GL_SAMPLES_PASSED exactly).
-    const std::vector<ImageView> views = image_views(prepared);
+}
+
+// Heatmaps by the CPU analyzers (they match GL_SAMPLES_PASSED exactly).
+void add_heatmaps(report::SceneReport& r, const pipeline::OptimizeResult& result, const std::vector<ImageView>& views) {
+    const pipeline::PreparedScene& prepared = result.prepared;
+    const Scene& scene = prepared.scene;
     OverdrawMap ideal;
     const double od_ideal = ideal_overdraw(scene, views, &ideal).overdraw();
     r.covered = covered_share(ideal);
@@ -189,8 +188,37 @@ report::SceneReport scene_report(const std::string& path, const pipeline::Optimi
         r.heatmaps.push_back({render::mode_name(mode), map.width, map.height, std::move(map.counts), od});
     }
     r.heatmaps.push_back({"ideal", ideal.width, ideal.height, std::move(ideal.counts), od_ideal});
+}
 
-    // Per image: uses by the elements, most used first (ties in first-use order).
+// One row of the images table: the analysis k, of scene image `image`.
+report::ImageRow image_row(const pipeline::PreparedScene& prepared, std::size_t k, int image, std::int64_t uses,
+                           const std::vector<ImageView>& views) {
+    const ImageAnalysis& a = prepared.analysis.images[k];
+    const SceneImage& si = prepared.scene.images[std::size_t(image)];
+    report::ImageRow row;
+    row.name = (si.id.empty() ? si.path : si.id);
+    if (a.rect.x != 0 || a.rect.y != 0 || a.rect.w != si.width || a.rect.h != si.height)
+        row.name += " [" + std::to_string(a.rect.x) + "," + std::to_string(a.rect.y) + "," + std::to_string(a.rect.w) + "," +
+                    std::to_string(a.rect.h) + "]";
+    row.rect = a.rect;
+    const report::PreviewFigures f = report::preview_figures({&a});
+    row.vertices = f.boundary_vertices;
+    row.excess_area_ratio = f.excess_area_ratio();
+    row.opaque_coverage = f.opaque_coverage();
+    row.opaque_polygons = f.opaque_polygons;
+    row.triangles = f.triangles;
+    row.uses = uses;
+    report::PreviewOptions options;
+    options.size = 160;
+    options.title = std::filesystem::path(si.path).filename().string();
+    report::Preview p = report::make_preview(views[std::size_t(image)], a.rect, {&a}, options);
+    row.preview = std::move(p.png);
+    return row;
+}
+
+// Per image: uses by the elements, most used first (ties in first-use order).
+void add_image_rows(report::SceneReport& r, const pipeline::PreparedScene& prepared, const std::vector<ImageView>& views) {
+    const Scene& scene = prepared.scene;
     std::vector<std::int64_t> uses(prepared.analysis.images.size(), 0);
     std::vector<int> image_of(prepared.analysis.images.size(), -1);
     for (std::size_t e = 0; e < scene.elements.size() && e < prepared.analysis.of_element.size(); ++e) {
@@ -205,31 +233,28 @@ report::SceneReport scene_report(const std::string& path, const pipeline::Optimi
     constexpr std::size_t kMaxRows = 100;
     for (std::size_t n = 0; n < order.size() && n < kMaxRows; ++n) {
         const std::size_t k = order[n];
-        const ImageAnalysis& a = prepared.analysis.images[k];
-        const int image = image_of[k];
-        if (image < 0) continue;
-        const SceneImage& si = scene.images[std::size_t(image)];
-        report::ImageRow row;
-        row.name = (si.id.empty() ? si.path : si.id);
-        if (a.rect.x != 0 || a.rect.y != 0 || a.rect.w != si.width || a.rect.h != si.height)
-            row.name += " [" + std::to_string(a.rect.x) + "," + std::to_string(a.rect.y) + "," + std::to_string(a.rect.w) + "," +
-                        std::to_string(a.rect.h) + "]";
-        row.rect = a.rect;
-        const report::PreviewFigures f = report::preview_figures({&a});
-        row.vertices = f.boundary_vertices;
-        row.excess_area_ratio = f.excess_area_ratio();
-        row.opaque_coverage = f.opaque_coverage();
-        row.opaque_polygons = f.opaque_polygons;
-        row.triangles = f.triangles;
-        row.uses = uses[k];
-        report::PreviewOptions options;
-        options.size = 160;
-        options.title = std::filesystem::path(si.path).filename().string();
-        report::Preview p = report::make_preview(views[std::size_t(image)], a.rect, {&a}, options);
-        row.preview = std::move(p.png);
-        r.images_table.push_back(std::move(row));
+        if (image_of[k] < 0) continue;
+        r.images_table.push_back(image_row(prepared, k, image_of[k], uses[k], views));
     }
     r.images_not_shown = order.size() > kMaxRows ? order.size() - kMaxRows : 0;
+}
+
+} // namespace
+
+report::SceneReport scene_report(const std::string& path, const pipeline::OptimizeResult& result, const render::RuntimeMeasurement* rt,
+                                 const render::SceneMeasurement* m) {
+    const pipeline::PreparedScene& prepared = result.prepared;
+    report::SceneReport r;
+    const Scene& scene = prepared.scene;
+    r.path = path;
+    r.width = scene.viewport.width;
+    r.height = scene.viewport.height;
+    r.elements = scene.elements.size();
+    r.images = prepared.analysis.images.size();
+    add_measured_rows(r, rt, m);
+    const std::vector<ImageView> views = image_views(prepared);
+    add_heatmaps(r, result, views);
+    add_image_rows(r, prepared, views);
     char buf[160];
     std::snprintf(buf, sizeof buf, "%d images analyzed, %d from the analysis cache", prepared.analyzed, prepared.cache_hits);
     r.analysis = buf;
