@@ -11,30 +11,10 @@
 
 #include "depthcull/render.h"
 #include "render_scenes.h"
+#include "shared_renderer.h"
 
 namespace depthcull {
 namespace {
-
-// null with *why set when there is no renderer; *no_context when no GL
-// context exists at all (skip rather than fail).
-render::GlRenderer* renderer(std::string* why, bool* no_context) {
-    static std::string error;
-    static bool none = false;
-    static std::unique_ptr<render::GlRenderer> r = [] {
-        try {
-            return render::GlRenderer::create({});
-        } catch (const render::NoContext& e) {
-            error = e.what();
-            none = true;
-        } catch (const render::Error& e) {
-            error = e.what();
-        }
-        return std::unique_ptr<render::GlRenderer>();
-    }();
-    *why = error;
-    *no_context = none;
-    return r.get();
-}
 
 test::RenderScene random_scene(unsigned seed, Filter filter) {
     std::mt19937 rng(seed);
@@ -95,7 +75,7 @@ test::RenderScene random_scene(unsigned seed, Filter filter) {
 void check(unsigned seed, Filter filter) {
     std::string why;
     bool no_context = false;
-    render::GlRenderer* r = renderer(&why, &no_context);
+    render::GlRenderer* r = test::shared_renderer(&why, &no_context);
     if (!r && no_context) GTEST_SKIP() << why;
     if (!r) FAIL() << why;
     SCOPED_TRACE("seed " + std::to_string(seed));
@@ -140,7 +120,7 @@ void check(unsigned seed, Filter filter) {
 TEST(Equivalence, SharpNotchKeepsTheSkirtOfEveryOtherEdge) {
     std::string why;
     bool no_context = false;
-    render::GlRenderer* r = renderer(&why, &no_context);
+    render::GlRenderer* r = test::shared_renderer(&why, &no_context);
     if (!r && no_context) GTEST_SKIP() << why;
     if (!r) FAIL() << why;
     test::RenderScene rs;
@@ -193,7 +173,7 @@ TEST(Equivalence, RandomScenesLinear) {
 RC_GTEST_PROP(Equivalence, TurnedSpritesScaledDownAndUpDrawLikeOverpaint, ()) {
     std::string why;
     bool no_context = false;
-    render::GlRenderer* r = renderer(&why, &no_context);
+    render::GlRenderer* r = test::shared_renderer(&why, &no_context);
     if (!r) {
         RC_SUCCEED("no GL renderer: " + why); // Equivalence.RandomScenesNearest reports it
         return;

@@ -11,35 +11,15 @@
 #include "depthcull/overdraw.h"
 #include "depthcull/render.h"
 #include "render_scenes.h"
+#include "shared_renderer.h"
 
 namespace depthcull {
 namespace {
 
-// null with *why set when there is no renderer; *no_context when no GL
-// context exists at all (skip rather than fail).
-render::GlRenderer* shared_renderer(std::string* why, bool* no_context) {
-    static std::string error;
-    static bool none = false;
-    static std::unique_ptr<render::GlRenderer> renderer = [] {
-        try {
-            return render::GlRenderer::create({});
-        } catch (const render::NoContext& e) {
-            error = e.what();
-            none = true;
-        } catch (const render::Error& e) {
-            error = e.what();
-        }
-        return std::unique_ptr<render::GlRenderer>();
-    }();
-    *why = error;
-    *no_context = none;
-    return renderer.get();
-}
-
 #define REQUIRE_GL(r)                                                                                                      \
     std::string why_no_gl;                                                                                                 \
     bool no_gl_context = false;                                                                                            \
-    render::GlRenderer* r = shared_renderer(&why_no_gl, &no_gl_context);                                                   \
+    render::GlRenderer* r = test::shared_renderer(&why_no_gl, &no_gl_context);                                             \
     if (!r && no_gl_context) GTEST_SKIP() << why_no_gl;                                                                    \
     if (!r) FAIL() << why_no_gl
 
