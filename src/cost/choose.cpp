@@ -156,6 +156,11 @@ struct Contestant {
 
 // The state the steps share: the inputs, what each element's placement
 // gives the model, and what each step decided. One function per step.
+// Clipping planned (issue 25): the edges a cut adds, as a multiple of the
+// occluder's outline, and the triangles, per element cut (Chooser::cut_cost).
+constexpr double kCutEdges = 3.0;
+constexpr double kCutTriangles = 4.0;
+
 struct Chooser {
     const Scene& scene;
     const std::vector<TargetCandidates>& candidates;
@@ -220,6 +225,16 @@ struct Chooser {
 
     void place_elements();
     void choose_boundaries();          // 1
+    struct OpaqueOption {
+        int opaque;                  // Opaque::first or all
+        double delta;                // predicted ns per frame: negative pays
+        std::vector<Polygon> screen; // the polygons on screen
+        bool rect;                   // the whole rect (an opaque tile)
+    };
+    bool cuts() const;
+    double cut_cost(const std::vector<Polygon>& screen) const;
+    double behind_gain(std::size_t j, const std::vector<Polygon>& screen) const;
+    std::vector<OpaqueOption> opaque_options(std::size_t j) const;
     void choose_opaque();              // 2
     void drop_hidden();                // 3
     std::vector<Contestant> contestants() const; // 4
@@ -299,10 +314,68 @@ void Chooser::choose_boundaries() {
     }
 }
 
-// Clipping planned (issue 25): the edges a cut adds, as a multiple of the
-// occluder's outline, and the triangles, per element cut.
-constexpr double kCutEdges = 3.0;
-constexpr double kCutTriangles = 4.0;
+// Clipping planned (issue 25): each element behind an opaque polygon (and
+// the element's own blend polygons) is cut along it: new edges of about
+// kCutEdges times its outline (the cut edge and the diagonals its pieces
+// need) and kCutTriangles triangles, which llvmpipe prices like fragments
+// (6.8 ns per pixel of edge). Priced as free, the plan took every opaque
+// polygon and lost more on edges than it saved.
+bool Chooser::cuts() const { return options.clip_hidden.enabled && options.clip_hidden.plan_occluders; }
+
+double Chooser::cut_cost(const std::vector<Polygon>& screen) const {
+    double outline = 0;
+    for (const Polygon& p : screen)
+        for (std::size_t q = 0; q < p.size(); ++q)
+            outline += std::hypot(p[(q + 1) % p.size()].x - p[q].x, p[(q + 1) % p.size()].y - p[q].y);
+    return kCutEdges * Pp * outline + kCutTriangles * T;
+}
+
+// What opaque polygons at `screen` save on the elements behind element j.
+double Chooser::behind_gain(std::size_t j, const std::vector<Polygon>& screen) const {
+    double area = 0, overhead = 0;
+    for (const std::uint32_t* b = graph.behind_begin(j); b != graph.behind_end(j); ++b) {
+        double a = 0;
+        for (const Polygon& p : screen) a += clipped_area(p, box[*b]);
+        area += a;
+        if (cuts() && a > 0) overhead += cut_cost(screen);
+    }
+    return area * (Fb - Fr) - overhead;
+}
+
+// Element j's choices of opaque polygons, each with its predicted change
+// of the frame time (negative: it pays).
+std::vector<Chooser::OpaqueOption> Chooser::opaque_options(std::size_t j) const {
+    std::vector<OpaqueOption> out;
+    const Element& e = scene.elements[j];
+    const std::size_t k = std::size_t(key_of(j));
+    const ImageAnalysis& cap = *candidates[k].analyses.back();
+    const double s = std::sqrt(det[j]);
+    const Geometry own = choice[k] >= 0 && boundary_ok[k][std::size_t(choice[k])] ? boundary_geo[k][std::size_t(choice[k])] : rect_geo[k];
+    const double own_blend = blend_cost(j, own, true);
+    if (cap.stats.opaque_texels == std::int64_t(cap.rect.w) * cap.rect.h && detail::pixel_aligned(scene, e)) {
+        // Whole-rect opaque: the rect in the opaque pass, no blend draw.
+        const Geometry g = rect_geo[k];
+        std::vector<Polygon> screen{to_screen(j, rect_polygon_of(cap.rect))};
+        const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j];
+        const double delta = cost - own_blend - behind_gain(j, screen);
+        out.push_back({Opaque::all, delta, std::move(screen), true});
+        return out;
+    }
+    for (int o : {int(Opaque::first), int(Opaque::all)}) {
+        if (cap.opaque.empty() || (o == Opaque::all && cap.opaque.size() == 1)) continue;
+        std::vector<Polygon> polys(cap.opaque.begin(), o == Opaque::first ? cap.opaque.begin() + 1 : cap.opaque.end());
+        const Geometry g = geometry_of(polys, true);
+        std::vector<Polygon> screen;
+        for (const Polygon& p : polys) screen.push_back(to_screen(j, p));
+        const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j] + (cuts() ? cut_cost(screen) : 0.0);
+        double gain = (Fb - Fr) * g.area * det[j] + behind_gain(j, screen);
+        if (o == Opaque::all && scene.filter == Filter::nearest && cap.stats.nontransparent_texels > 0 &&
+            cap.stats.opaque_covered_texels == cap.stats.nontransparent_texels && choice[k] >= 0)
+            gain = own_blend + behind_gain(j, screen); // no blend draw at all
+        out.push_back({o, cost - gain, std::move(screen), false});
+    }
+    return out;
+}
 
 void Chooser::choose_opaque() {
     // 2. Opaque polygons per element, over the element graph.
@@ -324,70 +397,13 @@ void Chooser::choose_opaque() {
         if (!usable(j)) continue;
         variants[j].opaque = Opaque::none;
         if (e.blend != Blend::alpha || e.color[3] != 1.0f) continue;
-        const TargetCandidates& c = candidates[std::size_t(key_of(j))];
-        const ImageAnalysis& cap = *c.analyses.back();
-        const double s = std::sqrt(det[j]);
-        const Geometry own = choice[std::size_t(key_of(j))] >= 0 && boundary_ok[std::size_t(key_of(j))][std::size_t(choice[std::size_t(key_of(j))])]
-                                 ? boundary_geo[std::size_t(key_of(j))][std::size_t(choice[std::size_t(key_of(j))])]
-                                 : rect_geo[std::size_t(key_of(j))];
-        const double own_blend = blend_cost(j, own, true);
-        // With clipping planned, each element behind (and the element's own
-        // blend polygons) is cut along the occluder: new edges about twice
-        // its outline and a few triangles, which llvmpipe prices like
-        // fragments (6.8 ns per pixel of edge). Without this the plan took
-        // every opaque polygon and lost more on edges than it saved.
-        const bool cuts = options.clip_hidden.enabled && options.clip_hidden.plan_occluders;
-        auto cut_cost = [&](const std::vector<Polygon>& screen) {
-            double outline = 0;
-            for (const Polygon& p : screen)
-                for (std::size_t q = 0; q < p.size(); ++q)
-                    outline += std::hypot(p[(q + 1) % p.size()].x - p[q].x, p[(q + 1) % p.size()].y - p[q].y);
-            return kCutEdges * Pp * outline + kCutTriangles * T;
-        };
-        auto behind_gain = [&](const std::vector<Polygon>& screen) {
-            double area = 0, overhead = 0;
-            for (const std::uint32_t* b = graph.behind_begin(j); b != graph.behind_end(j); ++b) {
-                double a = 0;
-                for (const Polygon& p : screen) a += clipped_area(p, box[*b]);
-                area += a;
-                if (cuts && a > 0) overhead += cut_cost(screen);
-            }
-            return area * (Fb - Fr) - overhead;
-        };
-        struct Option {
-            int opaque;
-            double delta;
-            std::vector<Polygon> screen;
-            bool rect;
-        };
-        std::vector<Option> options_j;
-        if (cap.stats.opaque_texels == std::int64_t(cap.rect.w) * cap.rect.h && detail::pixel_aligned(scene, e)) {
-            // Whole-rect opaque: the rect in the opaque pass, no blend draw.
-            const Geometry g = rect_geo[std::size_t(key_of(j))];
-            std::vector<Polygon> screen{to_screen(j, rect_polygon_of(cap.rect))};
-            const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j];
-            options_j.push_back({Opaque::all, cost - own_blend - behind_gain(screen), screen, true});
-        } else if (!cap.opaque.empty()) {
-            for (int o : {int(Opaque::first), int(Opaque::all)}) {
-                if (o == Opaque::all && cap.opaque.size() == 1) continue;
-                std::vector<Polygon> polys(cap.opaque.begin(), o == Opaque::first ? cap.opaque.begin() + 1 : cap.opaque.end());
-                const Geometry g = geometry_of(polys, true);
-                std::vector<Polygon> screen;
-                for (const Polygon& p : polys) screen.push_back(to_screen(j, p));
-                double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j] + (cuts ? cut_cost(screen) : 0.0);
-                double gain = (Fb - Fr) * g.area * det[j] + behind_gain(screen);
-                if (o == Opaque::all && scene.filter == Filter::nearest && cap.stats.nontransparent_texels > 0 &&
-                    cap.stats.opaque_covered_texels == cap.stats.nontransparent_texels && choice[std::size_t(key_of(j))] >= 0)
-                    gain = own_blend + behind_gain(screen); // no blend draw at all
-                options_j.push_back({o, cost - gain, screen, false});
-            }
-        }
-        const Option* best = nullptr;
-        for (const Option& o : options_j)
+        std::vector<OpaqueOption> options_j = opaque_options(j);
+        OpaqueOption* best = nullptr;
+        for (OpaqueOption& o : options_j)
             if (o.delta < 0 && (!best || o.delta < best->delta)) best = &o;
         if (!best) continue;
         variants[j].opaque = best->opaque;
-        occluder[j] = best->screen;
+        occluder[j] = std::move(best->screen);
         whole_rect[j] = best->rect;
         opaque_gain += -best->delta;
         ++opaque_count;
