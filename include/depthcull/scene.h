@@ -423,9 +423,12 @@ inline float depth_z(std::int64_t level, bool opaque, std::int64_t denominator) 
 // meshes come from a file or a caller.
 std::int64_t depth_levels_of_draws(const std::vector<Draw>& draws, std::int64_t denominator);
 
-// Ear clipping (paper 2.3.3, Held's FIST ear conditions) of a simple
-// polygon, clockwise or not, with collinear vertices allowed: indices of
-// triangles into `polygon`. Exact for vertices on the texel grid.
+// Triangles of a simple polygon, clockwise or not, with collinear
+// vertices allowed: indices into `polygon`. Up to 64 vertices on a 1/256
+// grid, the triangulation with the least total diagonal length (every
+// edge costs a renderer that shades 4x4 blocks; issue 25); otherwise ear
+// clipping (paper 2.3.3, Held's FIST ear conditions). Exact for vertices
+// on the texel grid.
 std::vector<std::uint32_t> triangulate_polygon(const Polygon& polygon);
 
 // ---- Dynamic elements (beyond the paper, section 4 caveat 2)
