@@ -51,14 +51,6 @@ std::string layers_text(double layers) {
     return text;
 }
 
-// llvmpipe reads LP_NUM_THREADS when the context is made: --lp-threads,
-// else 1 unless set. What is in force, for the header.
-const char* pin_lp_threads(int lp_threads) {
-    if (lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(lp_threads).c_str(), 1);
-    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
-    return std::getenv("LP_NUM_THREADS");
-}
-
 // What measure_sprites is asked for; with --target, options.target points
 // to *profile.
 render::SpriteBenchOptions sprite_options(const SpriteBenchArgs& args, CostProfile* profile) {

@@ -374,11 +374,7 @@ void run_bench(BenchArgs& args) {
                                  args.json_output, args.output, args.quiet, args.lp_threads, &args.input});
     const std::vector<render::Mode> modes = parse_modes(args.modes);
     args.instrumented = args.shader == BenchArgs::Shader::instrumented;
-    // llvmpipe reads LP_NUM_THREADS when the context is made; pin it so
-    // timings from different runs and machines are comparable.
-    if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
-    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
-    const char* lp_threads = std::getenv("LP_NUM_THREADS");
+    const char* lp_threads = pin_lp_threads(args.lp_threads);
 
     // Checked first, committed together at the end: a failure writes none.
     RunOutputs outputs(args.scenes);

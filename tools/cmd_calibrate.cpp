@@ -269,8 +269,7 @@ CostProfile measure_profile(render::GlHost& host, bool quick, bool quiet, CostPr
 namespace {
 
 void run_calibrate(const CalibrateArgs& args) {
-    if (args.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(args.lp_threads).c_str(), 1);
-    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
+    pin_lp_threads(args.lp_threads);
     auto host = open_host(args.platform);
     CostProfile wall;
     CostProfile p = measure_profile(*host, args.quick, args.quiet, &wall);

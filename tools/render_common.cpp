@@ -77,6 +77,12 @@ std::unique_ptr<render::GlHost> open_host(render::GlPlatform platform) {
     }
 }
 
+const char* pin_lp_threads(int lp_threads) {
+    if (lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(lp_threads).c_str(), 1);
+    else if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
+    return std::getenv("LP_NUM_THREADS");
+}
+
 double covered_share(const OverdrawMap& ideal) {
     if (ideal.counts.empty()) return 0;
     std::size_t covered = 0;

@@ -44,6 +44,11 @@ std::unique_ptr<render::GlRenderer> open_renderer(const RenderInput& input);
 // The same for a desktop GL host of depthcull::runtime.
 std::unique_ptr<render::GlHost> open_host(render::GlPlatform platform);
 
+// llvmpipe reads LP_NUM_THREADS when a context is made; pinned before one
+// is, so that timings of runs and machines compare: `lp_threads` when >= 0
+// (--lp-threads), else the environment's, else 1. Returns what is in force.
+const char* pin_lp_threads(int lp_threads);
+
 } // namespace depthcull::cli
 
 #ifdef DEPTHCULL_HAVE_RENDER

@@ -7,6 +7,7 @@
 #if defined(DEPTHCULL_HAVE_RENDER) && defined(DEPTHCULL_HAVE_RUNTIME)
 #include "calibrate.h"
 #include "depthcull/render.h"
+#include "render_common.h"
 #endif
 
 namespace depthcull::cli {
@@ -17,9 +18,8 @@ CostProfile resolve_cli_target(const std::string& target, bool quiet) {
     static std::map<std::string, CostProfile> resolved;
     if (auto it = resolved.find(target); it != resolved.end()) return it->second;
 #if defined(DEPTHCULL_HAVE_RENDER) && defined(DEPTHCULL_HAVE_RUNTIME)
-    // llvmpipe reads LP_NUM_THREADS when the context is made: pinned as
-    // bench and calibrate pin it, so the renderer measured is the one drawn.
-    if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", "1", 1);
+    // Pinned as bench and calibrate pin it, so the renderer measured is the one drawn.
+    pin_lp_threads(-1);
     std::unique_ptr<render::GlHost> host;
     try {
         host = render::GlHost::create({}, render::GlApi::desktop);
