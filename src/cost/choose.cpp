@@ -154,13 +154,13 @@ struct Contestant {
     bool opaque_pass = true;
 };
 
-// The state the steps share: the inputs, what each element's placement
-// gives the model, and what each step decided. One function per step.
 // Clipping planned (issue 25): the edges a cut adds, as a multiple of the
 // occluder's outline, and the triangles, per element cut (Chooser::cut_cost).
 constexpr double kCutEdges = 3.0;
 constexpr double kCutTriangles = 4.0;
 
+// The state the steps share: the inputs, what each element's placement
+// gives the model, and what each step decided. One function per step.
 struct Chooser {
     const Scene& scene;
     const std::vector<TargetCandidates>& candidates;
@@ -233,7 +233,7 @@ struct Chooser {
     };
     bool cuts() const;
     double cut_cost(const std::vector<Polygon>& screen) const;
-    double behind_gain(std::size_t j, const std::vector<Polygon>& screen) const;
+    double behind_gain(std::size_t j, const std::vector<Polygon>& screen, double cut) const;
     std::vector<OpaqueOption> opaque_options(std::size_t j) const;
     void choose_opaque();              // 2
     void drop_hidden();                // 3
@@ -330,14 +330,15 @@ double Chooser::cut_cost(const std::vector<Polygon>& screen) const {
     return kCutEdges * Pp * outline + kCutTriangles * T;
 }
 
-// What opaque polygons at `screen` save on the elements behind element j.
-double Chooser::behind_gain(std::size_t j, const std::vector<Polygon>& screen) const {
+// What opaque polygons at `screen` save on the elements behind element j,
+// less `cut` (cut_cost, or 0 when nothing is cut) for each one they cover.
+double Chooser::behind_gain(std::size_t j, const std::vector<Polygon>& screen, double cut) const {
     double area = 0, overhead = 0;
     for (const std::uint32_t* b = graph.behind_begin(j); b != graph.behind_end(j); ++b) {
         double a = 0;
         for (const Polygon& p : screen) a += clipped_area(p, box[*b]);
         area += a;
-        if (cuts() && a > 0) overhead += cut_cost(screen);
+        if (a > 0) overhead += cut;
     }
     return area * (Fb - Fr) - overhead;
 }
@@ -357,7 +358,7 @@ std::vector<Chooser::OpaqueOption> Chooser::opaque_options(std::size_t j) const 
         const Geometry g = rect_geo[k];
         std::vector<Polygon> screen{to_screen(j, rect_polygon_of(cap.rect))};
         const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j];
-        const double delta = cost - own_blend - behind_gain(j, screen);
+        const double delta = cost - own_blend - behind_gain(j, screen, cuts() ? cut_cost(screen) : 0.0);
         out.push_back({Opaque::all, delta, std::move(screen), true});
         return out;
     }
@@ -367,11 +368,13 @@ std::vector<Chooser::OpaqueOption> Chooser::opaque_options(std::size_t j) const 
         const Geometry g = geometry_of(polys, true);
         std::vector<Polygon> screen;
         for (const Polygon& p : polys) screen.push_back(to_screen(j, p));
-        const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j] + (cuts() ? cut_cost(screen) : 0.0);
-        double gain = (Fb - Fr) * g.area * det[j] + behind_gain(j, screen);
+        const double cut = cuts() ? cut_cost(screen) : 0.0;
+        const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j] + cut;
+        const double behind = behind_gain(j, screen, cut);
+        double gain = (Fb - Fr) * g.area * det[j] + behind;
         if (o == Opaque::all && scene.filter == Filter::nearest && cap.stats.nontransparent_texels > 0 &&
             cap.stats.opaque_covered_texels == cap.stats.nontransparent_texels && choice[k] >= 0)
-            gain = own_blend + behind_gain(j, screen); // no blend draw at all
+            gain = own_blend + behind; // no blend draw at all
         out.push_back({o, cost - gain, std::move(screen), false});
     }
     return out;
