@@ -60,6 +60,30 @@ function uprightImage(scene, tex, f, x, y, sx, sy) {
   return scene.add.image(x + sx * lx, y + sy * (ly + h), 'sheet', key).setOrigin(0).setScale(sy, sx).setRotation(-Math.PI / 2);
 }
 
+// Scene element n as the Phaser Image that draws it in a plain game
+// (its rect a frame of its image, its transform, tint, alpha and blend);
+// its rect and transform are pushed onto `elements` for the comparison.
+function elementImage(scene, e, n, elements) {
+  const blends = { alpha: Phaser.BlendModes.NORMAL, add: Phaser.BlendModes.ADD, multiply: Phaser.BlendModes.MULTIPLY };
+  const tex = scene.textures.get(e.image);
+  const rect = e.rect ?? [0, 0, tex.source[0].width, tex.source[0].height];
+  const frame = `rect${rect.join(',')}`;
+  if (!tex.has(frame)) tex.add(frame, 0, ...rect);
+  const [a, b, c, d, tx, ty] = e.transform ?? [1, 0, 0, 1, 0, 0];
+  elements.push({ rect, transform: [a, b, c, d, tx, ty] });
+  // Phaser's Transform is translate * rotate * scale: no skew.
+  const sx = Math.hypot(a, b), sy = (a * d - b * c) / sx;
+  if (Math.abs(a * c + b * d) > 1e-12) throw new Error(`element ${n}: a skewed transform has no Phaser Image equivalent`);
+  const img = scene.add.image(tx, ty, e.image, frame).setOrigin(0).setScale(sx, sy).setRotation(Math.atan2(b, a));
+  if (e.color) {
+    const [r, g, bl, al] = e.color;
+    img.setTint((Math.round(r * 255) << 16) | (Math.round(g * 255) << 8) | Math.round(bl * 255));
+    img.setAlpha(al);
+  }
+  img.setBlendMode(blends[e.blend ?? 'alpha']);
+  return img;
+}
+
 // A game showing a scene's viewport over a plain backdrop, its images
 // loaded with nearest filtering (the meshes' document and scene JSON read
 // unless given).
@@ -133,28 +157,8 @@ window.phaserTest = {
 
   async layer({ sceneUrl, meshesUrl, frames = 2 }) {
     const { doc, meshes, width, height, game, scene } = await sceneGame(sceneUrl, meshesUrl);
-    const blends = { alpha: Phaser.BlendModes.NORMAL, add: Phaser.BlendModes.ADD, multiply: Phaser.BlendModes.MULTIPLY };
     const elements = [];
-    const plain = doc.elements.map((e, n) => {
-      const tex = scene.textures.get(e.image);
-      const rect = e.rect ?? [0, 0, tex.source[0].width, tex.source[0].height];
-      const frame = `rect${rect.join(',')}`;
-      if (!tex.has(frame)) tex.add(frame, 0, ...rect);
-      const [a, b, c, d, tx, ty] = e.transform ?? [1, 0, 0, 1, 0, 0];
-      elements.push({ rect, transform: [a, b, c, d, tx, ty] });
-      // Phaser's Transform is translate * rotate * scale: no skew.
-      const sx = Math.hypot(a, b), sy = (a * d - b * c) / sx;
-      if (Math.abs(a * c + b * d) > 1e-12)
-        throw new Error(`element ${n}: a skewed transform has no Phaser Image equivalent`);
-      const img = scene.add.image(tx, ty, e.image, frame).setOrigin(0).setScale(sx, sy).setRotation(Math.atan2(b, a));
-      if (e.color) {
-        const [r, g, bl, al] = e.color;
-        img.setTint((Math.round(r * 255) << 16) | (Math.round(g * 255) << 8) | Math.round(bl * 255));
-        img.setAlpha(al);
-      }
-      img.setBlendMode(blends[e.blend ?? 'alpha']);
-      return img;
-    });
+    const plain = doc.elements.map((e, n) => elementImage(scene, e, n, elements));
     const layer = scene.add.existing(new DepthCulledExtern(scene, meshes, meshes.images.map((img) => (img.fill ? null : img.id))));
     scene.add.rectangle(width / 4, height / 4, width / 2, height / 8, 0xffcc00, 0.5).setOrigin(0).setScrollFactor(0);
     layer.setVisible(false);
@@ -223,28 +227,12 @@ window.phaserTest = {
         return img;
       });
 
-    const blends = { alpha: Phaser.BlendModes.NORMAL, add: Phaser.BlendModes.ADD, multiply: Phaser.BlendModes.MULTIPLY };
     const elements = [];
     const plain = [];
     let inOrder = null;
     doc.elements.forEach((e, n) => {
       if (n === atElement) inOrder = movingImages();
-      const tex = scene.textures.get(e.image);
-      const rect = e.rect ?? [0, 0, tex.source[0].width, tex.source[0].height];
-      const frame = `rect${rect.join(',')}`;
-      if (!tex.has(frame)) tex.add(frame, 0, ...rect);
-      const [a, b, c, d, tx, ty] = e.transform ?? [1, 0, 0, 1, 0, 0];
-      elements.push({ rect, transform: [a, b, c, d, tx, ty] });
-      const sx = Math.hypot(a, b), sy = (a * d - b * c) / sx;
-      if (Math.abs(a * c + b * d) > 1e-12) throw new Error(`element ${n}: a skewed transform has no Phaser Image equivalent`);
-      const img = scene.add.image(tx, ty, e.image, frame).setOrigin(0).setScale(sx, sy).setRotation(Math.atan2(b, a));
-      if (e.color) {
-        const [r, g, bl, al] = e.color;
-        img.setTint((Math.round(r * 255) << 16) | (Math.round(g * 255) << 8) | Math.round(bl * 255));
-        img.setAlpha(al);
-      }
-      img.setBlendMode(blends[e.blend ?? 'alpha']);
-      plain.push(img);
+      plain.push(elementImage(scene, e, n, elements));
     });
     if (!inOrder) throw new Error(`atElement ${atElement}: the scene has ${doc.elements.length} elements`);
     const onTop = movingImages();
