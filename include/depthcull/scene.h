@@ -246,8 +246,8 @@ inline constexpr double kTexelMargin = 1.0 / 32;
 // never uncovers a pixel (src/scene/clip_hidden.cpp). Elements whose
 // transform GL snaps exactly (power-of-two scales, quarter turns, flips,
 // 1/256-pixel moves) are clipped anywhere; others (turned, scaled anyhow)
-// only `margin` inside their rect and without holes. Without Clipper (wasm
-// builds) it does nothing.
+// only `margin` inside their rect. What is left is triangulated whole,
+// holes included. Without Clipper (wasm builds) it does nothing.
 struct ClipHiddenOptions {
     bool enabled = false;
     double fragment_cost = 1;

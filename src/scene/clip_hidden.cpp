@@ -25,14 +25,18 @@
 //   moved off the 1/256 grid; issue 25 point 3) are cut only where no new
 //   vertex can land on their rect's outline: the cut is first intersected
 //   with the rect shrunk by `margin` on screen, so every cut vertex lies
-//   that far inside the rect, a vertex pushed off an inner edge of B's
+//   that far inside the rect, and a vertex pushed off an inner edge of B's
 //   polygons stays inside it (no clamp: an element whose push would leave
-//   the rect is not cut), and a result with a hole is not used (its strips
-//   would end on the rect's outline).
+//   the rect is not cut).
 // - B's original vertices are kept bit for bit, and its skirts are drawn
 //   around its original polygons as before.
-// - A result with a hole (an occluder inside B, touching no edge) is not
-//   used: ear clipping needs simple polygons.
+// - What is left is triangulated whole, holes included (an occluder inside
+//   B touching none of its edges: triangulate_holes.cpp), on Clipper's
+//   exact grid, and the triangles are checked again where B draws them
+//   (texel space, after the pushes): none turns over, and their areas sum
+//   to the region's. Only where that fails (over 64 points, contours that
+//   touch) is B, when GL snaps it exactly, cut into strips at whole-pixel x
+//   instead (strip_groups).
 // Per element, the cut is kept only when the rejected fragments it saves
 // beat the triangles and perimeter it adds, at the caller's costs.
 #include <algorithm>
@@ -145,6 +149,172 @@ struct Region {
     std::vector<Polygon> screen; // the same as GL gets them
 };
 
+// What is left of B: outlines, each with the holes inside it, and their
+// triangles when triangulated whole (empty: not yet).
+struct Group {
+    std::vector<cl::Path> contours;
+    std::vector<std::uint32_t> triangles;
+};
+
+double path_area(const cl::Path& path) { return std::abs(cl::Area(path)) / (kScale * kScale); }
+
+// subject - cut as groups of an outline and its holes; false when Clipper fails.
+bool difference(const cl::Paths& subject, const cl::Paths& cut, std::vector<Group>* groups, double* area) {
+    cl::Clipper clipper;
+    clipper.StrictlySimple(true);
+    clipper.PreserveCollinear(true);
+    clipper.AddPaths(subject, cl::ptSubject, true);
+    clipper.AddPaths(cut, cl::ptClip, true);
+    cl::PolyTree tree;
+    if (!clipper.Execute(cl::ctDifference, tree, cl::pftNonZero, cl::pftNonZero)) return false;
+    for (cl::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
+        if (node->IsOpen() || node->IsHole()) continue;
+        Group g;
+        g.contours.push_back(node->Contour);
+        *area += path_area(node->Contour);
+        for (const cl::PolyNode* hole : node->Childs) {
+            g.contours.push_back(hole->Contour);
+            *area -= path_area(hole->Contour);
+        }
+        groups->push_back(std::move(g));
+    }
+    return true;
+}
+
+// Each group triangulated whole, on Clipper's exact grid; false when one
+// cannot be (too many points, touching contours).
+bool triangulate_groups(std::vector<Group>& groups) {
+    std::vector<std::vector<GridPoint>> contours;
+    for (Group& g : groups) {
+        contours.clear();
+        for (const cl::Path& c : g.contours) {
+            contours.emplace_back();
+            for (const cl::IntPoint& q : c) contours.back().push_back({q.X, q.Y});
+        }
+        g.triangles = triangulate_with_holes(contours);
+        if (g.triangles.empty()) return false;
+    }
+    return true;
+}
+
+// The fallback when a region with holes cannot be triangulated whole: B
+// cut into vertical strips at whole-pixel x through each hole. Strip edges
+// run exactly on x = k (floats and GL keep whole numbers; B snaps
+// exactly), 0.5 px from every pixel centre, so the strips tile B with no
+// pixel drawn twice or lost although their vertices on x = k differ.
+bool strip_groups(const cl::Paths& subject, const cl::Paths& cut, std::vector<Group>* groups, double* area) {
+    std::vector<cl::cInt> splits;
+    const cl::cInt far = cl::cInt(kMaxCoordinate * 2 * kScale);
+    for (int round = 0; round < 8; ++round) {
+        groups->clear();
+        *area = 0;
+        bool again = false;
+        for (std::size_t k = 0; k <= splits.size(); ++k) {
+            cl::Paths part = subject;
+            if (!splits.empty()) {
+                const cl::cInt lo = k == 0 ? -far : splits[k - 1], hi = k == splits.size() ? far : splits[k];
+                cl::Clipper strip;
+                strip.PreserveCollinear(true);
+                strip.AddPaths(subject, cl::ptSubject, true);
+                strip.AddPath(cl::Path{{lo, -far}, {hi, -far}, {hi, far}, {lo, far}}, cl::ptClip, true);
+                part.clear();
+                if (!strip.Execute(cl::ctIntersection, part, cl::pftNonZero, cl::pftNonZero)) return false;
+            }
+            std::vector<Group> pieces;
+            if (!difference(part, cut, &pieces, area)) return false;
+            for (Group& g : pieces) {
+                for (std::size_t h = 1; h < g.contours.size(); ++h) {
+                    cl::cInt lo = g.contours[h][0].X, hi = lo;
+                    for (const cl::IntPoint& q : g.contours[h]) lo = std::min(lo, q.X), hi = std::max(hi, q.X);
+                    const double x = std::floor((double(lo) + double(hi)) / 2 / kScale);
+                    const cl::cInt at = cl::cInt(x * kScale), at2 = cl::cInt((x + 1) * kScale);
+                    if (at > lo && at < hi) splits.push_back(at);
+                    else if (at2 > lo && at2 < hi) splits.push_back(at2);
+                    else return false;
+                    again = true;
+                }
+                if (g.contours.size() == 1) groups->push_back(std::move(g));
+            }
+        }
+        if (!again) return true;
+        std::sort(splits.begin(), splits.end());
+        splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
+    }
+    return false;
+}
+
+// The texel point B draws at cut vertex `ip`: B's own vertex bit for bit,
+// else the point pushed outward when on B's outline; false when the point
+// cannot be used (see the head comment).
+bool texel_point(const Element& e, const Region& region, const std::map<std::pair<cl::cInt, cl::cInt>, Vec2>& original,
+                 const TexelMap& map, bool snapped, cl::IntPoint ip, Vec2* out) {
+    auto it = original.find({ip.X, ip.Y});
+    if (it != original.end()) {
+        *out = it->second;
+        return true;
+    }
+    Vec2 s{double(ip.X) / kScale, double(ip.Y) / kScale};
+    // On B's outline: pushed outward, off B's polygons.
+    bool pushed = false;
+    for (std::size_t k = 0; k < region.screen.size() && !pushed; ++k) {
+        const Polygon& q = region.screen[k];
+        const std::size_t m = q.size();
+        const double sign = signed_area(q) > 0 ? 1.0 : -1.0;
+        for (std::size_t i = 0; i < m && !pushed; ++i) {
+            const Vec2 a = q[i], c = q[(i + 1) % m];
+            const double len = std::hypot(c.x - a.x, c.y - a.y);
+            if (len == 0 || distance_to_segment(s, a, c) >= kOnEdge) continue;
+            // Outward is to the left of a->c for a clockwise (positive) polygon, y down.
+            const Vec2 normal{sign * (c.y - a.y) / len, -sign * (c.x - a.x) / len};
+            s = s + kPush * normal;
+            pushed = true;
+        }
+    }
+    // A push that lands inside B (a reflex corner, another of its
+    // polygons) could uncover a pixel: no cut for this element.
+    if (pushed)
+        for (const Polygon& q : region.screen)
+            if (strictly_inside(s, q)) return false;
+    Vec2 t{map.u0 + map.ux * s.x + map.uy * s.y, map.v0 + map.vx * s.x + map.vy * s.y};
+    const double x0 = e.rect.x, x1 = double(e.rect.x) + e.rect.w, y0 = e.rect.y, y1 = double(e.rect.y) + e.rect.h;
+    // Not snapped: cut vertices lie `margin` inside the rect, so a
+    // point here outside it is a polygon the checks above missed.
+    if (!snapped && !(t.x > x0 && t.x < x1 && t.y > y0 && t.y < y1)) return false;
+    *out = {std::clamp(t.x, x0, x1), std::clamp(t.y, y0, y1)};
+    return true;
+}
+
+// The group as B draws it (texel points, the contours' points in order),
+// its triangles checked in texel space: none turns against the outline
+// and their areas sum to the region's. False when a check fails.
+bool texel_piece(const Element& e, const Region& region, const std::map<std::pair<cl::cInt, cl::cInt>, Vec2>& original,
+                 bool snapped, Group& g, Polygon* piece) {
+    const TexelMap map = texel_map(e);
+    double area = 0, outline_sign = 0;
+    for (std::size_t c = 0; c < g.contours.size(); ++c) {
+        Polygon contour;
+        for (const cl::IntPoint& ip : g.contours[c]) {
+            Vec2 t;
+            if (!texel_point(e, region, original, map, snapped, ip, &t)) return false;
+            contour.push_back(t);
+        }
+        const double a = signed_area(contour);
+        if (c == 0) outline_sign = a < 0 ? -1.0 : 1.0;
+        area += c == 0 ? std::abs(a) : -std::abs(a);
+        piece->insert(piece->end(), contour.begin(), contour.end());
+    }
+    // A lone outline not triangulated whole (the strips): ear clipping,
+    // exact on the texel grid only, hence the checks.
+    if (g.triangles.empty() && g.contours.size() == 1) g.triangles = triangulate_polygon(*piece);
+    double sum = 0;
+    for (std::size_t t = 0; t + 2 < g.triangles.size(); t += 3) {
+        const double o = orient((*piece)[g.triangles[t]], (*piece)[g.triangles[t + 1]], (*piece)[g.triangles[t + 2]]);
+        if (outline_sign * o < 0) return false;
+        sum += std::abs(o) / 2;
+    }
+    return std::abs(sum - area) <= 1e-9 * std::max(1.0, sum);
+}
+
 // Cuts `region` of element b at `cut`; true (and *out) when it pays.
 bool clip_region(const Scene& scene, std::uint32_t b, const Region& region, const cl::Paths& cut, const ClipHiddenOptions& options,
                  bool snapped, ClippedPart* out) {
@@ -159,125 +329,34 @@ bool clip_region(const Scene& scene, std::uint32_t b, const Region& region, cons
         const std::vector<std::uint32_t> tris = triangulate_polygon(region.texel[k]);
         old_triangles += double(tris.size() / 3);
         old_perimeter += triangle_perimeter(region.screen[k], tris);
-        old_area += std::abs(cl::Area(path));
+        old_area += path_area(path);
         subject.push_back(std::move(path));
     }
-    // A cut inside B (touching no edge) leaves a hole, which ear clipping
-    // cannot take: B is then cut into vertical strips at whole-pixel x
-    // through each hole. Strip edges run exactly on x = k (floats and GL
-    // keep whole numbers; B snaps exactly), 0.5 px from every pixel
-    // centre, so the strips tile B with no pixel drawn twice or lost.
-    std::vector<cl::cInt> splits;
-    std::vector<cl::Path> contours;
+    // What is left, triangulated whole (holes included: an occluder inside
+    // B); else, for B snapped exactly, in strips without holes.
+    std::vector<Group> groups;
     double new_area = 0;
-    const cl::cInt far = cl::cInt(kMaxCoordinate * 2 * kScale);
-    for (int round = 0;; ++round) {
-        if (round == 8) return false;
-        contours.clear();
-        new_area = 0;
-        bool again = false;
-        for (std::size_t k = 0; k <= splits.size(); ++k) {
-            cl::Paths part = subject;
-            if (!splits.empty()) {
-                const cl::cInt lo = k == 0 ? -far : splits[k - 1], hi = k == splits.size() ? far : splits[k];
-                cl::Clipper strip;
-                strip.PreserveCollinear(true);
-                strip.AddPaths(subject, cl::ptSubject, true);
-                strip.AddPath(cl::Path{{lo, -far}, {hi, -far}, {hi, far}, {lo, far}}, cl::ptClip, true);
-                part.clear();
-                if (!strip.Execute(cl::ctIntersection, part, cl::pftNonZero, cl::pftNonZero)) return false;
-            }
-            cl::Clipper clipper;
-            clipper.StrictlySimple(true);
-            clipper.PreserveCollinear(true);
-            clipper.AddPaths(part, cl::ptSubject, true);
-            clipper.AddPaths(cut, cl::ptClip, true);
-            cl::PolyTree tree;
-            if (!clipper.Execute(cl::ctDifference, tree, cl::pftNonZero, cl::pftNonZero)) return false;
-            for (cl::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
-                if (node->IsOpen()) continue;
-                if (node->IsHole()) {
-                    if (!snapped) return false; // strips would end on the rect's outline, off GL's snapped lines
-                    cl::cInt lo = node->Contour[0].X, hi = lo;
-                    for (const cl::IntPoint& q : node->Contour) lo = std::min(lo, q.X), hi = std::max(hi, q.X);
-                    const double x = std::floor((double(lo) + double(hi)) / 2 / kScale);
-                    const cl::cInt at = cl::cInt(x * kScale);
-                    if (!(at > lo && at < hi)) {
-                        const cl::cInt at2 = cl::cInt((x + 1) * kScale);
-                        if (!(at2 > lo && at2 < hi)) return false;
-                        splits.push_back(at2);
-                    } else {
-                        splits.push_back(at);
-                    }
-                    again = true;
-                    continue;
-                }
-                contours.push_back(node->Contour);
-                new_area += std::abs(cl::Area(node->Contour));
-            }
-        }
-        if (!again) break;
-        std::sort(splits.begin(), splits.end());
-        splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
+    if (!difference(subject, cut, &groups, &new_area)) return false;
+    if (!triangulate_groups(groups)) {
+        bool holes = false;
+        for (const Group& g : groups) holes = holes || g.contours.size() > 1;
+        // Strips would end on the rect's outline, off GL's snapped lines.
+        if (holes && (!snapped || !strip_groups(subject, cut, &groups, &new_area))) return false;
     }
-    const double saved_pixels = (old_area - new_area) / (kScale * kScale);
+    const double saved_pixels = old_area - new_area;
     if (!(saved_pixels > 0)) return false;
-    // Pieces in texel space.
-    const TexelMap map = texel_map(e);
-    const double x0 = e.rect.x, x1 = double(e.rect.x) + e.rect.w, y0 = e.rect.y, y1 = double(e.rect.y) + e.rect.h;
     ClippedPart part;
     double new_triangles = 0, new_perimeter = 0;
-    for (const cl::Path& contour : contours) {
-        Polygon piece, screen;
-        for (const cl::IntPoint& ip : contour) {
-            auto it = original.find({ip.X, ip.Y});
-            if (it != original.end()) {
-                piece.push_back(it->second);
-                screen.push_back(screen_of(e, it->second));
-                continue;
-            }
-            Vec2 s{double(ip.X) / kScale, double(ip.Y) / kScale};
-            // On B's outline: pushed outward, off B's polygons.
-            bool pushed = false;
-            for (std::size_t k = 0; k < region.screen.size() && !pushed; ++k) {
-                const Polygon& q = region.screen[k];
-                const std::size_t m = q.size();
-                const double sign = signed_area(q) > 0 ? 1.0 : -1.0;
-                for (std::size_t i = 0; i < m && !pushed; ++i) {
-                    const Vec2 a = q[i], c = q[(i + 1) % m];
-                    const double len = std::hypot(c.x - a.x, c.y - a.y);
-                    if (len == 0 || distance_to_segment(s, a, c) >= kOnEdge) continue;
-                    // Outward is to the left of a->c for a clockwise (positive) polygon, y down.
-                    const Vec2 normal{sign * (c.y - a.y) / len, -sign * (c.x - a.x) / len};
-                    s = s + kPush * normal;
-                    pushed = true;
-                }
-            }
-            // A push that lands inside B (a reflex corner, another of its
-            // polygons) could uncover a pixel: no cut for this element.
-            if (pushed)
-                for (const Polygon& q : region.screen)
-                    if (strictly_inside(s, q)) return false;
-            Vec2 t{map.u0 + map.ux * s.x + map.uy * s.y, map.v0 + map.vx * s.x + map.vy * s.y};
-            // Not snapped: cut vertices lie `margin` inside the rect, so a
-            // point here outside it is a polygon the checks above missed.
-            if (!snapped && !(t.x > x0 && t.x < x1 && t.y > y0 && t.y < y1)) return false;
-            t.x = std::clamp(t.x, x0, x1);
-            t.y = std::clamp(t.y, y0, y1);
-            piece.push_back(t);
-            screen.push_back(screen_of(e, t));
-        }
-        if (piece.size() < 3) continue;
-        std::vector<std::uint32_t> tris = triangulate_polygon(piece);
-        // The ear clipping must tile the piece exactly (it is exact on the
-        // texel grid; cut vertices are not on it).
-        double sum = 0;
-        for (std::size_t t = 0; t + 2 < tris.size(); t += 3) sum += std::abs(orient(piece[tris[t]], piece[tris[t + 1]], piece[tris[t + 2]])) / 2;
-        if (!(std::abs(sum - std::abs(signed_area(piece))) <= 1e-9 * std::max(1.0, sum))) return false;
-        new_triangles += double(tris.size() / 3);
-        new_perimeter += triangle_perimeter(screen, tris);
+    for (Group& g : groups) {
+        Polygon piece;
+        if (!texel_piece(e, region, original, snapped, g, &piece)) return false;
+        if (g.triangles.empty()) continue;
+        Polygon screen;
+        for (const Vec2& t : piece) screen.push_back(screen_of(e, t));
+        new_triangles += double(g.triangles.size() / 3);
+        new_perimeter += triangle_perimeter(screen, g.triangles);
         part.pieces.push_back(std::move(piece));
-        part.triangles.push_back(std::move(tris));
+        part.triangles.push_back(std::move(g.triangles));
     }
     const double gain = saved_pixels * options.fragment_cost - (new_triangles - old_triangles) * options.triangle_cost -
                         (new_perimeter - old_perimeter) * options.perimeter_cost;

@@ -84,6 +84,21 @@ struct ClippedPart {
     std::vector<Polygon> pieces;
     std::vector<std::vector<std::uint32_t>> triangles;
 };
+// A point of Clipper's integer grid (clip_hidden.cpp: 2^-32 screen px).
+struct GridPoint {
+    std::int64_t x, y;
+};
+// Most points triangulate_with_holes takes (its tests grow as n^3).
+constexpr std::size_t kMaxHoleTriangulationVertices = 64;
+// The region inside contours[0] and outside contours[1..] (strictly simple,
+// disjoint, the holes inside the first, no point twice, |coordinates| <
+// 2^60) triangulated with short edges (greedy: shortest diagonals
+// first); indices into the contours' points in order, triangles turning
+// as contours[0]. Empty when the input breaks those rules or has more
+// than kMaxHoleTriangulationVertices points: every triangle lies in the
+// region and their areas sum to its area exactly, or none is returned.
+std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<GridPoint>>& contours);
+
 struct ClippedParts {
     std::unordered_map<std::uint32_t, ClippedPart> blend;  // blend-pass polygons (or rect) cut
     std::unordered_map<std::uint32_t, ClippedPart> opaque; // whole-rect opaque tiles cut

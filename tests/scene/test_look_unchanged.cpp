@@ -214,6 +214,48 @@ TEST(LookUnchanged, ClippedHiddenPartsKeepTheFrame) {
     EXPECT_GE(cut_scenes, 10);
 }
 
+// Issue 25: an occluder inside an element (touching none of its edges)
+// leaves a ring, triangulated whole: on a tile GL snaps exactly 8
+// triangles instead of two ear-clipped strips' 12; on a turned, scaled
+// sprite (before: not cut at all, as strips would end on its outline)
+// the ring is cut too. The frame is overpaint's either way.
+TEST(LookUnchanged, OccludersInsideElementsLeaveRings) {
+    for (const bool turned : {false, true}) {
+        RandomScene r;
+        r.scene.viewport = {0, 0, 64, 64};
+        Image ground{32, 32, std::vector<std::uint8_t>(32 * 32 * 4, 0)};
+        for (std::size_t t = 0; t < 32 * 32; ++t)
+            ground.rgba[4 * t] = std::uint8_t(t * 7), ground.rgba[4 * t + 1] = std::uint8_t(t), ground.rgba[4 * t + 3] = turned ? 128 : 255;
+        Image card{8, 8, std::vector<std::uint8_t>(8 * 8 * 4, 255)};
+        for (std::size_t t = 0; t < 8 * 8; ++t) card.rgba[4 * t + 2] = std::uint8_t(t * 3);
+        r.images = {ground, card};
+        r.scene.images = {{"ground", "ground.png", 32, 32}, {"card", "card.png", 8, 8}};
+        Element g;
+        g.rect = {0, 0, 32, 32};
+        g.transform = turned ? std::array<double, 6>{1.2 * std::cos(0.5), 1.2 * std::sin(0.5), -1.2 * std::sin(0.5), 1.2 * std::cos(0.5), 30.3, 6.7}
+                             : std::array<double, 6>{1, 0, 0, 1, 16, 16};
+        Element c;
+        c.image = 1;
+        c.rect = {0, 0, 8, 8};
+        c.transform = {1.5, 0, 0, 1.5, 26, 26}; // inside the tile, 10 px from its edges (inside the turned one too)
+        r.scene.elements = {g, c};
+        r.analyses = {analyze_image(ground.view(), g.rect, {}), analyze_image(card.view(), c.rect, {})};
+        for (const ImageAnalysis& a : r.analyses) r.element_analysis.push_back(&a);
+        const Frame plain = render(overpaint_meshes(r.scene), r.images);
+        ReconstructOptions o;
+        SceneMeshes whole, cut;
+        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &whole), ReconstructStatus::ok);
+        o.clip_hidden = {true, 1, 0, 0};
+        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &cut), ReconstructStatus::ok);
+        expect_same_frame(plain, render(cut, r.images), turned, "a ring cut around an occluder");
+        EXPECT_LT(analyze_overdraw(cut).rasterized, analyze_overdraw(whole).rasterized) << "turned " << turned;
+        // The card's quad and the ring (4 + 4 points: 8 triangles).
+        if (!turned) {
+            EXPECT_EQ(cut.stats.triangles, 2 + 8);
+        }
+    }
+}
+
 // Issue 25 point 2: the opaque pieces of OpaqueMethod::cover (many, meeting
 // along texel rows, 1/16 texel inside the opaque texels) keep the frame,
 // with and without hidden parts clipped at them, and hide more than the

@@ -3,12 +3,15 @@
 // every triangle has the polygon's orientation, and none reaches outside.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <utility>
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
 #include "depthcull/scene.h"
+#include "scene/internal.h"
+
 
 namespace depthcull {
 namespace {
@@ -162,6 +165,183 @@ RC_GTEST_PROP(Triangulate, ConvexGridPolygonsGetTheShortestDiagonals, ()) {
     RC_ASSERT(t.size() == 3 * (hull.size() - 2));
     RC_ASSERT(twice_area_of_triangles(hull, t) == 2 * signed_area(hull));
     RC_ASSERT(std::abs(diagonal_length(hull, t) - least_diagonals(hull, 0, hull.size() - 1)) < 1e-9);
+}
+
+// Issue 25: regions with holes (what clipping leaves of an element with an
+// occluder inside it), triangulated whole on Clipper's integer grid.
+using detail::GridPoint;
+__extension__ typedef __int128 Wide;
+
+Wide twice_area(const std::vector<GridPoint>& c) {
+    Wide sum = 0;
+    for (std::size_t i = 0, j = c.size() - 1; i < c.size(); j = i++) sum += Wide(c[j].x) * c[i].y - Wide(c[i].x) * c[j].y;
+    return sum;
+}
+
+Wide orient3(GridPoint a, GridPoint b, GridPoint c) { return Wide(b.x - a.x) * (c.y - a.y) - Wide(b.y - a.y) * (c.x - a.x); }
+
+// p scaled by 3 (a triangle's centre, exact) strictly inside contour c.
+bool inside3(const std::vector<GridPoint>& c, GridPoint p) {
+    bool in = false;
+    for (std::size_t i = 0, j = c.size() - 1; i < c.size(); j = i++) {
+        const GridPoint a{3 * c[j].x, 3 * c[j].y}, b{3 * c[i].x, 3 * c[i].y};
+        if ((a.y > p.y) != (b.y > p.y)) {
+            const Wide o = orient3(a, b, p);
+            if (b.y > a.y ? o > 0 : o < 0) in = !in;
+        }
+    }
+    return in;
+}
+
+// A proper triangulation of the region: n + 2h - 2 triangles turning as the
+// outline, each inside the outline and outside every hole, their areas
+// summing to the region's, every contour edge in one triangle and every
+// other edge in two, each way once (so they tile the region).
+void check_region(const std::vector<std::vector<GridPoint>>& contours, const std::vector<std::uint32_t>& t) {
+    std::vector<GridPoint> p;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (const auto& c : contours) {
+        const std::uint32_t first = std::uint32_t(p.size());
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            p.push_back(c[i]);
+            const std::uint32_t a = first + std::uint32_t(i), b = first + std::uint32_t((i + 1) % c.size());
+            uses[{std::min(a, b), std::max(a, b)}] = 0;
+        }
+    }
+    ASSERT_EQ(t.size(), 3 * (p.size() + 2 * (contours.size() - 1) - 2));
+    const Wide outline = twice_area(contours[0]);
+    Wide expected = outline < 0 ? -outline : outline, sum = 0;
+    for (std::size_t h = 1; h < contours.size(); ++h) {
+        const Wide a = twice_area(contours[h]);
+        expected -= a < 0 ? -a : a;
+    }
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (std::size_t k = 0; k < t.size(); k += 3) {
+        const Wide o = orient3(p[t[k]], p[t[k + 1]], p[t[k + 2]]);
+        ASSERT_TRUE(outline > 0 ? o > 0 : o < 0);
+        sum += o < 0 ? -o : o;
+        const GridPoint centre{p[t[k]].x + p[t[k + 1]].x + p[t[k + 2]].x, p[t[k]].y + p[t[k + 1]].y + p[t[k + 2]].y};
+        ASSERT_TRUE(inside3(contours[0], centre));
+        for (std::size_t h = 1; h < contours.size(); ++h) ASSERT_FALSE(inside3(contours[h], centre));
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = t[k + std::size_t(e)], b = t[k + std::size_t((e + 1) % 3)];
+            ++uses[std::make_pair(std::min(a, b), std::max(a, b))];
+            ASSERT_EQ(++directed[std::make_pair(a, b)], 1);
+        }
+    }
+    ASSERT_TRUE(sum == expected);
+    // Contour edges in one triangle, diagonals in two.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> contour;
+    std::uint32_t first = 0;
+    for (const auto& c : contours) {
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            const std::uint32_t a = first + std::uint32_t(i), b = first + std::uint32_t((i + 1) % c.size());
+            contour[{std::min(a, b), std::max(a, b)}] = 1;
+        }
+        first += std::uint32_t(c.size());
+    }
+    for (const auto& [edge, count] : uses) EXPECT_EQ(count, contour.count(edge) ? 1 : 2) << edge.first << "-" << edge.second;
+}
+
+double edge_length(const std::vector<GridPoint>& p, const std::vector<std::uint32_t>& t) {
+    double sum = 0;
+    for (std::size_t k = 0; k < t.size(); k += 3)
+        for (int e = 0; e < 3; ++e) {
+            const GridPoint a = p[t[k + std::size_t(e)]], b = p[t[k + std::size_t((e + 1) % 3)]];
+            sum += std::hypot(double(b.x - a.x), double(b.y - a.y));
+        }
+    return sum;
+}
+
+// A 64x64 tile with a 48x48 occluder inside: before, cut into two strips
+// at x = 32 and ear-clipped (12 triangles); now one ring of 8 triangles:
+// four corner diagonals and one across each side, the least there is.
+TEST(TriangulateHoles, ARingIsEightTrianglesWithShortDiagonals) {
+    const std::int64_t s = std::int64_t(1) << 32; // Clipper's grid: 2^32 per pixel
+    const std::vector<std::vector<GridPoint>> ring{{{0, 0}, {64 * s, 0}, {64 * s, 64 * s}, {0, 64 * s}},
+                                                   {{8 * s, 8 * s}, {8 * s, 56 * s}, {56 * s, 56 * s}, {56 * s, 8 * s}}};
+    const std::vector<std::uint32_t> t = detail::triangulate_with_holes(ring);
+    check_region(ring, t);
+    ASSERT_EQ(t.size(), 24u);
+    std::vector<GridPoint> p = ring[0];
+    p.insert(p.end(), ring[1].begin(), ring[1].end());
+    // Outlines 256 + 192 once, diagonals twice: 4 x 11.3 and 4 x 56.6.
+    EXPECT_NEAR(edge_length(p, t) / double(s), 256 + 192 + 2 * (4 * std::hypot(8, 8) + 4 * std::hypot(56, 8)), 1e-6);
+}
+
+TEST(TriangulateHoles, TwoHolesAndATriangularOne) {
+    const std::vector<std::vector<GridPoint>> region{{{0, 0}, {100, 0}, {100, 40}, {0, 40}},
+                                                     {{10, 10}, {10, 30}, {30, 30}, {30, 10}},
+                                                     {{50, 10}, {70, 30}, {70, 10}},
+                                                     {{80, 5}, {95, 5}, {95, 35}, {85, 20}}};
+    check_region(region, detail::triangulate_with_holes(region));
+    // Either orientation of every contour.
+    std::vector<std::vector<GridPoint>> reversed = region;
+    for (auto& c : reversed) std::reverse(c.begin(), c.end());
+    check_region(reversed, detail::triangulate_with_holes(reversed));
+}
+
+TEST(TriangulateHoles, RefusesWhatItCannotTake) {
+    using Region = std::vector<std::vector<GridPoint>>;
+    const Region square{{{0, 0}, {10, 0}, {10, 10}, {0, 10}}};
+    EXPECT_FALSE(detail::triangulate_with_holes(square).empty());
+    EXPECT_TRUE(detail::triangulate_with_holes(Region{}).empty());
+    EXPECT_TRUE(detail::triangulate_with_holes(Region{{{0, 0}, {10, 0}}}).empty());
+    // A hole touching the outline at a point (a point twice).
+    EXPECT_TRUE(detail::triangulate_with_holes(Region{square[0], {{0, 0}, {5, 3}, {3, 5}}}).empty());
+    // A hole reaching outside: the areas cannot add up.
+    EXPECT_TRUE(detail::triangulate_with_holes(Region{square[0], {{5, 5}, {15, 5}, {15, 8}, {5, 8}}}).empty());
+    // Past 2^60, or more points than kMaxHoleTriangulationVertices.
+    const std::int64_t big = std::int64_t(1) << 61;
+    EXPECT_TRUE(detail::triangulate_with_holes(Region{{{0, 0}, {big, 0}, {0, big}}}).empty());
+    std::vector<GridPoint> many;
+    for (std::size_t i = 0; i <= detail::kMaxHoleTriangulationVertices; ++i) {
+        const double a = 2 * M_PI * double(i) / double(detail::kMaxHoleTriangulationVertices + 1);
+        many.push_back({std::llround(1000 * std::cos(a)), std::llround(1000 * std::sin(a))});
+    }
+    EXPECT_TRUE(detail::triangulate_with_holes(Region{many}).empty());
+}
+
+// Random outlines (convex, on a coarse grid then scaled up to Clipper's
+// magnitudes and moved) with random rectangular and triangular holes.
+RC_GTEST_PROP(TriangulateHoles, TilesTheRegionExactly, ()) {
+    const std::int64_t scale = *rc::gen::element(std::int64_t(1), std::int64_t(3), std::int64_t(1) << 32);
+    const std::int64_t dx = *rc::gen::inRange(-1000, 1000) * scale, dy = *rc::gen::inRange(-1000, 1000) * scale;
+    auto at = [&](std::int64_t x, std::int64_t y) { return GridPoint{x * scale + dx, y * scale + dy}; };
+    // The outline: a rectangle 0..W x 0..H with each corner cut at random.
+    const int w = *rc::gen::inRange(20, 200), h = *rc::gen::inRange(20, 200);
+    const int c0 = *rc::gen::inRange(0, 8), c1 = *rc::gen::inRange(0, 8), c2 = *rc::gen::inRange(0, 8), c3 = *rc::gen::inRange(0, 8);
+    std::vector<GridPoint> outline;
+    auto corner = [&](int cut, std::int64_t x, std::int64_t y, std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) {
+        if (cut == 0) outline.push_back(at(x, y));
+        else outline.push_back(at(x + ax * cut, y + ay * cut)), outline.push_back(at(x + bx * cut, y + by * cut));
+    };
+    corner(c0, 0, 0, 0, 1, 1, 0);
+    corner(c1, w, 0, -1, 0, 0, 1);
+    corner(c2, w, h, 0, -1, -1, 0);
+    corner(c3, 0, h, 1, 0, 0, -1);
+    std::vector<std::vector<GridPoint>> region{outline};
+    // Holes in cells of a 4x4 grid over the inner part, one per cell at most,
+    // so none touch each other or the outline.
+    const int cw = (w - 16) / 4, ch = (h - 16) / 4;
+    for (int cell = 0; cell < 16 && region.size() < 6; ++cell) {
+        if (cw < 3 || ch < 3 || *rc::gen::inRange(0, 3) != 0) continue;
+        const int x0 = 8 + (cell % 4) * cw, y0 = 8 + (cell / 4) * ch;
+        const int ax = x0 + 1 + *rc::gen::inRange(0, cw / 2), ay = y0 + 1 + *rc::gen::inRange(0, ch / 2);
+        const int bx = ax + 1 + *rc::gen::inRange(0, x0 + cw - 1 - ax), by = ay + 1 + *rc::gen::inRange(0, y0 + ch - 1 - ay);
+        if (bx >= x0 + cw || by >= y0 + ch) continue;
+        if (*rc::gen::inRange(0, 2) == 0) region.push_back({at(ax, ay), at(bx, ay), at(bx, by), at(ax, by)});
+        else region.push_back({at(ax, ay), at(bx, by), at(ax, by)});
+        if (*rc::gen::inRange(0, 2) == 0) std::reverse(region.back().begin(), region.back().end());
+    }
+    if (*rc::gen::inRange(0, 2) == 0) std::reverse(region[0].begin(), region[0].end());
+    std::size_t points = 0;
+    for (const auto& c : region) points += c.size();
+    RC_PRE(points <= detail::kMaxHoleTriangulationVertices);
+    const std::vector<std::uint32_t> t = detail::triangulate_with_holes(region);
+    RC_ASSERT(!t.empty());
+    check_region(region, t);
+    RC_ASSERT(!::testing::Test::HasFailure());
 }
 
 } // namespace
