@@ -156,7 +156,7 @@ struct Contestant {
 
 // Clipping planned (issue 25): the edges a cut adds, as a multiple of the
 // occluder's outline, and the triangles, per element cut (Chooser::cut_cost).
-constexpr double kCutEdges = 3.0;
+constexpr double kCutEdges = 5.0;
 constexpr double kCutTriangles = 4.0;
 
 // The state the steps share: the inputs, what each element's placement
@@ -232,7 +232,7 @@ struct Chooser {
         bool rect;                   // the whole rect (an opaque tile)
     };
     bool cuts() const;
-    double cut_cost(const std::vector<Polygon>& screen) const;
+    double cut_cost(std::size_t j, const std::vector<Polygon>& screen) const;
     double behind_gain(std::size_t j, const std::vector<Polygon>& screen, double cut) const;
     std::vector<OpaqueOption> opaque_options(std::size_t j) const;
     void choose_opaque();              // 2
@@ -322,11 +322,21 @@ void Chooser::choose_boundaries() {
 // polygon and lost more on edges than it saved.
 bool Chooser::cuts() const { return options.clip_hidden.enabled && options.clip_hidden.plan_occluders; }
 
-double Chooser::cut_cost(const std::vector<Polygon>& screen) const {
+double Chooser::cut_cost(std::size_t j, const std::vector<Polygon>& screen) const {
+    // Edges on the element's rect (opaque polygons out to its sides,
+    // opaque_to_rect_sides) add no edge to a tile under it in the same cell:
+    // it is cut along its own side (clip_hidden.cpp, side_cuts).
+    const Polygon rect = to_screen(j, rect_polygon_of(scene.elements[j].rect));
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (const Vec2& v : rect) x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+    const bool aligned = scene.filter == Filter::nearest && detail::pixel_aligned(scene, scene.elements[j]);
     double outline = 0;
     for (const Polygon& p : screen)
-        for (std::size_t q = 0; q < p.size(); ++q)
-            outline += std::hypot(p[(q + 1) % p.size()].x - p[q].x, p[(q + 1) % p.size()].y - p[q].y);
+        for (std::size_t q = 0; q < p.size(); ++q) {
+            const Vec2 a = p[q], b = p[(q + 1) % p.size()];
+            if (aligned && ((a.x == b.x && (a.x == x0 || a.x == x1)) || (a.y == b.y && (a.y == y0 || a.y == y1)))) continue;
+            outline += std::hypot(b.x - a.x, b.y - a.y);
+        }
     return kCutEdges * Pp * outline + kCutTriangles * T;
 }
 
@@ -358,17 +368,18 @@ std::vector<Chooser::OpaqueOption> Chooser::opaque_options(std::size_t j) const 
         const Geometry g = rect_geo[k];
         std::vector<Polygon> screen{to_screen(j, rect_polygon_of(cap.rect))};
         const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j];
-        const double delta = cost - own_blend - behind_gain(j, screen, cuts() ? cut_cost(screen) : 0.0);
+        const double delta = cost - own_blend - behind_gain(j, screen, cuts() ? cut_cost(j, screen) : 0.0);
         out.push_back({Opaque::all, delta, std::move(screen), true});
         return out;
     }
     for (int o : {int(Opaque::first), int(Opaque::all)}) {
         if (cap.opaque.empty() || (o == Opaque::all && cap.opaque.size() == 1)) continue;
         std::vector<Polygon> polys(cap.opaque.begin(), o == Opaque::first ? cap.opaque.begin() + 1 : cap.opaque.end());
+        for (Polygon& p : polys) p = detail::opaque_to_rect_sides(scene, e, p); // as reconstruction draws them
         const Geometry g = geometry_of(polys, true);
         std::vector<Polygon> screen;
         for (const Polygon& p : polys) screen.push_back(to_screen(j, p));
-        const double cut = cuts() ? cut_cost(screen) : 0.0;
+        const double cut = cuts() ? cut_cost(j, screen) : 0.0;
         const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j] + cut;
         const double behind = behind_gain(j, screen, cut);
         double gain = (Fb - Fr) * g.area * det[j] + behind;

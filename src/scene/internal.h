@@ -159,6 +159,9 @@ public:
     // marked in `skirted` (it has a coverage skirt); opaque polygons pulled in.
     void add_texel_skirts(Draw& d, std::uint32_t element, const std::vector<Polygon>& polygons, float z,
                           const std::vector<std::uint8_t>* skirted = nullptr);
+    // An opaque polygon of the element's analysis as drawn: moved out to the
+    // rect's sides where its placement allows (opaque_to_rect_sides; not when
+    // capturing templates, whose placement is not known), then pulled in.
     Polygon pull_inward(std::uint32_t element, const Polygon& p) const;
     // The texel margin for `element`: texel_margin_, grown where the
     // element is scaled below 1/8 (texel_margin.cpp).

@@ -19,4 +19,11 @@ bool snaps_exactly(const std::array<double, 6>& transform);
 // (shapes.cpp).
 bool pixel_aligned(const Scene& scene, const Element& e);
 
+// An opaque polygon of the element's analysis as its element may draw it
+// (issue 25): with nearest filtering and the element pixel-aligned, each
+// axis-parallel edge the analysis kept half a texel inside a side of the
+// rect, between edges at right angles to it, moved out onto that side;
+// else the polygon unchanged. See shapes.cpp for why that is safe.
+Polygon opaque_to_rect_sides(const Scene& scene, const Element& e, const Polygon& p);
+
 } // namespace depthcull::detail

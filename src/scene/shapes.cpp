@@ -52,6 +52,53 @@ bool pixel_aligned(const Scene& scene, const Element& e) {
     return true;
 }
 
+// The analysis keeps opaque polygons half a texel inside the rect: its
+// guarantee (docs/opaque.md) counts texels outside the rect as non-opaque
+// and lets no edge run along a non-opaque texel's side, as a pixel centre
+// on such an edge could sample it. A pixel-aligned element has no pixel
+// centre on its rect's sides, and with nearest filtering a centre in the
+// strip between an edge on x = rect.x + 0.5 (from y0 to y1) and the side
+// x = rect.x samples a texel of column rect.x in rows y0..y1, each of which
+// the polygon's interior already meets just inside that edge: opaque by
+// the guarantee. So the edge may move out onto the side. Only an edge whose
+// neighbours run at right angles to it moves, so that the polygon grows by
+// that strip alone and stays convex; the sides are taken in turn, so a
+// corner of two moved edges moves out to the rect's corner (its texel is
+// met by the interior too). Elements behind then lose their thin rims of
+// pixels under an element in front instead of drawing (or being cut into)
+// them.
+Polygon opaque_to_rect_sides(const Scene& scene, const Element& e, const Polygon& p) {
+    const std::size_t n = p.size();
+    if (n < 4 || scene.filter != Filter::nearest || e.rect.w < 2 || e.rect.h < 2 || !pixel_aligned(scene, e)) return p;
+    Polygon q = p;
+    const double x0 = e.rect.x, x1 = double(e.rect.x) + e.rect.w, y0 = e.rect.y, y1 = double(e.rect.y) + e.rect.h;
+    struct Side {
+        bool vertical; // the edge runs along y (a left or right side)
+        double line, side;
+    };
+    for (const Side& s : {Side{true, x0 + 0.5, x0}, Side{true, x1 - 0.5, x1}, Side{false, y0 + 0.5, y0}, Side{false, y1 - 0.5, y1}}) {
+        // The polygon must lie on the inner side of the line (it is convex).
+        bool inner = true;
+        for (const Vec2& v : q) inner = inner && (s.side < s.line ? (s.vertical ? v.x : v.y) >= s.line : (s.vertical ? v.x : v.y) <= s.line);
+        if (!inner) continue;
+        for (std::size_t i = 0; i < n; ++i) {
+            Vec2 &a = q[i], &b = q[(i + 1) % n];
+            const Vec2 before = q[(i + n - 1) % n], after = q[(i + 2) % n];
+            const bool on = s.vertical ? a.x == s.line && b.x == s.line && a.y != b.y : a.y == s.line && b.y == s.line && a.x != b.x;
+            if (!on) continue;
+            // The neighbours at right angles: the polygon grows by the strip alone.
+            const bool square = s.vertical ? before.y == a.y && before.x != a.x && after.y == b.y && after.x != b.x
+                                           : before.x == a.x && before.y != a.y && after.x == b.x && after.y != b.y;
+            if (square) {
+                if (s.vertical) a.x = b.x = s.side;
+                else a.y = b.y = s.side;
+            }
+            break; // a convex polygon has one edge on a line at most
+        }
+    }
+    return q;
+}
+
 namespace {
 
 bool inside_rect(const std::vector<Polygon>& polygons, const Rect& r) {

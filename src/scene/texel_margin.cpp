@@ -298,7 +298,8 @@ int MeshBuilder::add_joined_skirt(Draw& d, std::uint32_t element, const Polygon&
     return 1;
 }
 
-Polygon MeshBuilder::pull_inward(std::uint32_t element, const Polygon& p) const {
+Polygon MeshBuilder::pull_inward(std::uint32_t element, const Polygon& analysis_polygon) const {
+    const Polygon p = capture_ ? analysis_polygon : opaque_to_rect_sides(scene_, scene_.elements[element], analysis_polygon);
     const double m = element_texel_margin(element);
     if (!(m > 0) || p.size() < 3) return p;
     const std::size_t n = p.size();

@@ -400,6 +400,51 @@ RC_GTEST_PROP(PixelIdentity, CoverPiecesTurnedScaledFlipped, ()) {
     assert_identical(render::GlApi::desktop, rs, &clip, cover);
 }
 
+// Issue 25: tiles over tiles of the same cells (a tile map's layers), the
+// top tiles' opaque texels reaching some of their sides: pixel-aligned
+// (flipped, turned by quarters, scaled by whole numbers), their opaque
+// polygons reach those sides and the tiles under them are cut up to the
+// sides; moved by 1/256 pixel as a whole, neither happens.
+RC_GTEST_PROP(PixelIdentity, TilesUnderTilesCutToTheirSides, ()) {
+    test::RenderScene rs;
+    rs.scene.viewport = {0, 0, 96, 80};
+    // Four 8x8 tiles: opaque; clear left columns; a clear corner and a
+    // half-clear bottom row; a clear centre (no side reached).
+    Image sheet{32, 8, std::vector<std::uint8_t>(32 * 8 * 4, 255)};
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 32; ++x) {
+            std::uint8_t* t = &sheet.rgba[std::size_t(4 * (y * 32 + x))];
+            t[0] = std::uint8_t(x * 7), t[1] = std::uint8_t(y * 31), t[2] = std::uint8_t(x * y);
+            const int tile = x / 8, u = x % 8;
+            if (tile == 1 && u < 2) t[3] = (u + y) % 3 == 0 ? 128 : 0;
+            if (tile == 2 && ((u < 2 && y < 2) || y == 7)) t[3] = y == 7 ? 100 : 0;
+            if (tile == 3 && u >= 3 && u < 5 && y >= 3 && y < 5) t[3] = 0;
+        }
+    const int image = rs.add_image(sheet, {});
+    const auto turn = *rc::gen::element(std::array<double, 4>{1, 0, 0, 1}, std::array<double, 4>{-1, 0, 0, 1},
+                                        std::array<double, 4>{0, 1, -1, 0}, std::array<double, 4>{0, -1, -1, 0},
+                                        std::array<double, 4>{1, 0, 0, -1});
+    const double scale = *rc::gen::element(1.0, 2.0, 3.0);
+    const double shift = *rc::gen::inRange(0, 4) == 0 ? 1.0 / 256 : 0.0;
+    const double a = turn[0] * scale, b = turn[1] * scale, c = turn[2] * scale, d = turn[3] * scale;
+    for (int layer = 0; layer < 2; ++layer)
+        for (int cy = 0; cy < 3; ++cy)
+            for (int cx = 0; cx < 3; ++cx) {
+                if (layer == 1 && *rc::gen::inRange(0, 3) == 0) continue;
+                const int tile = layer == 0 ? 0 : *rc::gen::inRange(0, 4);
+                // Cell (cx, cy) of 8x8 texels, placed by the turn about the view's middle.
+                const double x = 8.0 * cx - 12, y = 8.0 * cy - 12;
+                Element& e = rs.add(image, {a, b, c, d, 48 + a * x + c * y + shift, 40 + b * x + d * y}, Blend::alpha);
+                e.rect = {tile * 8, 0, 8, 8};
+            }
+    AnalyzeOptions small;
+    small.opaque.min_area = 4;
+    assert_identical(render::GlApi::desktop, rs, nullptr, small);
+    ReconstructOptions clip;
+    clip.clip_hidden = {true, 1, 0, 0};
+    assert_identical(render::GlApi::desktop, rs, &clip, small);
+}
+
 INSTANTIATE_TEST_SUITE_P(Targets, PixelIdentity, testing::Values(render::GlApi::desktop, render::GlApi::gles),
                          [](const auto& info) { return info.param == render::GlApi::gles ? "es30" : "gl33"; });
 

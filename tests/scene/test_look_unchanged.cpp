@@ -256,6 +256,53 @@ TEST(LookUnchanged, OccludersInsideElementsLeaveRings) {
     }
 }
 
+// Issue 25: a tile drawn over a tile of the same cell, its opaque texels
+// reaching three of its sides: its opaque polygon (kept half a texel
+// inside by the analysis) reaches those sides, and the tile under it loses
+// everything there, not all but thin rims: a band of 2 triangles is left of
+// it (before: a ring of 8, rims 0.59 px wide). Flipped, turned by quarters
+// and scaled by 2 as well; the frame is overpaint's.
+TEST(LookUnchanged, TilesUnderTilesAreCutToTheirSides) {
+    Image sheet{16, 8, std::vector<std::uint8_t>(16 * 8 * 4, 255)};
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x) {
+            std::uint8_t* t = &sheet.rgba[std::size_t(4 * (y * 16 + x))];
+            t[0] = std::uint8_t(x * 13), t[1] = std::uint8_t(y * 29), t[2] = std::uint8_t(40 + x * y);
+            // The second tile: its two left columns clear or half clear.
+            if (x >= 8 && x < 10) t[3] = (x + y) % 3 == 0 ? 128 : 0;
+        }
+    const std::array<std::array<double, 4>, 4> turns{{{1, 0, 0, 1}, {-1, 0, 0, 1}, {0, 1, -1, 0}, {2, 0, 0, -2}}};
+    for (std::size_t k = 0; k < turns.size(); ++k) {
+        RandomScene r;
+        r.scene.viewport = {0, 0, 40, 40};
+        r.images = {sheet};
+        r.scene.images = {{"sheet", "sheet.png", 16, 8}};
+        const auto& m = turns[k];
+        // The cell's corner on whole pixels, wherever the turn puts the rect.
+        const double cx = 20 - 4 * (m[0] + m[2]), cy = 20 - 4 * (m[1] + m[3]);
+        Element ground, top;
+        ground.rect = {0, 0, 8, 8};
+        top.rect = {8, 0, 8, 8};
+        ground.transform = top.transform = {m[0], m[1], m[2], m[3], cx, cy};
+        r.scene.elements = {ground, top};
+        AnalyzeOptions small;
+        small.opaque.min_area = 4; // a tile of 8x8 texels
+        r.analyses = {analyze_image(sheet.view(), ground.rect, small), analyze_image(sheet.view(), top.rect, small)};
+        for (const ImageAnalysis& a : r.analyses) r.element_analysis.push_back(&a);
+        const Frame plain = render(overpaint_meshes(r.scene), r.images);
+        ReconstructOptions o;
+        SceneMeshes m1;
+        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m1), ReconstructStatus::ok);
+        expect_same_frame(plain, render(m1, r.images), k, "opaque polygons out to the rect's sides");
+        o.clip_hidden = {true, 1, 0, 0};
+        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m1), ReconstructStatus::ok);
+        expect_same_frame(plain, render(m1, r.images), k, "tiles under tiles cut to their sides");
+        // The band left of the ground (2), the top tile's opaque polygon (2)
+        // and its blend pass around that polygon (a ring of 5 + 4 points: 9).
+        EXPECT_EQ(m1.stats.triangles, 2 + 2 + 9) << "turn " << k;
+    }
+}
+
 // Issue 25 point 2: the opaque pieces of OpaqueMethod::cover (many, meeting
 // along texel rows, 1/16 texel inside the opaque texels) keep the frame,
 // with and without hidden parts clipped at them, and hide more than the
