@@ -14,6 +14,12 @@
 //   on screens under 8192 px): a pixel centre B still misses near a cut
 //   edge lies inside the occluder as GL draws it, where the occluder wins
 //   the depth test whatever B draws.
+// - Along the rect's sides of an occluder placed on whole pixels (nearest
+//   filtering) there is no margin: its opaque polygons reach those sides
+//   (opaque_to_rect_sides, side_margins), which lie on whole pixels where
+//   GL snaps nothing, and the polygon's edge there is the rect's own line.
+//   An element behind that shares the side (a tile under a tile) is cut
+//   up to it exactly and keeps no rim to draw.
 // - A cut vertex on B's own outline is pushed 1/64 px outward (and put back
 //   onto the rect where the push left it): the piece then covers all of
 //   B's polygon along that edge despite rounding. Outside B's boundary
@@ -377,87 +383,6 @@ bool boxes_overlap(const cl::Paths& a, const Polygon& b_screen) {
     return ax0 < bx1 && bx0 < ax1 && ay0 < by1 && by0 < ay1;
 }
 
-// The convex screen polygon s with each edge k moved inward by d[k]
-// (consecutive moved lines meet at the new corners); false when an edge
-// would vanish or turn over, or a corner lands less than d[k] / 2 inside
-// an edge moved by d[k] (a join that overshoots).
-bool offset_edges(const Polygon& s, const std::vector<double>& d, Polygon* out) {
-    const std::size_t n = s.size();
-    const double sign = signed_area(s) > 0 ? 1.0 : -1.0;
-    std::vector<Vec2> normal(n); // inward, unit
-    for (std::size_t k = 0; k < n; ++k) {
-        const Vec2 e = s[(k + 1) % n] - s[k];
-        const double len = std::hypot(e.x, e.y);
-        if (!(len > 0)) return false;
-        // Positive signed area is clockwise with y down: the inside is to the right of an edge.
-        normal[k] = {-sign * e.y / len, sign * e.x / len};
-    }
-    out->clear();
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t k0 = (i + n - 1) % n, k1 = i;
-        // The corner on both moved lines: p . n_k = s_k . n_k + d_k.
-        const double c0 = s[k0].x * normal[k0].x + s[k0].y * normal[k0].y + d[k0];
-        const double c1 = s[k1].x * normal[k1].x + s[k1].y * normal[k1].y + d[k1];
-        const double det = normal[k0].x * normal[k1].y - normal[k0].y * normal[k1].x;
-        if (!(std::abs(det) > 1e-9)) return false;
-        out->push_back({(c0 * normal[k1].y - c1 * normal[k0].y) / det, (normal[k0].x * c1 - normal[k1].x * c0) / det});
-    }
-    Polygon clockwise = *out; // is_convex takes the positive orientation
-    if (sign < 0) std::reverse(clockwise.begin(), clockwise.end());
-    if (!is_convex(clockwise)) return false;
-    for (const Vec2& p : *out)
-        for (std::size_t k = 0; k < n; ++k) {
-            const double inside = (p.x - s[k].x) * normal[k].x + (p.y - s[k].y) * normal[k].y;
-            if (inside < d[k] / 2 - 1e-12) return false;
-        }
-    return true;
-}
-
-// What occluder a hides from the elements behind it when its opaque
-// polygons reach its rect's sides (opaque_to_rect_sides): up to those
-// sides exactly, elsewhere `margin` inside the polygons as drawn. Why
-// the sides need no margin: there the strip between the opaque polygon as
-// drawn (pulled in by the texel margin) and the side holds opaque texels
-// only, which a's own blend pass draws (its blend polygons contain every
-// non-transparent texel square, and a's own cut stays `margin` inside the
-// drawn polygon), after every element behind it and over them; its rect's
-// side, at whole pixels, is the line GL rasterizes exactly. So an element
-// behind sharing that side (a tile under a tile) keeps no sliver along it
-// to draw or to cut into. False (nothing made) where that does not apply.
-bool side_cuts(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, const ElementShapes& shapes,
-               const std::vector<std::int32_t>& keys, const MeshBuilder& builder, double margin, std::uint32_t a, cl::Paths& out) {
-    const Element& e = scene.elements[a];
-    if (shapes.opaque[a] != Shape::analysis || a >= analyses.size() || !analyses[a] || !shapes.blended[a] ||
-        shapes.boundary[a] == Shape::none || keys[a] < 0 || scene.filter != Filter::nearest || !pixel_aligned(scene, e))
-        return false;
-    const double x0 = e.rect.x, x1 = double(e.rect.x) + e.rect.w, y0 = e.rect.y, y1 = double(e.rect.y) + e.rect.h;
-    const auto& t = e.transform;
-    const double scale = std::max(std::hypot(t[0], t[1]), std::hypot(t[2], t[3]));
-    const double inset = builder.element_texel_margin(a) * scale + margin;
-    bool any = false;
-    for (const Polygon& original : analyses[a]->opaque) {
-        const Polygon p = opaque_to_rect_sides(scene, e, original);
-        std::vector<double> d(p.size(), inset);
-        bool sides = false;
-        for (std::size_t k = 0; k < p.size(); ++k) {
-            const Vec2 u = p[k], v = p[(k + 1) % p.size()];
-            if ((u.x == v.x && (u.x == x0 || u.x == x1)) || (u.y == v.y && (u.y == y0 || u.y == y1))) d[k] = 0, sides = true;
-        }
-        Polygon s, moved;
-        for (const Vec2& v : p) s.push_back(screen_of(e, v));
-        cl::Path path;
-        if (sides && offset_edges(s, d, &moved) && to_path(moved, path)) {
-            out.push_back(std::move(path));
-            any = true;
-        } else {
-            Polygon drawn;
-            for (const Vec2& v : builder.pull_inward(a, original)) drawn.push_back(screen_of(e, v));
-            shrink(drawn, margin, out);
-        }
-    }
-    return any;
-}
-
 } // namespace
 
 ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, const ElementShapes& shapes,
@@ -483,20 +408,20 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
         else if (shapes.opaque[a] == Shape::analysis && a < analyses.size() && analyses[a])
             for (const Polygon& p : analyses[a]->opaque) polys.push_back(builder.pull_inward(a, p));
         for (const Polygon& p : polys) {
+            if (p.size() < 3) continue;
             Polygon s;
             for (const Vec2& v : p) s.push_back(screen_of(e, v));
-            shrink(s, options.margin, cut_of[a]);
+            // No margin along the rect's sides of a pixel-aligned occluder
+            // (side_margins): its polygon meets them exactly, on whole
+            // pixels, as the rect does, so an element behind that shares a
+            // side (a tile under a tile) keeps no thin rim along it.
+            std::vector<double> d = shapes.opaque[a] == Shape::rect ? std::vector<double>(p.size(), pixel_aligned(scene, e) ? 0.0 : options.margin)
+                                                                  : side_margins(scene, e, p, options.margin);
+            cl::Path path;
+            if (std::find(d.begin(), d.end(), 0.0) == d.end()) shrink(s, options.margin, cut_of[a]);
+            else if (const Polygon moved = move_edges_inward(s, d); moved.size() >= 3 && to_path(moved, path)) cut_of[a].push_back(std::move(path));
         }
         return cut_of[a];
-    };
-    // What an occluder hides from the elements behind it (not from itself).
-    std::vector<std::uint8_t> made_behind(n, 0);
-    std::vector<cl::Paths> behind_of(n);
-    auto behind_cut = [&](std::uint32_t a) -> const cl::Paths& {
-        if (made_behind[a]) return behind_of[a];
-        made_behind[a] = 1;
-        if (!side_cuts(scene, analyses, shapes, keys, builder, options.margin, a, behind_of[a])) behind_of[a] = occluder(a);
-        return behind_of[a];
     };
     try {
         for (std::uint32_t b = 0; b < n; ++b) {
@@ -516,7 +441,7 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
             if (blend && shapes.opaque[b] == Shape::analysis) occluders.insert(occluders.begin(), b);
             for (std::uint32_t a : occluders) {
                 if ((a != b && levels[a] <= levels[b]) || shapes.opaque[a] == Shape::none || keys[a] < 0) continue;
-                const cl::Paths& c = a == b ? occluder(a) : behind_cut(a);
+                const cl::Paths& c = occluder(a);
                 if (c.empty() || !boxes_overlap(c, rect_screen)) continue;
                 cut.insert(cut.end(), c.begin(), c.end());
                 if (++used == kMaxOccluders) break;

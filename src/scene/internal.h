@@ -84,6 +84,16 @@ struct ClippedPart {
     std::vector<Polygon> pieces;
     std::vector<std::vector<std::uint32_t>> triangles;
 };
+// The convex polygon p (either orientation) with edge k's line (from p[k])
+// moved inward by d[k]; empty when an edge would flip or vanish
+// (texel_margin.cpp).
+Polygon move_edges_inward(const Polygon& p, const std::vector<double>& d);
+// Per edge of `texel` (a convex polygon of element e, texel space): 0 for
+// an edge on a side of e's rect when e is pixel-aligned under nearest
+// filtering (no pixel centre lies near it: GL has nothing to snap, and an
+// opaque polygon there meets the rect's own edge exactly), else `margin`.
+std::vector<double> side_margins(const Scene& scene, const Element& e, const Polygon& texel, double margin);
+
 // A point of Clipper's integer grid (clip_hidden.cpp: 2^-32 screen px).
 struct GridPoint {
     std::int64_t x, y;
@@ -161,7 +171,8 @@ public:
                           const std::vector<std::uint8_t>* skirted = nullptr);
     // An opaque polygon of the element's analysis as drawn: moved out to the
     // rect's sides where its placement allows (opaque_to_rect_sides; not when
-    // capturing templates, whose placement is not known), then pulled in.
+    // capturing templates, whose placement is not known), then pulled in,
+    // but not off those sides (side_margins).
     Polygon pull_inward(std::uint32_t element, const Polygon& p) const;
     // The texel margin for `element`: texel_margin_, grown where the
     // element is scaled below 1/8 (texel_margin.cpp).

@@ -298,27 +298,64 @@ int MeshBuilder::add_joined_skirt(Draw& d, std::uint32_t element, const Polygon&
     return 1;
 }
 
-Polygon MeshBuilder::pull_inward(std::uint32_t element, const Polygon& analysis_polygon) const {
-    const Polygon p = capture_ ? analysis_polygon : opaque_to_rect_sides(scene_, scene_.elements[element], analysis_polygon);
-    const double m = element_texel_margin(element);
-    if (!(m > 0) || p.size() < 3) return p;
+Polygon move_edges_inward(const Polygon& p, const std::vector<double>& d) {
     const std::size_t n = p.size();
-    // Each edge's line moved m inward; consecutive lines meet at the new
-    // corner. Collinear neighbours keep the moved vertex.
+    if (n < 3 || d.size() != n) return {};
+    const double sign = signed_area(p) > 0 ? 1.0 : -1.0;
+    std::vector<Vec2> inward(n); // unit normals
+    for (std::size_t k = 0; k < n; ++k) {
+        const Vec2 e = p[(k + 1) % n] - p[k];
+        const double len = std::hypot(e.x, e.y);
+        if (!(len > 0)) return {};
+        // Positive signed area is clockwise with y down: the inside is to the right of an edge.
+        inward[k] = {-sign * e.y / len, sign * e.x / len};
+    }
     Polygon out;
     for (std::size_t i = 0; i < n; ++i) {
-        const Vec2 n1 = outward_normal(p, (i + n - 1) % n), n2 = outward_normal(p, i);
-        const double dot = n1.x * n2.x + n1.y * n2.y;
-        if ((n1.x == 0 && n1.y == 0) || (n2.x == 0 && n2.y == 0) || !(1 + dot > 1e-9)) return {};
-        out.push_back(p[i] - (m / (1 + dot)) * (n1 + n2));
+        const std::size_t k0 = (i + n - 1) % n, k1 = i;
+        const Vec2 a = inward[k0], b = inward[k1];
+        const double det = a.x * b.y - a.y * b.x;
+        if (std::abs(det) > 1e-12) {
+            // p[i] + v on both moved lines: v . a = d[k0], v . b = d[k1].
+            out.push_back(p[i] + Vec2{(d[k0] * b.y - d[k1] * a.y) / det, (a.x * d[k1] - b.x * d[k0]) / det});
+        } else if (a.x * b.x + a.y * b.y > 0 && d[k0] == d[k1]) {
+            out.push_back(p[i] + d[k0] * a); // collinear neighbours
+        } else {
+            return {};
+        }
     }
-    // Too small to pull in (an edge would flip): nothing left to draw.
-    if (!is_convex(out) || !(signed_area(out) > 0)) return {};
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec2 a = p[(i + 1) % n] - p[i], b = out[(i + 1) % n] - out[i];
-        if (!(a.x * b.x + a.y * b.y > 0)) return {};
+    // Too small (an edge would flip or the polygon turn over): none.
+    Polygon positive = out;
+    if (sign < 0) std::reverse(positive.begin(), positive.end());
+    if (!is_convex(positive)) return {};
+    for (std::size_t k = 0; k < n; ++k) {
+        const Vec2 e = p[(k + 1) % n] - p[k], f = out[(k + 1) % n] - out[k];
+        if (!(e.x * f.x + e.y * f.y > 0)) return {};
     }
     return out;
+}
+
+std::vector<double> side_margins(const Scene& scene, const Element& e, const Polygon& texel, double margin) {
+    std::vector<double> d(texel.size(), margin);
+    if (scene.filter != Filter::nearest || !pixel_aligned(scene, e)) return d;
+    const double x0 = e.rect.x, x1 = double(e.rect.x) + e.rect.w, y0 = e.rect.y, y1 = double(e.rect.y) + e.rect.h;
+    for (std::size_t k = 0; k < texel.size(); ++k) {
+        const Vec2 u = texel[k], v = texel[(k + 1) % texel.size()];
+        if ((u.x == v.x && (u.x == x0 || u.x == x1)) || (u.y == v.y && (u.y == y0 || u.y == y1))) d[k] = 0;
+    }
+    return d;
+}
+
+Polygon MeshBuilder::pull_inward(std::uint32_t element, const Polygon& analysis_polygon) const {
+    const Element& e = scene_.elements[element];
+    const Polygon p = capture_ ? analysis_polygon : opaque_to_rect_sides(scene_, e, analysis_polygon);
+    const double m = element_texel_margin(element);
+    if (!(m > 0) || p.size() < 3) return p;
+    // Each edge's line moved m inward (consecutive lines meet at the new
+    // corner), but for edges on the sides of a pixel-aligned rect: those lie
+    // on whole pixels, where GL has no snapping error to leave room for, and
+    // there the polygon must meet what the rect drew (side_margins).
+    return move_edges_inward(p, capture_ ? std::vector<double>(p.size(), m) : side_margins(scene_, e, p, m));
 }
 
 } // namespace depthcull::detail
