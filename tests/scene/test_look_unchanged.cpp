@@ -193,6 +193,15 @@ TEST(LookUnchanged, OptimizedFramesMatchOverpaintPixelForPixel) {
     }
 }
 
+// The scene reconstructed as is and with hidden parts clipped wherever
+// anything is saved (clip_hidden with no price on triangles or edges).
+bool reconstruct_clipped(const RandomScene& r, SceneMeshes* whole, SceneMeshes* cut) {
+    ReconstructOptions o;
+    if (reconstruct_scene(r.scene, r.element_analysis, o, whole) != ReconstructStatus::ok) return false;
+    o.clip_hidden = {true, 1, 0, 0};
+    return reconstruct_scene(r.scene, r.element_analysis, o, cut) == ReconstructStatus::ok;
+}
+
 // Issue 25: hidden parts clipped at opaque polygons in front (prices that
 // clip wherever anything is saved) leave every frame as overpaint draws
 // it, and do cut something: fewer fragments are rasterized.
@@ -201,11 +210,8 @@ TEST(LookUnchanged, ClippedHiddenPartsKeepTheFrame) {
     for (std::uint64_t seed = 1; seed <= 40; ++seed) {
         RandomScene r = random_scene(seed, 10 + int(seed % 50));
         const Frame plain = render(overpaint_meshes(r.scene), r.images);
-        ReconstructOptions o;
         SceneMeshes before, after;
-        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &before), ReconstructStatus::ok);
-        o.clip_hidden = {true, 1, 0, 0};
-        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &after), ReconstructStatus::ok);
+        ASSERT_TRUE(reconstruct_clipped(r, &before, &after));
         expect_same_frame(plain, render(after, r.images), seed, "hidden parts clipped");
         const OverdrawStats a = analyze_overdraw(before), b = analyze_overdraw(after);
         EXPECT_LE(b.rasterized, a.rasterized) << "seed " << seed;
@@ -242,11 +248,8 @@ TEST(LookUnchanged, OccludersInsideElementsLeaveRings) {
         r.analyses = {analyze_image(ground.view(), g.rect, {}), analyze_image(card.view(), c.rect, {})};
         for (const ImageAnalysis& a : r.analyses) r.element_analysis.push_back(&a);
         const Frame plain = render(overpaint_meshes(r.scene), r.images);
-        ReconstructOptions o;
         SceneMeshes whole, cut;
-        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &whole), ReconstructStatus::ok);
-        o.clip_hidden = {true, 1, 0, 0};
-        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &cut), ReconstructStatus::ok);
+        ASSERT_TRUE(reconstruct_clipped(r, &whole, &cut));
         expect_same_frame(plain, render(cut, r.images), turned, "a ring cut around an occluder");
         EXPECT_LT(analyze_overdraw(cut).rasterized, analyze_overdraw(whole).rasterized) << "turned " << turned;
         // The card's quad and the ring (4 + 4 points: 8 triangles).
