@@ -232,7 +232,7 @@ struct Chooser {
         bool rect;                   // the whole rect (an opaque tile)
     };
     bool cuts() const;
-    double cut_cost(std::size_t j, const std::vector<Polygon>& screen) const;
+    double cut_cost(std::size_t j, const std::vector<Polygon>& texel) const;
     double behind_gain(std::size_t j, const std::vector<Polygon>& screen, double cut) const;
     std::vector<OpaqueOption> opaque_options(std::size_t j) const;
     void choose_opaque();              // 2
@@ -322,21 +322,17 @@ void Chooser::choose_boundaries() {
 // polygon and lost more on edges than it saved.
 bool Chooser::cuts() const { return options.clip_hidden.enabled && options.clip_hidden.plan_occluders; }
 
-double Chooser::cut_cost(std::size_t j, const std::vector<Polygon>& screen) const {
-    // Edges on the element's rect (opaque polygons out to its sides,
-    // opaque_to_rect_sides) add no edge to a tile under it in the same cell:
-    // it is cut along its own side (clip_hidden.cpp, side_cuts).
-    const Polygon rect = to_screen(j, rect_polygon_of(scene.elements[j].rect));
-    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-    for (const Vec2& v : rect) x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
-    const bool aligned = scene.filter == Filter::nearest && detail::pixel_aligned(scene, scene.elements[j]);
+double Chooser::cut_cost(std::size_t j, const std::vector<Polygon>& texel) const {
+    // Edges on the element's rect's sides (opaque_to_rect_sides; side_margins
+    // gives them no margin) add no edge to a tile under it in the same cell:
+    // it is cut along its own side (clip_hidden.cpp).
     double outline = 0;
-    for (const Polygon& p : screen)
-        for (std::size_t q = 0; q < p.size(); ++q) {
-            const Vec2 a = p[q], b = p[(q + 1) % p.size()];
-            if (aligned && ((a.x == b.x && (a.x == x0 || a.x == x1)) || (a.y == b.y && (a.y == y0 || a.y == y1)))) continue;
-            outline += std::hypot(b.x - a.x, b.y - a.y);
-        }
+    for (const Polygon& p : texel) {
+        const std::vector<double> margin = detail::side_margins(scene, scene.elements[j], p, 1.0);
+        const Polygon s = to_screen(j, p);
+        for (std::size_t q = 0; q < s.size(); ++q)
+            if (margin[q] > 0) outline += std::hypot(s[(q + 1) % s.size()].x - s[q].x, s[(q + 1) % s.size()].y - s[q].y);
+    }
     return kCutEdges * Pp * outline + kCutTriangles * T;
 }
 
@@ -366,9 +362,10 @@ std::vector<Chooser::OpaqueOption> Chooser::opaque_options(std::size_t j) const 
     if (cap.stats.opaque_texels == std::int64_t(cap.rect.w) * cap.rect.h && detail::pixel_aligned(scene, e)) {
         // Whole-rect opaque: the rect in the opaque pass, no blend draw.
         const Geometry g = rect_geo[k];
-        std::vector<Polygon> screen{to_screen(j, rect_polygon_of(cap.rect))};
+        const std::vector<Polygon> rect{rect_polygon_of(cap.rect)};
+        std::vector<Polygon> screen{to_screen(j, rect[0])};
         const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j];
-        const double delta = cost - own_blend - behind_gain(j, screen, cuts() ? cut_cost(j, screen) : 0.0);
+        const double delta = cost - own_blend - behind_gain(j, screen, cuts() ? cut_cost(j, rect) : 0.0);
         out.push_back({Opaque::all, delta, std::move(screen), true});
         return out;
     }
@@ -379,7 +376,7 @@ std::vector<Chooser::OpaqueOption> Chooser::opaque_options(std::size_t j) const 
         const Geometry g = geometry_of(polys, true);
         std::vector<Polygon> screen;
         for (const Polygon& p : polys) screen.push_back(to_screen(j, p));
-        const double cut = cuts() ? cut_cost(j, screen) : 0.0;
+        const double cut = cuts() ? cut_cost(j, polys) : 0.0;
         const double cost = T * g.triangles + Pp * g.perimeter * s + Fo * g.area * det[j] + cut;
         const double behind = behind_gain(j, screen, cut);
         double gain = (Fb - Fr) * g.area * det[j] + behind;

@@ -88,11 +88,6 @@ struct ClippedPart {
 // moved inward by d[k]; empty when an edge would flip or vanish
 // (texel_margin.cpp).
 Polygon move_edges_inward(const Polygon& p, const std::vector<double>& d);
-// Per edge of `texel` (a convex polygon of element e, texel space): 0 for
-// an edge on a side of e's rect when e is pixel-aligned under nearest
-// filtering (no pixel centre lies near it: GL has nothing to snap, and an
-// opaque polygon there meets the rect's own edge exactly), else `margin`.
-std::vector<double> side_margins(const Scene& scene, const Element& e, const Polygon& texel, double margin);
 
 // A point of Clipper's integer grid (clip_hidden.cpp: 2^-32 screen px).
 struct GridPoint {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 #include "depthcull/scene.h"
 
@@ -25,5 +26,12 @@ bool pixel_aligned(const Scene& scene, const Element& e);
 // rect, between edges at right angles to it, moved out onto that side;
 // else the polygon unchanged. See shapes.cpp for why that is safe.
 Polygon opaque_to_rect_sides(const Scene& scene, const Element& e, const Polygon& p);
+
+// Per edge of `texel` (a convex polygon of element e, texel space): 0 for
+// an edge on a side of e's rect when e is pixel-aligned under nearest
+// filtering (no pixel centre lies near it: GL has nothing to snap, and an
+// opaque polygon there meets the rect's own edge exactly), else `margin`
+// (texel_margin.cpp).
+std::vector<double> side_margins(const Scene& scene, const Element& e, const Polygon& texel, double margin);
 
 } // namespace depthcull::detail

@@ -355,7 +355,8 @@ Polygon MeshBuilder::pull_inward(std::uint32_t element, const Polygon& analysis_
     // corner), but for edges on the sides of a pixel-aligned rect: those lie
     // on whole pixels, where GL has no snapping error to leave room for, and
     // there the polygon must meet what the rect drew (side_margins).
-    return move_edges_inward(p, capture_ ? std::vector<double>(p.size(), m) : side_margins(scene_, e, p, m));
+    // (A captured template is never moved out, so none of its edges is on a side.)
+    return move_edges_inward(p, side_margins(scene_, e, p, m));
 }
 
 } // namespace depthcull::detail
