@@ -10,6 +10,7 @@
 
 #include "depthcull/analyze.h"
 #include "opaque/opaque_internal.h"
+#include "testing/convex_hull.h"
 #include "testing/random_shapes.h"
 
 namespace depthcull {
@@ -312,18 +313,8 @@ TEST(OpaqueArithmetic, ConvexValidMatchesTheChecker) {
         std::vector<opaque_detail::HalfPoint> pts;
         for (int i = 0, n = 3 + int(rng() % 4); i < n; ++i)
             pts.push_back({std::int64_t(rng() % (2 * w + 3)) - 1, std::int64_t(rng() % (2 * h + 3)) - 1});
-        std::sort(pts.begin(), pts.end(), [](auto a, auto b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
-        auto cross = [](auto o, auto a, auto b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
-        opaque_detail::HalfPolygon hull;
-        for (int pass = 0; pass < 2; ++pass) {
-            const std::size_t start = hull.size();
-            for (const auto& p : pts) {
-                while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), p) <= 0) hull.pop_back();
-                hull.push_back(p);
-            }
-            hull.pop_back();
-            std::reverse(pts.begin(), pts.end());
-        }
+        opaque_detail::HalfPolygon hull = test::convex_hull(
+            pts, [](auto o, auto a, auto b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); });
         if (hull.size() < 3) continue;
         std::reverse(hull.begin(), hull.end()); // counter-clockwise in y-up terms is clockwise on screen
         Polygon p = opaque_detail::to_polygon(hull, {0, 0, w, h});

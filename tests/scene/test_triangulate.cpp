@@ -11,6 +11,7 @@
 
 #include "depthcull/scene.h"
 #include "scene/internal.h"
+#include "testing/convex_hull.h"
 
 
 namespace depthcull {
@@ -147,19 +148,7 @@ RC_GTEST_PROP(Triangulate, ConvexGridPolygonsGetTheShortestDiagonals, ()) {
         std::size_t(*rc::gen::inRange(3, 10)), rc::gen::pair(rc::gen::inRange(0, 64), rc::gen::inRange(0, 64)));
     std::vector<Vec2> v;
     for (auto [x, y] : pts) v.push_back({double(x), double(y)});
-    std::sort(v.begin(), v.end(), [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-    RC_PRE(v.size() >= 3);
-    Polygon hull;
-    for (int pass = 0; pass < 2; ++pass) {
-        const std::size_t start = hull.size();
-        for (const Vec2& q : v) {
-            while (hull.size() >= start + 2 && orient(hull[hull.size() - 2], hull.back(), q) <= 0) hull.pop_back();
-            hull.push_back(q);
-        }
-        hull.pop_back();
-        std::reverse(v.begin(), v.end());
-    }
+    const Polygon hull = test::convex_hull(v, [](Vec2 o, Vec2 a, Vec2 b) { return orient(o, a, b); });
     RC_PRE(hull.size() >= 4);
     const std::vector<std::uint32_t> t = triangulate_polygon(hull);
     RC_ASSERT(t.size() == 3 * (hull.size() - 2));
