@@ -105,7 +105,7 @@ void predict_modes(const pipeline::PreparedScene& prepared, const render::Measur
             r->terms.emplace_back();
             continue;
         }
-        r->features.push_back(frame_features(meshes));
+        r->features.push_back(frame_features(meshes, /*count_blocks=*/true));
         r->terms.push_back(predict_terms(profile, r->features.back()));
         out.push_back(predict_ms(profile, r->features.back()));
     }
@@ -179,7 +179,8 @@ json runtime_json(const SceneResult& r) {
                               {{"pixels", f.pixels}, {"depth_clear", f.depth_clear}, {"draw_calls", f.draw_calls},
                                {"texture_switches", f.texture_switches}, {"triangles", f.triangles},
                                {"triangle_perimeter", f.triangle_perimeter}, {"opaque_fragments", f.opaque_fragments},
-                               {"blend_fragments", f.blend_fragments}, {"rejected_fragments", f.rejected_fragments}}}});
+                               {"blend_fragments", f.blend_fragments}, {"rejected_fragments", f.rejected_fragments},
+                               {"opaque_blocks", f.opaque_blocks}, {"blend_blocks", f.blend_blocks}}}});
         } else {
             modes.push_back(json::object());
         }

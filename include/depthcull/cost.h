@@ -52,12 +52,17 @@ struct FrameFeatures {
     std::int64_t opaque_fragments = 0;   // opaque pass: fragments written
     std::int64_t blend_fragments = 0;    // blend pass: fragments shaded
     std::int64_t rejected_fragments = 0; // either pass: fragments the depth test rejected
+    // 4x4 pixel blocks the triangles cover, per pass (OverdrawStats): not
+    // priced by a profile yet; measured beside the time for scripts/fit-profile
+    // --blocks, the block model docs/ideal-frame.md section 9 proposes.
+    std::int64_t opaque_blocks = 0, blend_blocks = 0;
 };
 
 // Counts the features of `meshes` by rasterizing them with analyze_overdraw
 // (depthcull/overdraw.h: GL's fill rule, 24-bit depth, GREATER from 0 as
 // depthcull::runtime draws), the rasterizer the overdraw figures come from.
-FrameFeatures frame_features(const SceneMeshes& meshes);
+// opaque_blocks and blend_blocks only when `count_blocks`.
+FrameFeatures frame_features(const SceneMeshes& meshes, bool count_blocks = false);
 
 // Predicted milliseconds per frame, and the same split by term.
 double predict_ms(const CostProfile& p, const FrameFeatures& f);

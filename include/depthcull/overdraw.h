@@ -29,6 +29,12 @@ struct OverdrawStats {
     std::int64_t shaded = 0;     // fragments that passed the depth test
     std::int64_t rasterized = 0; // fragments the triangles cover, before the depth test
     std::int64_t shaded_opaque = 0; // of shaded, those of Pass::opaque draws (the cost model prices them apart)
+    // 4x4 pixel blocks (aligned to the viewport's corner) each triangle
+    // covers a pixel centre of, before the depth test, summed over the
+    // triangles of each pass: what llvmpipe shades (whole blocks), which
+    // fragments and triangle perimeters only approximate. Counted when asked
+    // (analyze_overdraw's count_blocks).
+    std::int64_t blocks_opaque = 0, blocks_blend = 0;
     double overdraw() const { return pixels ? double(shaded) / double(pixels) : 0.0; }
 };
 
@@ -37,8 +43,10 @@ struct OverdrawStats {
 // 24-bit depth, GL_GREATER with depth writes in Pass::opaque draws when
 // meshes.depth_test) and counts fragments that pass. Matches
 // GL_SAMPLES_PASSED exactly on llvmpipe (tested in tests/render). `map`,
-// when given, gets the shaded count per pixel.
-OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map = nullptr);
+// when given, gets the shaded count per pixel; blocks_opaque and
+// blocks_blend are counted only when `count_blocks` (the cost model's
+// choices rasterize many frames and price no blocks).
+OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map = nullptr, bool count_blocks = false);
 
 // The lower limit: per pixel, walk the elements front to back and count
 // those whose sampled texel (nearest, at the pixel centre) is not

@@ -97,7 +97,7 @@ bool profile_is_complete(const CostProfile& p, std::string* what) {
 
 // ---- Features
 
-FrameFeatures frame_features(const SceneMeshes& meshes) {
+FrameFeatures frame_features(const SceneMeshes& meshes, bool count_blocks) {
     FrameFeatures f;
     const Viewport& vp = meshes.viewport;
     f.pixels = std::int64_t(std::max(0, vp.width)) * std::max(0, vp.height);
@@ -127,7 +127,9 @@ FrameFeatures frame_features(const SceneMeshes& meshes) {
     }
     // Fragments as GL counts them: the overdraw analyzer's rasterizer (one
     // for the whole library), pixel centres, GL's fill rule, 24-bit depth.
-    const OverdrawStats s = analyze_overdraw(meshes);
+    const OverdrawStats s = analyze_overdraw(meshes, nullptr, count_blocks);
+    f.opaque_blocks = s.blocks_opaque;
+    f.blend_blocks = s.blocks_blend;
     if (meshes.depth_test) {
         f.opaque_fragments = s.shaded_opaque;
         f.blend_fragments = s.shaded - s.shaded_opaque;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include "depthcull/overdraw.h"
 
@@ -56,6 +57,44 @@ struct Edge {
     std::int64_t at(std::int64_t x, std::int64_t y) const { return a * x + b * y + c; }
 };
 
+// The 4x4 pixel blocks (aligned to the framebuffer's origin) one triangle
+// covers a pixel centre of: llvmpipe shades whole blocks, so a block an
+// edge crosses costs what a full one does (issue 25's measurements,
+// docs/ideal-frame.md section 9). A triangle's covered pixels in a row are
+// one run; the runs of the four rows of a block row are merged.
+class BlockRows {
+public:
+    void add_row(int py, int first, int last) {
+        if (py >> 2 != row_) {
+            flush();
+            row_ = py >> 2;
+        }
+        runs_[n_++] = {first >> 2, last >> 2};
+    }
+    std::int64_t total() {
+        flush();
+        return total_;
+    }
+
+private:
+    void flush() {
+        // At most four runs: an insertion sort (std::sort trips gcc 12's
+        // -Warray-bounds on so small an array).
+        for (int i = 1; i < n_; ++i)
+            for (int j = i; j > 0 && runs_[j] < runs_[j - 1]; --j) std::swap(runs_[j], runs_[j - 1]);
+        int end = -1; // last block column counted in this block row
+        for (int i = 0; i < n_; ++i) {
+            const int lo = std::max(runs_[i].first, end + 1);
+            if (runs_[i].second >= lo) total_ += runs_[i].second - lo + 1;
+            end = std::max(end, runs_[i].second);
+        }
+        n_ = 0;
+    }
+    std::pair<int, int> runs_[4];
+    int n_ = 0, row_ = -1;
+    std::int64_t total_ = 0;
+};
+
 std::uint32_t depth24(double z) {
     z = std::clamp(z, 0.0, 1.0);
     return std::uint32_t(std::lround(z * 16777215.0));
@@ -63,7 +102,7 @@ std::uint32_t depth24(double z) {
 
 } // namespace
 
-OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map) {
+OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map, bool count_blocks) {
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
     OverdrawStats stats;
     stats.pixels = std::int64_t(width) * height;
@@ -117,8 +156,10 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map) {
             // model rasterizes every contestant frame through here).
             const std::int64_t step = 1 << kSubpixelBits;
             const std::int64_t cx0 = std::int64_t(x0) * step + step / 2;
+            BlockRows blocks;
             for (int py = y0; py <= y1; ++py) {
                 const std::int64_t cy = std::int64_t(py) * step + step / 2;
+                const std::int64_t row_start = stats.rasterized;
                 std::int64_t w0 = e[0].at(cx0, cy), w1 = e[1].at(cx0, cy), w2 = e[2].at(cx0, cy);
                 for (int px = x0; px <= x1; ++px, w0 += e[0].a * step, w1 += e[1].a * step, w2 += e[2].a * step) {
                     if (w0 < e[0].bias || w1 < e[1].bias || w2 < e[2].bias) continue;
@@ -134,7 +175,18 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map) {
                     ++stats.shaded;
                     if (draw.pass == Pass::opaque) ++stats.shaded_opaque;
                 }
+                // A triangle's covered centres in a row are one run (three
+                // half-planes meet a line in an interval): find where it
+                // starts only when blocks are asked for, off the hot loop.
+                if (const std::int64_t run = stats.rasterized - row_start; count_blocks && run > 0) {
+                    int first = x0;
+                    for (std::int64_t v0 = e[0].at(cx0, cy), v1 = e[1].at(cx0, cy), v2 = e[2].at(cx0, cy);
+                         v0 < e[0].bias || v1 < e[1].bias || v2 < e[2].bias; v0 += e[0].a * step, v1 += e[1].a * step, v2 += e[2].a * step)
+                        ++first;
+                    blocks.add_row(py, first, first + int(run) - 1);
+                }
             }
+            (draw.pass == Pass::opaque ? stats.blocks_opaque : stats.blocks_blend) += blocks.total();
         }
     }
     if (map) {

@@ -140,10 +140,14 @@ TEST(Features, FragmentsAreTheOverdrawAnalyzers) {
         d.indices = {0, 1, 2, 0, 2, 3};
         m.draws.push_back(d);
     }
-    const OverdrawStats s = analyze_overdraw(m);
-    const FrameFeatures f = frame_features(m);
+    const OverdrawStats s = analyze_overdraw(m, nullptr, true);
+    const FrameFeatures f = frame_features(m, true);
     EXPECT_EQ(f.opaque_fragments + f.blend_fragments, s.shaded);
     EXPECT_EQ(f.opaque_fragments + f.blend_fragments + f.rejected_fragments, s.rasterized);
+    EXPECT_EQ(f.opaque_blocks, s.blocks_opaque);
+    EXPECT_EQ(f.blend_blocks, s.blocks_blend);
+    EXPECT_GT(f.opaque_blocks, 0);
+    EXPECT_GT(f.blend_blocks, 0);
     m.depth_test = false;
     EXPECT_EQ(frame_features(m).blend_fragments, analyze_overdraw(m).shaded);
 }

@@ -2,6 +2,9 @@
 // hand-built frames, no GL.
 #include <gtest/gtest.h>
 
+#include <random>
+#include <set>
+
 #include "depthcull/overdraw.h"
 #include "render/render_scenes.h"
 
@@ -31,6 +34,44 @@ TEST(AnalyzeOverdraw, SquareSplitOnItsDiagonalShadesEachPixelOnce) {
     // The other diagonal, and the opposite winding.
     m = one_draw({0, 0, 8, 8}, {{0, 0}, {8, 0}, {8, 8}, {0, 8}}, {0, 3, 1, 1, 3, 2});
     EXPECT_EQ(analyze_overdraw(m).shaded, 64);
+}
+
+TEST(AnalyzeOverdraw, BlocksCountWhatEachTriangleTouches) {
+    // A 64x64 quad on the 4x4 grid split on its diagonal: each half touches
+    // the 136 blocks on its side of the diagonal, those on it included.
+    auto m = one_draw({0, 0, 128, 128}, {{0, 0}, {64, 0}, {64, 64}, {0, 64}}, {0, 1, 2, 0, 2, 3});
+    OverdrawStats s = analyze_overdraw(m, nullptr, true);
+    EXPECT_EQ(s.blocks_blend, 272);
+    EXPECT_EQ(s.blocks_opaque, 0);
+    // One pixel off the grid: 17 block columns; shared blocks along the
+    // vertical sides as well as the diagonal.
+    m = one_draw({0, 0, 128, 128}, {{1, 0}, {65, 0}, {65, 64}, {1, 64}}, {0, 1, 2, 0, 2, 3}, 0, Pass::opaque);
+    s = analyze_overdraw(m, nullptr, true);
+    EXPECT_GT(s.blocks_opaque, 272);
+    EXPECT_EQ(s.blocks_blend, 0);
+
+    // Random triangles (thin slivers included): each one's blocks equal the
+    // blocks its own coverage map touches.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> coord(-8, 72);
+    std::int64_t expected = 0;
+    SceneMeshes all = one_draw({0, 0, 64, 48}, {}, {});
+    for (int t = 0; t < 300; ++t) {
+        std::vector<Vec2> p = {{coord(rng), coord(rng)}, {coord(rng), coord(rng)}, {coord(rng), coord(rng)}};
+        if (t % 3 == 0) p[2] = {p[0].x + 0.3 * (p[1].x - p[0].x) + 0.7, p[0].y + 0.3 * (p[1].y - p[0].y) - 0.4};
+        OverdrawMap map;
+        analyze_overdraw(one_draw({0, 0, 64, 48}, p, {0, 1, 2}), &map);
+        std::set<std::pair<int, int>> blocks;
+        for (int y = 0; y < map.height; ++y)
+            for (int x = 0; x < map.width; ++x)
+                if (map.counts[std::size_t(y * map.width + x)]) blocks.insert({x / 4, y / 4});
+        expected += std::int64_t(blocks.size());
+        const auto base = std::uint32_t(all.draws[0].vertex_count());
+        for (Vec2 v : p) all.draws[0].vertices.insert(all.draws[0].vertices.end(), {float(v.x), float(v.y), 0, 0, 0, 1, 1, 1, 1});
+        all.draws[0].indices.insert(all.draws[0].indices.end(), {base, base + 1, base + 2});
+    }
+    EXPECT_EQ(analyze_overdraw(all, nullptr, true).blocks_blend, expected);
+    EXPECT_EQ(analyze_overdraw(all).blocks_blend, 0); // not asked for
 }
 
 TEST(AnalyzeOverdraw, FanThroughPixelCentresTilesOnce) {
