@@ -17,12 +17,12 @@ struct CliResult {
     std::string out, err;
 };
 
-// `args` is shell syntax, appended to the binary's path.
-inline CliResult run_cli(const std::string& args) {
+// `command` is a shell command line; stderr is captured apart.
+inline CliResult run_command(const std::string& command) {
     static int counter = 0;
     auto dir = std::filesystem::temp_directory_path();
     std::string errfile = (dir / ("dc_cli_err_" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
-    std::string cmd = std::string("'") + DEPTHCULL_CLI_PATH + "' " + args + " 2>'" + errfile + "'";
+    std::string cmd = command + " 2>'" + errfile + "'";
     CliResult r;
     FILE* p = ::popen(cmd.c_str(), "r");
     if (!p) return r;
@@ -38,6 +38,9 @@ inline CliResult run_cli(const std::string& args) {
     std::filesystem::remove(errfile);
     return r;
 }
+
+// `args` is shell syntax, appended to the binary's path.
+inline CliResult run_cli(const std::string& args) { return run_command(std::string("'") + DEPTHCULL_CLI_PATH + "' " + args); }
 
 // A fresh, empty directory for one test: temp/dc_<name>_<pid>.
 inline std::filesystem::path scratch_dir(const std::string& name) {
