@@ -40,9 +40,14 @@
 //   B touching none of its edges: triangulate_holes.cpp), on Clipper's
 //   exact grid, and the triangles are checked again where B draws them
 //   (texel space, after the pushes): none turns over, and their areas sum
-//   to the region's. Only where that fails (over 64 points, contours that
-//   touch) is B, when GL snaps it exactly, cut into strips at whole-pixel x
-//   instead (strip_groups).
+//   to the region's. On screen none is thinner than kMinHeight, so GL's
+//   rounding turns none over either (a sliver between nearly collinear
+//   cut points, with zero area on the exact grid, turned over would cover
+//   pixel centres beside it twice with its neighbours); the triangulation
+//   takes no diagonal passing that close to a point, which leaves most
+//   such regions another way to be cut. Only where that fails (over 64
+//   points, contours that touch) is B, when GL snaps it exactly, cut into
+//   strips at whole-pixel x instead (strip_groups).
 // Per element, the cut is kept only when the rejected fragments it saves
 // beat the triangles and perimeter it adds, at the caller's costs.
 #include <algorithm>
@@ -77,6 +82,13 @@ constexpr double kMaxCoordinate = 67108864.0; // 2^26 px: products stay inside C
 constexpr double kPush = 1.0 / 64;      // outward push of cut vertices on B's outline, screen px
 constexpr double kOnEdge = 1e-6;        // px: a cut vertex this close to an edge of B lies on it
 constexpr std::size_t kMaxOccluders = 64; // per element: nearest first in graph order; more are ignored
+// Least height of a cut piece's triangles on screen, px. GL moves each
+// vertex by up to 1/512 px per coordinate and float rounding by under
+// 2^-12 (screens under 8192 px): a triangle's height changes by under
+// 0.0062 px, so one this high cannot turn over. A thinner one (three cut
+// points nearly on a line, an exact triangulation's zero-area sliver) can,
+// and then it and its neighbours cover pixel centres beside it twice.
+constexpr double kMinHeight = 1.0 / 128;
 
 // Screen position of texel point v of element e as GL gets it (float).
 Vec2 screen_of(const Element& e, Vec2 v) {
@@ -197,7 +209,7 @@ bool triangulate_groups(std::vector<Group>& groups) {
             contours.emplace_back();
             for (const cl::IntPoint& q : c) contours.back().push_back({q.X, q.Y});
         }
-        g.triangles = triangulate_with_holes(contours);
+        g.triangles = triangulate_with_holes(contours, cl::cInt(kMinHeight * kScale));
         if (g.triangles.empty()) return false;
     }
     return true;
@@ -292,7 +304,8 @@ bool texel_point(const Element& e, const Region& region, const std::map<std::pai
 
 // The group as B draws it (texel points, the contours' points in order),
 // its triangles checked in texel space: none turns against the outline
-// and their areas sum to the region's. False when a check fails.
+// and their areas sum to the region's; and on screen, as GL gets them:
+// none is thinner than kMinHeight. False when a check fails.
 bool texel_piece(const Element& e, const Region& region, const std::map<std::pair<cl::cInt, cl::cInt>, Vec2>& original,
                  bool snapped, Group& g, Polygon* piece) {
     const TexelMap map = texel_map(e);
@@ -317,6 +330,10 @@ bool texel_piece(const Element& e, const Region& region, const std::map<std::pai
         const double o = orient((*piece)[g.triangles[t]], (*piece)[g.triangles[t + 1]], (*piece)[g.triangles[t + 2]]);
         if (outline_sign * o < 0) return false;
         sum += std::abs(o) / 2;
+        const Vec2 a = screen_of(e, (*piece)[g.triangles[t]]), b = screen_of(e, (*piece)[g.triangles[t + 1]]),
+                   c = screen_of(e, (*piece)[g.triangles[t + 2]]);
+        const double longest = std::max({std::hypot(b.x - a.x, b.y - a.y), std::hypot(c.x - b.x, c.y - b.y), std::hypot(a.x - c.x, a.y - c.y)});
+        if (!(std::abs(orient(a, b, c)) >= kMinHeight * longest)) return false;
     }
     return std::abs(sum - area) <= 1e-9 * std::max(1.0, sum);
 }

@@ -400,6 +400,31 @@ RC_GTEST_PROP(PixelIdentity, CoverPiecesTurnedScaledFlipped, ()) {
     assert_identical(render::GlApi::desktop, rs, &clip, cover);
 }
 
+// Found by CoverPiecesTurnedScaledFlipped in CI: the cut of a turned
+// sprite behind a quarter-turned card's cover pieces met the sprite's
+// rect shrunk by the margin at three points nearly on one line. The exact
+// triangulation closed them with a zero-area sliver whose long side ran
+// beside the middle point; GL's rounding turned the sliver over, and one
+// pixel centre just outside it (a translucent texel) was blended three
+// times. Cut triangles are now never thinner than 1/128 px on screen.
+TEST(ClipHidden, NoSliverBetweenNearlyCollinearCutPoints) {
+    test::RenderScene rs = turned_scene_images();
+    rs.add(1, test::rotation(97.48, 4386 / 256.0, 5512 / 256.0, 2.116), Blend::alpha, {0.5f, 1, 0.75f, 1});
+    rs.add(2, {0, 2, -2, 0, 5113 / 256.0, 5134 / 256.0}).rect = {0, 0, 8, 6};
+    AnalyzeOptions cover;
+    cover.opaque.method = OpaqueMethod::cover;
+    cover.opaque.max_polygons = 64;
+    cover.opaque.min_area = 1;
+    std::string why;
+    test::RuntimeHost* h = test::RuntimeHost::get(render::GlApi::desktop, &why);
+    if (!h) GTEST_SKIP() << "no GL host: " << why;
+    render::MeasureOptions options;
+    options.frames = 0;
+    options.reconstruct.clip_hidden = {true, 1, 0, 0};
+    const render::RuntimeMeasurement m = render::measure_runtime(*h->host, rs.scene, rs.views(), analyse_each(rs, cover), options);
+    for (const auto& mode : m.modes) EXPECT_EQ(mode.off_texel_edges, 0) << render::mode_name(mode.mode);
+}
+
 // Issue 25: tiles over tiles of the same cells (a tile map's layers), the
 // top tiles' opaque texels reaching some of their sides: pixel-aligned
 // (flipped, turned by quarters, scaled by whole numbers), their opaque

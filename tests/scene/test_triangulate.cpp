@@ -258,6 +258,36 @@ TEST(TriangulateHoles, ARingIsEightTrianglesWithShortDiagonals) {
     EXPECT_NEAR(edge_length(p, t) / double(s), 256 + 192 + 2 * (4 * std::hypot(8, 8) + 4 * std::hypot(56, 8)), 1e-6);
 }
 
+// Three outline points nearly on a line (the middle one 2^-22 px off it,
+// as Clipper's rounding leaves cut points): the shortest diagonal joins
+// the outer two and closes a sliver GL's rounding could turn over. With a
+// clearance (clip_hidden.cpp: 1/128 px) that diagonal is not taken, and
+// every triangle is at least that high.
+TEST(TriangulateHoles, TakesNoDiagonalPassingNearAPoint) {
+    const std::int64_t s = std::int64_t(1) << 32, nudge = 1024;
+    const std::vector<std::vector<GridPoint>> region{
+        {{0, 0}, {100 * s, 0}, {100 * s, 50 * s}, {55 * s, 50 * s}, {50 * s, 50 * s + nudge}, {45 * s, 50 * s}, {0, 50 * s}}};
+    std::vector<GridPoint> p = region[0];
+    auto least_height = [&](const std::vector<std::uint32_t>& t) {
+        double least = INFINITY;
+        for (std::size_t k = 0; k < t.size(); k += 3) {
+            const GridPoint a = p[t[k]], b = p[t[k + 1]], c = p[t[k + 2]];
+            const double area2 = std::abs(double(orient3(a, b, c)));
+            const double longest = std::max({std::hypot(double(b.x - a.x), double(b.y - a.y)), std::hypot(double(c.x - b.x), double(c.y - b.y)),
+                                             std::hypot(double(a.x - c.x), double(a.y - c.y))});
+            least = std::min(least, area2 / longest);
+        }
+        return least;
+    };
+    const std::vector<std::uint32_t> plain = detail::triangulate_with_holes(region);
+    check_region(region, plain);
+    EXPECT_LT(least_height(plain), 2.0 * double(nudge)); // the sliver: as high as the nudge
+    const std::int64_t clearance = s / 128;
+    const std::vector<std::uint32_t> clear = detail::triangulate_with_holes(region, clearance);
+    check_region(region, clear);
+    EXPECT_GE(least_height(clear), double(clearance));
+}
+
 TEST(TriangulateHoles, TwoHolesAndATriangularOne) {
     const std::vector<std::vector<GridPoint>> region{{{0, 0}, {100, 0}, {100, 40}, {0, 40}},
                                                      {{10, 10}, {10, 30}, {30, 30}, {30, 10}},
