@@ -43,9 +43,10 @@
 //   to the region's. On screen none is thinner than kMinHeight, so GL's
 //   rounding turns none over either (a sliver between nearly collinear
 //   cut points, with zero area on the exact grid, turned over would cover
-//   pixel centres beside it twice with its neighbours); the triangulation
-//   takes no diagonal passing that close to a point, which leaves most
-//   such regions another way to be cut. Only where that fails (over 64
+//   pixel centres beside it twice with its neighbours), and none is a
+//   needle (kMaxAspect), whose texture coordinates GL interpolates too
+//   loosely; the triangulation takes no diagonal passing that close to a
+//   point, which leaves most such regions another way to be cut. Only where that fails (over 64
 //   points, contours that touch) is B, when GL snaps it exactly, cut into
 //   strips at whole-pixel x instead (strip_groups).
 // Per element, the cut is kept only when the rejected fragments it saves
@@ -89,6 +90,19 @@ constexpr std::size_t kMaxOccluders = 64; // per element: nearest first in graph
 // points nearly on a line, an exact triangulation's zero-area sliver) can,
 // and then it and its neighbours cover pixel centres beside it twice.
 constexpr double kMinHeight = 1.0 / 128;
+// Most a cut triangle's longest side may be, in its heights. GL
+// interpolates texture coordinates over a triangle from its three
+// vertices as floats; a needle magnifies their rounding by its aspect, so
+// a pixel centre a thousandth of a texel from a texel edge could sample
+// the neighbouring texel, which overpaint's quad does not. That matters
+// where pixel centres fall anywhere in a texel: elements GL does not snap
+// exactly. Measured (a scratch search, 5000 random scenes of random
+// shapes turned and scaled 0.3 .. 4, cut behind cover pieces): 4 differed
+// without this limit, none with it. Elements that snap exactly have their
+// pixel centres on a texel edge or at least 1/256 px from one, so they
+// take a looser limit (corpus needles reach aspect 1400 uncut, exact
+// vertices; cut, their vertices are rounded).
+constexpr double kMaxAspect = 64, kMaxAspectSnapped = 1024;
 
 // Screen position of texel point v of element e as GL gets it (float).
 Vec2 screen_of(const Element& e, Vec2 v) {
@@ -201,7 +215,7 @@ bool difference(const cl::Paths& subject, const cl::Paths& cut, std::vector<Grou
 
 // Each group triangulated whole, on Clipper's exact grid; false when one
 // cannot be (too many points, touching contours).
-bool triangulate_groups(std::vector<Group>& groups) {
+bool triangulate_groups(std::vector<Group>& groups, bool snapped) {
     std::vector<std::vector<GridPoint>> contours;
     for (Group& g : groups) {
         contours.clear();
@@ -209,7 +223,7 @@ bool triangulate_groups(std::vector<Group>& groups) {
             contours.emplace_back();
             for (const cl::IntPoint& q : c) contours.back().push_back({q.X, q.Y});
         }
-        g.triangles = triangulate_with_holes(contours, cl::cInt(kMinHeight * kScale));
+        g.triangles = triangulate_with_holes(contours, cl::cInt(kMinHeight * kScale), snapped ? kMaxAspectSnapped : kMaxAspect);
         if (g.triangles.empty()) return false;
     }
     return true;
@@ -305,7 +319,8 @@ bool texel_point(const Element& e, const Region& region, const std::map<std::pai
 // The group as B draws it (texel points, the contours' points in order),
 // its triangles checked in texel space: none turns against the outline
 // and their areas sum to the region's; and on screen, as GL gets them:
-// none is thinner than kMinHeight. False when a check fails.
+// none is thinner than kMinHeight or longer than kMaxAspect heights
+// (kMaxAspectSnapped when B snaps exactly). False when a check fails.
 bool texel_piece(const Element& e, const Region& region, const std::map<std::pair<cl::cInt, cl::cInt>, Vec2>& original,
                  bool snapped, Group& g, Polygon* piece) {
     const TexelMap map = texel_map(e);
@@ -333,7 +348,8 @@ bool texel_piece(const Element& e, const Region& region, const std::map<std::pai
         const Vec2 a = screen_of(e, (*piece)[g.triangles[t]]), b = screen_of(e, (*piece)[g.triangles[t + 1]]),
                    c = screen_of(e, (*piece)[g.triangles[t + 2]]);
         const double longest = std::max({std::hypot(b.x - a.x, b.y - a.y), std::hypot(c.x - b.x, c.y - b.y), std::hypot(a.x - c.x, a.y - c.y)});
-        if (!(std::abs(orient(a, b, c)) >= kMinHeight * longest)) return false;
+        const double least = std::max(kMinHeight, longest / (snapped ? kMaxAspectSnapped : kMaxAspect));
+        if (!(std::abs(orient(a, b, c)) >= least * longest)) return false;
     }
     return std::abs(sum - area) <= 1e-9 * std::max(1.0, sum);
 }
@@ -360,7 +376,7 @@ bool clip_region(const Scene& scene, std::uint32_t b, const Region& region, cons
     std::vector<Group> groups;
     double new_area = 0;
     if (!difference(subject, cut, &groups, &new_area)) return false;
-    if (!triangulate_groups(groups)) {
+    if (!triangulate_groups(groups, snapped)) {
         bool holes = false;
         for (const Group& g : groups) holes = holes || g.contours.size() > 1;
         // Strips would end on the rect's outline, off GL's snapped lines.
@@ -464,15 +480,29 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                 if (++used == kMaxOccluders) break;
             }
             if (cut.empty()) continue;
-            if (!snapped) {
-                // Kept `margin` inside the rect (see the head comment).
+            std::vector<cl::Paths> cuts;
+            if (snapped) cuts.push_back(std::move(cut));
+            // Not snapped: kept `inset` inside the rect (see the head
+            // comment). Where B reaches its rect, that leaves a band
+            // `inset` wide, whose triangles are needles when it is long
+            // (kMaxAspect refuses them): wider bands are tried before B is
+            // given up. A band is B drawn as before, so any width is correct.
+            double longest_side = 0;
+            for (std::size_t k = 0; k < rect_screen.size(); ++k) {
+                const Vec2 u = rect_screen[k], v = rect_screen[(k + 1) % rect_screen.size()];
+                longest_side = std::max(longest_side, std::hypot(v.x - u.x, v.y - u.y));
+            }
+            double last = 0;
+            for (double inset : {options.margin, 1.0, 4.0, longest_side / (kMaxAspect / 2)}) {
+                if (snapped || !(inset > last)) continue;
+                last = inset;
                 cl::Paths inner, kept;
-                if (!shrink(rect_screen, options.margin, inner)) continue;
+                if (!shrink(rect_screen, inset, inner)) break;
                 cl::Clipper clipper;
                 clipper.AddPaths(cut, cl::ptSubject, true);
                 clipper.AddPaths(inner, cl::ptClip, true);
-                if (!clipper.Execute(cl::ctIntersection, kept, cl::pftNonZero, cl::pftNonZero) || kept.empty()) continue;
-                cut = std::move(kept);
+                if (!clipper.Execute(cl::ctIntersection, kept, cl::pftNonZero, cl::pftNonZero) || kept.empty()) break;
+                cuts.push_back(std::move(kept));
             }
             auto region_of = [&](Shape shape) {
                 Region r;
@@ -486,14 +516,18 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                 return r;
             };
             ClippedPart part;
-            if (blend && clip_region(scene, b, region_of(shapes.boundary[b]), cut, options, snapped, &part)) {
-                result.blend.emplace(b, std::move(part));
-                ++result.elements;
-            }
-            if (opaque_tile && !cut.empty() && clip_region(scene, b, region_of(Shape::rect), cut, options, snapped, &part)) {
-                result.opaque.emplace(b, std::move(part));
-                ++result.elements;
-            }
+            for (const cl::Paths& c : cuts)
+                if (blend && clip_region(scene, b, region_of(shapes.boundary[b]), c, options, snapped, &part)) {
+                    result.blend.emplace(b, std::move(part));
+                    ++result.elements;
+                    break;
+                }
+            for (const cl::Paths& c : cuts)
+                if (opaque_tile && clip_region(scene, b, region_of(Shape::rect), c, options, snapped, &part)) {
+                    result.opaque.emplace(b, std::move(part));
+                    ++result.elements;
+                    break;
+                }
         }
     } catch (...) {
         // Clipper throws only on coordinates past its range (checked before) or

@@ -102,10 +102,12 @@ constexpr std::size_t kMaxHoleTriangulationVertices = 64;
 // as contours[0]. Empty when the input breaks those rules or has more
 // than kMaxHoleTriangulationVertices points: every triangle lies in the
 // region and their areas sum to its area exactly, or none is returned.
-// A diagonal passing closer than `clearance` (grid units) to a point other
-// than its ends is not taken: the thin triangle it would close could turn
-// over once GL rounds the points (clip_hidden.cpp).
-std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<GridPoint>>& contours, std::int64_t clearance = 0);
+// A diagonal passing closer than `clearance` (grid units), or than its
+// length / max_aspect, to a point other than its ends is not taken: the
+// thin triangle it would close could turn over once GL rounds the points,
+// or sample texels loosely (clip_hidden.cpp). 0: no such limit.
+std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<GridPoint>>& contours, std::int64_t clearance = 0,
+                                                  double max_aspect = 0);
 
 struct ClippedParts {
     std::unordered_map<std::uint32_t, ClippedPart> blend;  // blend-pass polygons (or rect) cut

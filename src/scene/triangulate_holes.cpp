@@ -64,13 +64,15 @@ Wide doubled_area(const std::vector<GridPoint>& c) {
     return sum;
 }
 
-// A point other than a and b within `clearance` of the open segment a-b
-// (within its span). In doubles: a threshold, not an exact test.
-bool passes_near_a_point(const std::vector<GridPoint>& p, std::uint32_t i, std::uint32_t j, std::int64_t clearance) {
-    if (clearance <= 0) return false;
+// A point other than a and b within `clearance`, or within 1/max_aspect
+// of the segment's length, of the open segment a-b (within its span). In
+// doubles: a threshold, not an exact test.
+bool passes_near_a_point(const std::vector<GridPoint>& p, std::uint32_t i, std::uint32_t j, std::int64_t clearance, double max_aspect) {
+    if (clearance <= 0 && !(max_aspect > 0)) return false;
     const GridPoint a = p[i], b = p[j];
     const double dx = double(b.x - a.x), dy = double(b.y - a.y), len2 = dx * dx + dy * dy;
-    const double reach = double(clearance) * std::sqrt(len2);
+    // |orient| is the distance times the length.
+    const double reach = std::max(double(clearance) * std::sqrt(len2), max_aspect > 0 ? len2 / max_aspect : 0.0);
     for (std::uint32_t m = 0; m < p.size(); ++m) {
         if (m == i || m == j) continue;
         const double along = dx * double(p[m].x - a.x) + dy * double(p[m].y - a.y);
@@ -81,7 +83,8 @@ bool passes_near_a_point(const std::vector<GridPoint>& p, std::uint32_t i, std::
 
 } // namespace
 
-std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<GridPoint>>& contours, std::int64_t clearance) {
+std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<GridPoint>>& contours, std::int64_t clearance,
+                                                  double max_aspect) {
     std::vector<std::uint32_t> none;
     if (contours.empty()) return none;
     std::vector<GridPoint> p;
@@ -138,7 +141,7 @@ std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<
             if (orient(s, f, o) == 0 && Wide(f.x - s.x) * Wide(o.x - s.x) + Wide(f.y - s.y) * Wide(o.y - s.y) > 0) clear = false;
         }
         // Touching nothing, the open diagonal lies wholly inside or outside.
-        if (!clear || !in_region(contours, 2, {a.x + b.x, a.y + b.y}) || passes_near_a_point(p, i, j, clearance)) continue;
+        if (!clear || !in_region(contours, 2, {a.x + b.x, a.y + b.y}) || passes_near_a_point(p, i, j, clearance, max_aspect)) continue;
         edges.push_back({i, j});
         adjacent[i * n + j] = adjacent[j * n + i] = 1;
         ++kept;

@@ -261,8 +261,8 @@ TEST(TriangulateHoles, ARingIsEightTrianglesWithShortDiagonals) {
 // Three outline points nearly on a line (the middle one 2^-22 px off it,
 // as Clipper's rounding leaves cut points): the shortest diagonal joins
 // the outer two and closes a sliver GL's rounding could turn over. With a
-// clearance (clip_hidden.cpp: 1/128 px) that diagonal is not taken, and
-// every triangle is at least that high.
+// clearance (clip_hidden.cpp: 1/128 px), or a most aspect, that diagonal
+// is not taken, and every triangle is at least that high.
 TEST(TriangulateHoles, TakesNoDiagonalPassingNearAPoint) {
     const std::int64_t s = std::int64_t(1) << 32, nudge = 1024;
     const std::vector<std::vector<GridPoint>> region{
@@ -286,6 +286,10 @@ TEST(TriangulateHoles, TakesNoDiagonalPassingNearAPoint) {
     const std::vector<std::uint32_t> clear = detail::triangulate_with_holes(region, clearance);
     check_region(region, clear);
     EXPECT_GE(least_height(clear), double(clearance));
+    // The same by aspect alone: no diagonal passes within 1/64 of its length of a point.
+    const std::vector<std::uint32_t> fat = detail::triangulate_with_holes(region, 0, 64);
+    check_region(region, fat);
+    EXPECT_GE(least_height(fat), double(clearance));
 }
 
 TEST(TriangulateHoles, TwoHolesAndATriangularOne) {
