@@ -46,9 +46,10 @@
 //   pixel centres beside it twice with its neighbours), and none is a
 //   needle (kMaxAspect), whose texture coordinates GL interpolates too
 //   loosely; the triangulation takes no diagonal passing that close to a
-//   point, which leaves most such regions another way to be cut. Only where that fails (over 64
-//   points, contours that touch) is B, when GL snaps it exactly, cut into
-//   strips at whole-pixel x instead (strip_groups).
+//   point, which leaves most such regions another way to be cut. Only
+//   where that fails (over 64 points, contours that touch) is B, when GL
+//   snaps it exactly, cut into strips at whole-pixel x instead
+//   (strip_groups).
 // Per element, the cut is kept only when the rejected fragments it saves
 // beat the triangles and perimeter it adds, at the caller's costs.
 #include <algorithm>
@@ -480,29 +481,32 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                 if (++used == kMaxOccluders) break;
             }
             if (cut.empty()) continue;
-            std::vector<cl::Paths> cuts;
-            if (snapped) cuts.push_back(std::move(cut));
-            // Not snapped: kept `inset` inside the rect (see the head
-            // comment). Where B reaches its rect, that leaves a band
-            // `inset` wide, whose triangles are needles when it is long
-            // (kMaxAspect refuses them): wider bands are tried before B is
-            // given up. A band is B drawn as before, so any width is correct.
-            double longest_side = 0;
-            for (std::size_t k = 0; k < rect_screen.size(); ++k) {
-                const Vec2 u = rect_screen[k], v = rect_screen[(k + 1) % rect_screen.size()];
-                longest_side = std::max(longest_side, std::hypot(v.x - u.x, v.y - u.y));
-            }
-            double last = 0;
-            for (double inset : {options.margin, 1.0, 4.0, longest_side / (kMaxAspect / 2)}) {
-                if (snapped || !(inset > last)) continue;
-                last = inset;
-                cl::Paths inner, kept;
-                if (!shrink(rect_screen, inset, inner)) break;
-                cl::Clipper clipper;
-                clipper.AddPaths(cut, cl::ptSubject, true);
-                clipper.AddPaths(inner, cl::ptClip, true);
-                if (!clipper.Execute(cl::ctIntersection, kept, cl::pftNonZero, cl::pftNonZero) || kept.empty()) break;
-                cuts.push_back(std::move(kept));
+            std::vector<cl::Paths> cuts; // to try in turn
+            if (snapped) {
+                cuts.push_back(std::move(cut));
+            } else {
+                // Kept `inset` inside the rect (see the head comment). Where
+                // B reaches its rect, that leaves a band `inset` wide, whose
+                // triangles are needles when it is long (kMaxAspect refuses
+                // them): wider bands are tried before B is given up. A band
+                // is B drawn as before, so any width is correct.
+                double longest_side = 0;
+                for (std::size_t k = 0; k < rect_screen.size(); ++k) {
+                    const Vec2 u = rect_screen[k], v = rect_screen[(k + 1) % rect_screen.size()];
+                    longest_side = std::max(longest_side, std::hypot(v.x - u.x, v.y - u.y));
+                }
+                double last = 0;
+                for (double inset : {options.margin, 1.0, 4.0, longest_side / (kMaxAspect / 2)}) {
+                    if (!(inset > last)) continue;
+                    last = inset;
+                    cl::Paths inner, kept;
+                    if (!shrink(rect_screen, inset, inner)) break; // a wider one would vanish too
+                    cl::Clipper clipper;
+                    clipper.AddPaths(cut, cl::ptSubject, true);
+                    clipper.AddPaths(inner, cl::ptClip, true);
+                    if (!clipper.Execute(cl::ctIntersection, kept, cl::pftNonZero, cl::pftNonZero) || kept.empty()) break;
+                    cuts.push_back(std::move(kept));
+                }
             }
             auto region_of = [&](Shape shape) {
                 Region r;
