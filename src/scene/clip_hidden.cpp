@@ -104,6 +104,7 @@ constexpr double kMinHeight = 1.0 / 128;
 // take a looser limit (corpus needles reach aspect 1400 uncut, exact
 // vertices; cut, their vertices are rounded).
 constexpr double kMaxAspect = 64, kMaxAspectSnapped = 1024;
+double max_aspect(bool snapped) { return snapped ? kMaxAspectSnapped : kMaxAspect; }
 
 // Screen position of texel point v of element e as GL gets it (float).
 Vec2 screen_of(const Element& e, Vec2 v) {
@@ -224,7 +225,7 @@ bool triangulate_groups(std::vector<Group>& groups, bool snapped) {
             contours.emplace_back();
             for (const cl::IntPoint& q : c) contours.back().push_back({q.X, q.Y});
         }
-        g.triangles = triangulate_with_holes(contours, cl::cInt(kMinHeight * kScale), snapped ? kMaxAspectSnapped : kMaxAspect);
+        g.triangles = triangulate_with_holes(contours, cl::cInt(kMinHeight * kScale), max_aspect(snapped));
         if (g.triangles.empty()) return false;
     }
     return true;
@@ -320,10 +321,10 @@ bool texel_point(const Element& e, const Region& region, const std::map<std::pai
 // The group as B draws it (texel points, the contours' points in order),
 // its triangles checked in texel space: none turns against the outline
 // and their areas sum to the region's; and on screen, as GL gets them:
-// none is thinner than kMinHeight or longer than kMaxAspect heights
-// (kMaxAspectSnapped when B snaps exactly). False when a check fails.
+// none is thinner than kMinHeight or longer than max_aspect heights.
+// `screen`: the piece's points as GL gets them. False when a check fails.
 bool texel_piece(const Element& e, const Region& region, const std::map<std::pair<cl::cInt, cl::cInt>, Vec2>& original,
-                 bool snapped, Group& g, Polygon* piece) {
+                 bool snapped, Group& g, Polygon* piece, Polygon* screen) {
     const TexelMap map = texel_map(e);
     double area = 0, outline_sign = 0;
     for (std::size_t c = 0; c < g.contours.size(); ++c) {
@@ -341,15 +342,15 @@ bool texel_piece(const Element& e, const Region& region, const std::map<std::pai
     // A lone outline not triangulated whole (the strips): ear clipping,
     // exact on the texel grid only, hence the checks.
     if (g.triangles.empty() && g.contours.size() == 1) g.triangles = triangulate_polygon(*piece);
+    for (const Vec2& t : *piece) screen->push_back(screen_of(e, t));
     double sum = 0;
     for (std::size_t t = 0; t + 2 < g.triangles.size(); t += 3) {
         const double o = orient((*piece)[g.triangles[t]], (*piece)[g.triangles[t + 1]], (*piece)[g.triangles[t + 2]]);
         if (outline_sign * o < 0) return false;
         sum += std::abs(o) / 2;
-        const Vec2 a = screen_of(e, (*piece)[g.triangles[t]]), b = screen_of(e, (*piece)[g.triangles[t + 1]]),
-                   c = screen_of(e, (*piece)[g.triangles[t + 2]]);
+        const Vec2 a = (*screen)[g.triangles[t]], b = (*screen)[g.triangles[t + 1]], c = (*screen)[g.triangles[t + 2]];
         const double longest = std::max({std::hypot(b.x - a.x, b.y - a.y), std::hypot(c.x - b.x, c.y - b.y), std::hypot(a.x - c.x, a.y - c.y)});
-        const double least = std::max(kMinHeight, longest / (snapped ? kMaxAspectSnapped : kMaxAspect));
+        const double least = std::max(kMinHeight, longest / max_aspect(snapped));
         if (!(std::abs(orient(a, b, c)) >= least * longest)) return false;
     }
     return std::abs(sum - area) <= 1e-9 * std::max(1.0, sum);
@@ -388,11 +389,9 @@ bool clip_region(const Scene& scene, std::uint32_t b, const Region& region, cons
     ClippedPart part;
     double new_triangles = 0, new_perimeter = 0;
     for (Group& g : groups) {
-        Polygon piece;
-        if (!texel_piece(e, region, original, snapped, g, &piece)) return false;
+        Polygon piece, screen;
+        if (!texel_piece(e, region, original, snapped, g, &piece, &screen)) return false;
         if (g.triangles.empty()) continue;
-        Polygon screen;
-        for (const Vec2& t : piece) screen.push_back(screen_of(e, t));
         new_triangles += double(g.triangles.size() / 3);
         new_perimeter += triangle_perimeter(screen, g.triangles);
         part.pieces.push_back(std::move(piece));
@@ -519,19 +518,19 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                 }
                 return r;
             };
-            ClippedPart part;
-            for (const cl::Paths& c : cuts)
-                if (blend && clip_region(scene, b, region_of(shapes.boundary[b]), c, options, snapped, &part)) {
-                    result.blend.emplace(b, std::move(part));
-                    ++result.elements;
-                    break;
-                }
-            for (const cl::Paths& c : cuts)
-                if (opaque_tile && clip_region(scene, b, region_of(Shape::rect), c, options, snapped, &part)) {
-                    result.opaque.emplace(b, std::move(part));
-                    ++result.elements;
-                    break;
-                }
+            // The first of the cuts that is made (region_of once per shape).
+            auto first_cut = [&](Shape shape, std::unordered_map<std::uint32_t, ClippedPart>& into) {
+                const Region region = region_of(shape);
+                ClippedPart part;
+                for (const cl::Paths& c : cuts)
+                    if (clip_region(scene, b, region, c, options, snapped, &part)) {
+                        into.emplace(b, std::move(part));
+                        ++result.elements;
+                        return;
+                    }
+            };
+            if (blend) first_cut(shapes.boundary[b], result.blend);
+            if (opaque_tile) first_cut(Shape::rect, result.opaque);
         }
     } catch (...) {
         // Clipper throws only on coordinates past its range (checked before) or
