@@ -314,6 +314,21 @@ struct ReconstructOptions {
     // with element_spans or coverage_margin (their rect test would cut the
     // quad). Off by default; --target turns it on.
     bool merge_opaque = false;
+    // Issue 25: no depth buffer (docs/ideal-frame.md section 10). The
+    // opaque pass is drawn back to front (the blend pass's order, which
+    // keeps every element behind the ones it overlaps), so the nearest
+    // opaque polygon is written last, and an element whose opaque polygons
+    // lie in front of another's blend-pass polygons draws them in the blend
+    // pass instead (blended: its texels there are opaque, so blending writes
+    // what the opaque pass would). Then nothing the depth test would reject
+    // is drawn over what it hides, and the frame needs no depth clear or
+    // test: SceneMeshes::depth_test is false. Only without insertion
+    // points, element spans and coverage skirts (their sprites and rect
+    // tests need the depth test); a merged block of opaque tiles is kept
+    // only where its leader's place in the order suits all its tiles. Off
+    // by default; the --target planner turns it on where the frame is
+    // predicted faster.
+    bool depthless = false;
 };
 
 enum class ReconstructStatus {
@@ -370,8 +385,13 @@ SceneStats overpaint_stats(const Scene& scene);
 struct ElementGraph {
     std::vector<std::uint32_t> offsets{0}; // size() + 1 entries
     std::vector<std::uint32_t> targets;
+    // Past the pair budget: 1 for the elements of crowded cells, ordered by
+    // a chain in painter's order instead of compared, so an element they
+    // overlap is reached by a path, not always an edge (empty when none).
+    std::vector<std::uint8_t> chained;
 
     std::size_t size() const { return offsets.size() - 1; }
+    bool is_chained(std::size_t i) const { return i < chained.size() && chained[i]; }
     std::size_t edge_count() const { return targets.size(); }
     const std::uint32_t* behind_begin(std::size_t i) const { return targets.data() + offsets[i]; }
     const std::uint32_t* behind_end(std::size_t i) const { return targets.data() + offsets[i + 1]; }

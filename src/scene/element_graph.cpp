@@ -485,6 +485,7 @@ ElementGraph build_graph(const Scene& scene, const std::vector<const ImageAnalys
     graph.offsets[n] = out;
     graph.targets.resize(out);
     graph.targets.shrink_to_fit();
+    if (std::find(chained.begin(), chained.end(), std::uint8_t(1)) != chained.end()) graph.chained = std::move(chained);
     return graph;
 }
 

@@ -251,10 +251,14 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
                                           options.texel_margin > 0 && !(options.coverage_margin > 0));
     if (options.cull_to_viewport) cull_to_viewport(scene, shapes);
     std::vector<std::int32_t> keys = mesh_keys(scene);
+    // Without depth (ReconstructOptions::depthless) both passes follow
+    // one painter's order, so every element that draws takes part in it.
+    const bool depthless = options.depthless && options.opaque_polygons && options.insertion_points.empty() &&
+                           !options.element_spans && !(options.coverage_margin > 0);
     std::vector<std::int32_t> blend_keys = keys;
     std::vector<std::uint8_t> sorted(n);
     for (std::size_t i = 0; i < n; ++i) {
-        if (!shapes.blended[i]) blend_keys[i] = -1;
+        if (!shapes.blended[i] && !(depthless && shapes.opaque[i] != Shape::none)) blend_keys[i] = -1;
         sorted[i] = blend_keys[i] >= 0;
     }
     ElementGraph graph = build_graph(scene, analyses, shapes.boundary, options.graph, &sorted, options.graph_pair_budget);
@@ -286,7 +290,7 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
 
     SceneMeshes result;
     result.viewport = scene.viewport;
-    result.depth_test = options.opaque_polygons;
+    result.depth_test = options.opaque_polygons && !depthless;
     result.filter = scene.filter;
     MeshBuilder builder(scene, 0, options.coverage_margin, options.texel_margin, options.element_spans);
     ClippedParts clipped;
@@ -294,17 +298,23 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
         clipped = clip_hidden_parts(scene, analyses, shapes, levels, graph, keys, builder, options.clip_hidden);
         builder.set_clipped(&clipped);
     }
+    std::vector<std::uint8_t> moved; // without depth: opaque polygons drawn in the blend pass
+    if (depthless) moved = opaque_in_blend_pass(scene, analyses, shapes, graph, builder);
     MergedTiles merged;
     if (options.merge_opaque && options.opaque_polygons && !options.element_spans && !(options.coverage_margin > 0)) {
         merged = merge_opaque_tiles(scene, shapes, levels, keys, &clipped);
+        if (depthless) keep_merged_in_order(graph, order, moved, merged);
         builder.set_merged(&merged);
     }
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);
-    append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
-    if (points.empty()) {
+    if (depthless) {
+        append_depthless_draws(scene, order, levels, denominator, shapes, analyses, keys, moved, builder, result.draws);
+    } else if (points.empty()) {
+        append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
         append_blend_draws(scene, order, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
     } else {
+        append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
         // One run of blend draws per segment: no draw spans a point, whose
         // sprites' blend draws go between.
         std::vector<std::uint32_t> part;

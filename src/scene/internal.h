@@ -119,6 +119,7 @@ struct ClippedParts {
 struct MergedTiles {
     std::unordered_map<std::uint32_t, Polygon> quads; // leader -> the union of its block's rects (texel space)
     std::vector<std::uint8_t> absorbed;               // per element: drawn by its block's leader
+    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> blocks; // leader -> its block's tiles (itself included)
     std::int64_t merged = 0;                          // tiles in blocks of two or more
 };
 
@@ -156,6 +157,8 @@ public:
     void add_opaque(Draw& d, std::uint32_t element, Shape shape, const ImageAnalysis* a, float z);
     // Elements named here draw their cut pieces instead (clip_hidden_parts).
     void set_clipped(const ClippedParts* clipped) { clipped_ = clipped; }
+    // Whether clip_hidden_parts cut the element's blend-pass polygons.
+    bool blend_cut(std::uint32_t element) const { return clipped_ && clipped_->blend.count(element) > 0; }
     // Tiles named here draw their block's quad, or nothing (merge_opaque_tiles).
     void set_merged(const MergedTiles* merged) { merged_ = merged; }
 
@@ -216,6 +219,27 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                                const std::vector<std::int64_t>& levels, const ElementGraph& graph,
                                const std::vector<std::int32_t>& keys, const MeshBuilder& builder,
                                const ClipHiddenOptions& options);
+
+// Issue 25, ReconstructOptions::depthless (depthless.cpp): per element, 1
+// when its opaque polygons may lie in front of what an element behind draws
+// in the blend pass (screen boxes), so it draws them in the blend pass.
+std::vector<std::uint8_t> opaque_in_blend_pass(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
+                                               const ElementShapes& shapes, const ElementGraph& graph, const MeshBuilder& builder);
+// Without depth a merged block is drawn at its leader's place in `order`:
+// blocks whose tiles have a neighbour (graph edge) behind them drawn after
+// the leader, or in front of them drawn before it, are drawn tile by tile
+// again, as are blocks with chained tiles (their edges are not all there)
+// or tiles drawn in the blend pass (`moved`).
+void keep_merged_in_order(const ElementGraph& graph, const std::vector<std::uint32_t>& order, const std::vector<std::uint8_t>& moved,
+                          MergedTiles& merged);
+// Both passes in `order` (painter's, batched), for drawing without depth:
+// the opaque pass back to front, then the blend pass, where elements
+// marked in `moved` also draw their opaque polygons. Vertices keep their
+// levels' depth values.
+void append_depthless_draws(const Scene& scene, const std::vector<std::uint32_t>& order, const std::vector<std::int64_t>& levels,
+                            std::int64_t denominator, const ElementShapes& shapes, const std::vector<const ImageAnalysis*>& analyses,
+                            const std::vector<std::int32_t>& keys, const std::vector<std::uint8_t>& moved, MeshBuilder& builder,
+                            std::vector<Draw>& draws);
 
 // ReconstructOptions::merge_opaque: blocks of whole-rect opaque tiles at one
 // level whose rects lie on screen as in the image (opaque_merge.cpp).

@@ -182,6 +182,7 @@ MergedTiles merge_opaque_tiles(const Scene& scene, const ElementShapes& shapes, 
             if (blocked) continue;
             for (std::uint32_t t : b.tiles) out.absorbed[t] = t != leader;
             out.quads.emplace(leader, rect_polygon(Rect{b.x, b.y, b.w, b.h}));
+            out.blocks.emplace(leader, b.tiles);
             out.merged += std::int64_t(b.tiles.size());
         }
     }

@@ -347,16 +347,16 @@ TEST(ClipHidden, TurnedScaledFlippedSpritesAreCutBehindTurnedCards) {
 
 // Issue 25: opaque tiles of one sheet laid out as in it (scaled by a power
 // of two, flipped, moved by 1/256 pixels as a whole), some out of place,
-// under turned sprites, drawn merged into blocks.
-RC_GTEST_PROP(PixelIdentity, OpaqueTilesMergedIntoBlocks, ()) {
-    test::RenderScene rs = turned_scene_images();
+// under turned sprites, drawn merged into blocks, with and without a depth
+// buffer.
+// An opaque sheet of 4 x 3 tiles of 4 x 4 texels laid out as in it at
+// (ox, oy), scaled by `scale` and flipped by fx, fy as a whole; about one
+// tile in five moved out of place by up to two pixels.
+void add_sheet_tiles(test::RenderScene& rs, double scale, double fx, double fy, double ox, double oy) {
     Image sheet{16, 12, std::vector<std::uint8_t>(16 * 12 * 4, 255)};
     for (std::size_t t = 0; t < 16 * 12; ++t)
         for (std::size_t c = 0; c < 3; ++c) sheet.rgba[4 * t + c] = std::uint8_t((t * 37 + c * 101) % 256);
     const int image = rs.add_image(sheet, {0, 0, 16, 12});
-    const double scale = *rc::gen::element(0.5, 1.0, 2.0, 4.0);
-    const double fx = *rc::gen::element(1.0, -1.0), fy = *rc::gen::element(1.0, -1.0);
-    const double ox = *rc::gen::inRange(0, 20480) / 256.0, oy = *rc::gen::inRange(0, 15360) / 256.0;
     for (int ty = 0; ty < 3; ++ty)
         for (int tx = 0; tx < 4; ++tx) {
             const double a = fx * scale, d = fy * scale;
@@ -364,12 +364,21 @@ RC_GTEST_PROP(PixelIdentity, OpaqueTilesMergedIntoBlocks, ()) {
             Element& e = rs.add(image, {a, 0, 0, d, ox + a * tx * 4 + shift, oy + d * ty * 4}, *rc::gen::element(Blend::opaque, Blend::alpha));
             e.rect = {tx * 4, ty * 4, 4, 4};
         }
+}
+
+RC_GTEST_PROP(PixelIdentity, OpaqueTilesMergedIntoBlocks, ()) {
+    test::RenderScene rs = turned_scene_images();
+    const double scale = *rc::gen::element(0.5, 1.0, 2.0, 4.0);
+    const double fx = *rc::gen::element(1.0, -1.0), fy = *rc::gen::element(1.0, -1.0);
+    const double ox = *rc::gen::inRange(0, 20480) / 256.0, oy = *rc::gen::inRange(0, 15360) / 256.0;
+    add_sheet_tiles(rs, scale, fx, fy, ox, oy);
     const int count = *rc::gen::inRange(0, 10);
     for (int i = 0; i < count; ++i)
         add_turned(rs, test::rotation(*rc::gen::inRange(0, 36000) / 100.0, *rc::gen::inRange(0, 100000) / 1000.0,
                                       *rc::gen::inRange(0, 90000) / 1000.0, *rc::gen::inRange(300, 3001) / 1000.0));
     ReconstructOptions merge;
     merge.merge_opaque = true;
+    merge.depthless = *rc::gen::element(false, true); // issue 25: blocks drawn in painter's order, no depth buffer
     assert_identical(render::GlApi::desktop, rs, &merge);
 }
 
@@ -420,6 +429,39 @@ RC_GTEST_PROP(PixelIdentity, CoverPiecesTurnedScaledFlipped, ()) {
     ReconstructOptions clip;
     clip.clip_hidden = {true, 1, 0, 0};
     assert_identical(render::GlApi::desktop, rs, &clip, cover);
+}
+
+// Issue 25: frames without a depth buffer (ReconstructOptions::depthless)
+// on the runtime: opaque tiles of a sheet (some out of place, scaled by a
+// power of two, flipped) under sprites turned, scaled and flipped anyhow
+// or exactly, with cover pieces and hidden parts clipped. The opaque pass
+// goes back to front and sprites whose opaque polygons lie in front of
+// another's blend pass draw them blended; the frame is overpaint's.
+RC_GTEST_PROP(PixelIdentity, DepthlessFramesTurnedScaledFlipped, ()) {
+    test::RenderScene rs = turned_scene_images();
+    const double scale = *rc::gen::element(1.0, 2.0), fx = *rc::gen::element(1.0, -1.0);
+    const double ox = *rc::gen::inRange(0, 80), oy = *rc::gen::inRange(0, 60); // whole pixels
+    add_sheet_tiles(rs, scale, fx, 1.0, ox, oy);
+    const int count = *rc::gen::inRange(5, 30);
+    for (int i = 0; i < count; ++i) {
+        const bool exact = *rc::gen::inRange(0, 2) == 0;
+        const double s = exact ? *rc::gen::element(0.5, 1.0, 2.0) : *rc::gen::inRange(300, 4001) / 1000.0;
+        const double degrees = exact ? *rc::gen::element(0.0, 90.0, 180.0, 270.0) : *rc::gen::inRange(0, 36000) / 100.0;
+        auto m = test::rotation(degrees, *rc::gen::inRange(-10, 110), *rc::gen::inRange(0, 90), s);
+        if (exact)
+            for (int k = 0; k < 4; ++k) m[std::size_t(k)] = std::round(m[std::size_t(k)] / s) * s;
+        if (*rc::gen::inRange(0, 4) == 0) m[0] = -m[0], m[1] = -m[1];
+        add_turned(rs, m);
+    }
+    const AnalyzeOptions cover = cover_pieces(*rc::gen::element(1, 4, 64));
+    ReconstructOptions depthless;
+    depthless.depthless = true;
+    depthless.merge_opaque = *rc::gen::element(false, true);
+    if (*rc::gen::inRange(0, 2) == 0) depthless.clip_hidden = {true, 1, 0, 0};
+    SceneMeshes m;
+    RC_ASSERT(reconstruct_scene(rs.scene, analyse_each(rs, cover), depthless, &m) == ReconstructStatus::ok);
+    RC_ASSERT(!m.depth_test);
+    assert_identical(render::GlApi::desktop, rs, &depthless, cover);
 }
 
 // Found by CoverPiecesTurnedScaledFlipped in CI: the cut of a turned

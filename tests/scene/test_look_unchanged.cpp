@@ -343,7 +343,7 @@ TEST(LookUnchanged, CoverPiecesKeepTheFrame) {
 // before it, under those after): merged into blocks, the frame is the same
 // and mostly has fewer triangles.
 TEST(LookUnchanged, MergedOpaqueTilesKeepTheFrame) {
-    int fewer = 0;
+    int fewer = 0, fewer_depthless = 0;
     for (std::uint64_t seed = 1; seed <= 40; ++seed) {
         std::mt19937_64 rng(seed);
         RandomScene r;
@@ -382,8 +382,100 @@ TEST(LookUnchanged, MergedOpaqueTilesKeepTheFrame) {
         EXPECT_LE(merged.stats.triangles, apart.stats.triangles) << "seed " << seed;
         fewer += merged.stats.triangles < apart.stats.triangles;
         EXPECT_EQ(analyze_overdraw(merged).shaded, analyze_overdraw(apart).shaded) << "seed " << seed;
+        // Without a depth buffer a block is drawn at its leader's place in
+        // painter's order: kept only where that order holds.
+        o.depthless = true;
+        SceneMeshes depthless;
+        ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &depthless), ReconstructStatus::ok);
+        EXPECT_FALSE(depthless.depth_test);
+        expect_same_frame(plain, render(depthless, r.images), seed, "opaque tiles merged, no depth buffer");
+        fewer_depthless += depthless.stats.triangles < apart.stats.triangles;
     }
     EXPECT_GE(fewer, 20);
+    EXPECT_GE(fewer_depthless, 10);
+}
+
+// Issue 25: frames without a depth buffer (ReconstructOptions::depthless):
+// the opaque pass back to front, and elements whose opaque polygons lie in
+// front of another's blend-pass polygons drawing them blended instead. In
+// random scenes (quarter turns, mirrors), with the default's polygons and
+// with cover pieces, with and without hidden parts clipped, and with a pair
+// budget so small that crowded spots chain: the frame is overpaint's and
+// needs no depth buffer (and drawn with one, it is the same). In many
+// scenes an opaque pass is left and in many an element moved its opaque
+// polygons to the blend pass.
+TEST(LookUnchanged, DepthlessFramesKeepTheFrame) {
+    AnalyzeOptions cover;
+    cover.opaque.method = OpaqueMethod::cover;
+    cover.opaque.max_polygons = 64;
+    cover.opaque.min_area = 4;
+    int kept = 0, moved = 0;
+    for (std::uint64_t seed = 1; seed <= 30; ++seed)
+        for (bool pieces : {false, true}) {
+            RandomScene r = pieces ? random_scene(seed, 10 + int(seed % 50), cover) : random_scene(seed, 10 + int(seed % 50));
+            const Frame plain = render(overpaint_meshes(r.scene), r.images);
+            for (bool clip : {false, true})
+                for (std::uint64_t budget : {limits::kGraphPairBudget, std::uint64_t(3)}) {
+                    ReconstructOptions o;
+                    if (clip) o.clip_hidden = {true, 1, 0, 0};
+                    o.graph_pair_budget = budget;
+                    o.merge_opaque = seed % 2 == 0;
+                    SceneMeshes with_depth, m;
+                    ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &with_depth), ReconstructStatus::ok);
+                    o.depthless = true;
+                    ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m), ReconstructStatus::ok);
+                    EXPECT_FALSE(m.depth_test) << "seed " << seed;
+                    expect_same_frame(plain, render(m, r.images), seed, clip ? "depthless, hidden parts clipped" : "depthless");
+                    // Drawn with a depth buffer anyway, the same frame.
+                    SceneMeshes tested = m;
+                    tested.depth_test = true;
+                    expect_same_frame(plain, render(tested, r.images), seed, "depthless meshes drawn with the depth test");
+                    std::int64_t opaque[2] = {0, 0};
+                    for (const SceneMeshes* x : {&with_depth, &m})
+                        for (const Draw& d : x->draws)
+                            if (d.pass == Pass::opaque) opaque[x == &m] += std::int64_t(d.triangle_count());
+                    kept += opaque[1] > 0;
+                    moved += opaque[1] < opaque[0];
+                }
+        }
+    EXPECT_GE(kept, 100);
+    EXPECT_GE(moved, 60);
+}
+
+// An opaque card in front of a translucent sprite: drawn in the opaque
+// pass without depth, the sprite's blend pass would blend over it, so the
+// card draws in the blend pass. A card beside the sprite keeps its opaque
+// pass, and so does one whose only neighbour behind is opaque.
+TEST(LookUnchanged, DepthlessCardsInFrontOfTranslucentSpritesBlend) {
+    RandomScene r;
+    r.scene.viewport = {0, 0, 40, 20};
+    Image card{8, 8, std::vector<std::uint8_t>(8 * 8 * 4, 255)};
+    for (std::size_t t = 0; t < 64; ++t) card.rgba[4 * t] = std::uint8_t(t * 3);
+    r.images = {card};
+    r.scene.images = {{"card", "card.png", 8, 8}};
+    auto at = [&](double x, double y, float alpha) {
+        Element e;
+        e.rect = {0, 0, 8, 8};
+        e.transform = {1, 0, 0, 1, x, y};
+        e.color = {1, 1, 1, alpha};
+        r.scene.elements.push_back(e);
+    };
+    at(2, 2, 0.5f);  // translucent sprite
+    at(6, 6, 1.0f);  // card over it: moves to the blend pass
+    at(20, 2, 1.0f); // a card alone
+    at(24, 6, 1.0f); // a card over that card: keeps its opaque pass
+    for (std::size_t i = 0; i < r.scene.elements.size(); ++i) r.analyses.push_back(analyze_image(card.view(), {0, 0, 8, 8}, {}));
+    for (const ImageAnalysis& a : r.analyses) r.element_analysis.push_back(&a);
+    ReconstructOptions o;
+    o.depthless = true;
+    SceneMeshes m;
+    ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &m), ReconstructStatus::ok);
+    EXPECT_FALSE(m.depth_test);
+    expect_same_frame(render(overpaint_meshes(r.scene), r.images), render(m, r.images), 0, "cards");
+    std::int64_t opaque = 0, blend = 0;
+    for (const Draw& d : m.draws) (d.pass == Pass::opaque ? opaque : blend) += std::int64_t(d.triangle_count());
+    EXPECT_EQ(opaque, 4); // the two cards on the right
+    EXPECT_EQ(blend, 4);  // the sprite and the card over it
 }
 
 // The element graph's bound (docs/element-graph.md): with a pair budget
