@@ -145,6 +145,7 @@ std::vector<std::pair<std::string, std::string>> report_options(const RenderInpu
         o.push_back({"clip hidden parts", in.prepare.clip_hidden ? "where it pays" : "no (--no-clip-hidden)"});
         o.push_back({"merge opaque tiles", in.prepare.merge_opaque ? "yes" : "no (--no-merge-opaque)"});
         o.push_back({"opaque pieces (cover plan)", in.prepare.cover_plan ? "where faster" : "no (--no-cover-plan)"});
+        o.push_back({"no depth buffer", in.prepare.depthless ? "where faster" : "no (--no-depthless)"});
     }
     if (in.prepare.load.has_viewport) {
         const Viewport& v = in.prepare.load.viewport;

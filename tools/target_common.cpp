@@ -62,6 +62,8 @@ void add_target_stage_options(CLI::App& cmd, pipeline::PrepareOptions& prepare) 
                  "With --target: do not merge opaque tiles laid out as in their image into blocks (docs/ideal-frame.md)");
     cmd.add_flag("!--no-cover-plan", prepare.cover_plan,
                  "With --target: do not also plan with --opaque cover's pieces (docs/ideal-frame.md)");
+    cmd.add_flag("!--no-depthless", prepare.depthless,
+                 "With --target: always draw with a depth buffer, even where a frame without one is predicted faster (docs/ideal-frame.md)");
 }
 
 } // namespace depthcull::cli

@@ -144,6 +144,7 @@ struct TargetChoice {
     // input had none). Indices, not pointers, so a copy stands alone.
     SceneAnalysis analysis;
     bool opaque_pass = true;               // ReconstructOptions::opaque_polygons
+    bool depthless = false;                // ReconstructOptions::depthless: drawn without a depth buffer
     // Per key: the chosen candidate (-1: the element's whole rect).
     std::vector<int> key_choice;
     std::int64_t elements_dropped = 0;     // hidden by opaque polygons in front

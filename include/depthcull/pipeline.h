@@ -119,11 +119,12 @@ struct PrepareOptions {
     // Where analyses reserve their scratch memory (null: shared_memory_budget()).
     MemoryBudget* memory = nullptr;
     // plan_target (--target) only: issue 25's stages, each on unless turned
-    // off (--no-clip-hidden, --no-merge-opaque, --no-cover-plan), to measure
-    // what each gains.
+    // off (--no-clip-hidden, --no-merge-opaque, --no-cover-plan,
+    // --no-depthless), to measure what each gains.
     bool clip_hidden = true;  // hidden parts clipped where the profile says it pays
     bool merge_opaque = true; // opaque tiles laid out as in their image merged into blocks
     bool cover_plan = true;   // a second plan with OpaqueMethod::cover's pieces, kept when faster
+    bool depthless = true;    // each plan also drawn without a depth buffer, kept when faster
 };
 
 // A value: copies are whole (SceneAnalysis holds indices, not pointers).

@@ -152,6 +152,8 @@ struct Contestant {
     std::string name;
     std::vector<Variant> variants; // per element
     bool opaque_pass = true;
+    bool depthless = false; // ReconstructOptions::depthless (issue 25)
+    std::size_t origin = 0; // for a depthless twin, the index of the contestant it draws without depth
 };
 
 // Clipping planned (issue 25): the edges a cut adds, as a multiple of the
@@ -493,6 +495,21 @@ std::vector<Contestant> Chooser::contestants() const {
                                                : Variant{});
         out.push_back(paper);
     }
+    for (std::size_t k = 0; k < out.size(); ++k) out[k].origin = k;
+    // Each with opaque polygons also drawn without depth where the caller
+    // allows it: the same choices, the opaque pass back to front. Also when
+    // step 2 left the opaque pass off: the gain it weighed against was the
+    // depth buffer's.
+    if (options.depthless) {
+        const std::size_t count = out.size();
+        for (std::size_t k = 0; k < count; ++k)
+            if (std::any_of(out[k].variants.begin(), out[k].variants.end(), [](const Variant& v) { return v.opaque != Opaque::none; })) {
+                Contestant twin = out[k];
+                twin.opaque_pass = true;
+                twin.depthless = true;
+                out.push_back(std::move(twin));
+            }
+    }
     return out;
 }
 
@@ -509,8 +526,14 @@ double Chooser::evaluate(const Contestant& c, SceneAnalysis* analysis) const {
     }
     ReconstructOptions o = options;
     o.opaque_polygons = c.opaque_pass;
+    o.depthless = c.opaque_pass && c.depthless;
     SceneMeshes m;
     if (reconstruct_scene(scene, analysis->per_element(), o, &m) != ReconstructStatus::ok) return double(INFINITY);
+    // A twin whose opaque polygons all moved to the blend pass has no
+    // opaque pass to draw without depth: it is another plan without opaque
+    // polygons, which the contestants already hold.
+    if (o.depthless && std::none_of(m.draws.begin(), m.draws.end(), [](const Draw& d) { return d.pass == Pass::opaque; }))
+        return double(INFINITY);
     return predict_ms(P, frame_features(m));
 }
 
@@ -593,13 +616,14 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
         }
     }
     Contestant win = contestants[best];
-    if (best == 3) std::fill(out.key_choice.begin(), out.key_choice.end(), -1); // rects everywhere
-    if (best == 4)
+    if (win.origin == 3) std::fill(out.key_choice.begin(), out.key_choice.end(), -1); // rects everywhere
+    if (win.origin == 4)
         for (std::size_t k = 0; k < c.keys; ++k) out.key_choice[k] = int(candidates[k].analyses.size()) - 1;
 
     c.fall_back(win, best_ms, out); // 5.
     out.predicted_ms = c.evaluate(win, &out.analysis);
     out.opaque_pass = win.opaque_pass;
+    out.depthless = win.opaque_pass && win.depthless;
     out.fallback = win.name;
     for (std::size_t i = 0; i < c.n; ++i) {
         out.elements_dropped += win.variants[i].dropped;

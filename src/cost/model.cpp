@@ -130,13 +130,11 @@ FrameFeatures frame_features(const SceneMeshes& meshes, bool count_blocks) {
     const OverdrawStats s = analyze_overdraw(meshes, nullptr, count_blocks);
     f.opaque_blocks = s.blocks_opaque;
     f.blend_blocks = s.blocks_blend;
-    if (meshes.depth_test) {
-        f.opaque_fragments = s.shaded_opaque;
-        f.blend_fragments = s.shaded - s.shaded_opaque;
-        f.rejected_fragments = s.rasterized - s.shaded;
-    } else {
-        f.blend_fragments = s.shaded; // without a depth buffer every fragment blends
-    }
+    // Without a depth buffer nothing is rejected; opaque-pass draws
+    // (ReconstructOptions::depthless) still write without blending.
+    f.opaque_fragments = s.shaded_opaque;
+    f.blend_fragments = s.shaded - s.shaded_opaque;
+    f.rejected_fragments = s.rasterized - s.shaded;
     return f;
 }
 

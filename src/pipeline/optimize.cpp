@@ -26,7 +26,13 @@ void plan_and_reconstruct(const std::string& name, const OptimizeOptions& option
     if (settled.profile) {
         announce(options, "choosing for --target");
         const Stopwatch planning;
-        out.plan = plan_target(prepared, options.prepare, *settled.profile, out.reconstruct);
+        // Sprites at insertion points and animations (element spans) need
+        // the depth test: such meshes keep it, so the plan is made with it.
+        PrepareOptions prepare = options.prepare;
+        const bool points = options.insertion_levels > 0 && !prepared.scene.insertion_points.empty();
+        prepare.depthless = prepare.depthless && !points && prepared.scene.animations.empty() && !out.reconstruct.element_spans &&
+                            out.reconstruct.insertion_points.empty() && !(out.reconstruct.coverage_margin > 0);
+        out.plan = plan_target(prepared, prepare, *settled.profile, out.reconstruct);
         prepared.analysis = out.plan->choice.analysis;
         out.reconstruct = out.plan->reconstruct;
         out.seconds.planning = planning.seconds();

@@ -74,12 +74,14 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
         }
     }
     ReconstructOptions chosen = reconstruct;
+    chosen.depthless = options.depthless; // the chooser draws each plan with and without depth
     if (clip) chosen.clip_hidden = clip_hidden_options(profile);
     chosen.clip_hidden.plan_occluders = occluders;
     plan.choice = choose_for_target(scene, candidates, element_key, profile, chosen);
     plan.reconstruct = chosen;
     plan.reconstruct.clip_hidden.plan_occluders = false;
     plan.reconstruct.opaque_polygons = reconstruct.opaque_polygons && plan.choice.opaque_pass;
+    plan.reconstruct.depthless = plan.choice.depthless;
     return plan;
 }
 
@@ -137,12 +139,12 @@ std::string target_summary(const std::string& path, const TargetPlan& plan) {
     auto print = [&](char* out, std::size_t size) {
         return std::snprintf(out, size,
                              "%s: --target %s: predicted %.3f ms (overpaint %.3f, meshes only %.3f); opaque pass %s, %lld elements with "
-                             "opaque polygons (%lld given up per element), %lld hidden elements dropped, MIN_OPAQUE_AREA %d%s%s%s",
+                             "opaque polygons (%lld given up per element), %lld hidden elements dropped, MIN_OPAQUE_AREA %d%s%s%s%s",
                              path.c_str(), plan.profile.name.c_str(), c.predicted_ms, c.overpaint_ms, c.meshes_only_ms,
                              c.opaque_pass ? "on" : "off", (long long)c.elements_opaque, (long long)c.elements_reverted,
                              (long long)c.elements_dropped, plan.min_opaque_area,
-                             plan.opaque_cover ? "; opaque polygons: cover" : "", c.fallback.empty() ? "" : "; fallback: ",
-                             c.fallback.c_str());
+                             plan.opaque_cover ? "; opaque polygons: cover" : "", c.depthless ? "; no depth buffer" : "",
+                             c.fallback.empty() ? "" : "; fallback: ", c.fallback.c_str());
     };
     std::string line(std::size_t(std::max(0, print(nullptr, 0))), '\0');
     print(line.data(), line.size() + 1);

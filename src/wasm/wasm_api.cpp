@@ -797,6 +797,9 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         // fast one on ties); the choice made before optimize adds the
         // insertion points.
         reconstruct.merge_opaque = true;
+        // Each plan also drawn without a depth buffer where predicted
+        // faster, unless sprites at insertion points or animations need it.
+        reconstruct.depthless = insertion_points.empty() && scene.animations.empty();
         const std::vector<int> budgets = target_budgets(analyze.boundary.max_vertices);
         analyze.opaque.min_area = depthcull::min_opaque_area(cost); // the function, not the parameter
         const std::size_t nb = budgets.size();
@@ -825,6 +828,7 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         }
         ReconstructOptions chosen = reconstruct;
         chosen.opaque_polygons = reconstruct.opaque_polygons && choice.opaque_pass;
+        chosen.depthless = choice.depthless;
         chosen.insertion_points = insertion_points;
         chosen.element_spans = !scene.animations.empty();
         st = reconstruct_scene(scene, choice.analysis, chosen, &meshes);

@@ -148,8 +148,14 @@ TEST(Features, FragmentsAreTheOverdrawAnalyzers) {
     EXPECT_EQ(f.blend_blocks, s.blocks_blend);
     EXPECT_GT(f.opaque_blocks, 0);
     EXPECT_GT(f.blend_blocks, 0);
+    // Without a depth buffer (ReconstructOptions::depthless) nothing is
+    // rejected and opaque-pass draws still write without blending.
     m.depth_test = false;
-    EXPECT_EQ(frame_features(m).blend_fragments, analyze_overdraw(m).shaded);
+    const OverdrawStats t = analyze_overdraw(m);
+    const FrameFeatures g = frame_features(m);
+    EXPECT_EQ(g.rejected_fragments, 0);
+    EXPECT_EQ(g.opaque_fragments, t.shaded_opaque);
+    EXPECT_EQ(g.opaque_fragments + g.blend_fragments, t.shaded);
 }
 
 TEST(LeastSquares, ExactLine) {
@@ -371,6 +377,13 @@ TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
     }
 }
 
+// The corpus package's Tiled map whose path ends in `tail` ("" if none).
+std::string corpus_map(const char* package, const std::string& tail) {
+    for (const std::string& p : test::corpus_files(package, ".tmx"))
+        if (p.size() >= tail.size() && p.compare(p.size() - tail.size(), tail.size(), tail) == 0) return p;
+    return {};
+}
+
 // Issue 25: on a ground of opaque tiles under buildings and trees with
 // opaque cores (btanks' university), opaque polygons pay on llvmpipe only
 // when what they hide is cut away, and the cuts' edges are priced in the
@@ -380,9 +393,7 @@ TEST(Target, NeverPredictedSlowerThanMeshesOnly) {
 TEST(Target, OpaquePolygonsPayWhereTheirCutsPay) {
     if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
     if (std::string why = test::corpus_missing("btanks-data"); !why.empty()) GTEST_SKIP() << why;
-    std::string map;
-    for (const std::string& p : test::corpus_files("btanks-data", ".tmx"))
-        if (p.size() >= 15 && p.compare(p.size() - 15, 15, "/university.tmx") == 0) map = p;
+    const std::string map = corpus_map("btanks-data", "/university.tmx");
     ASSERT_FALSE(map.empty());
     const std::string err = temp("university.err"), out = temp("university.json");
     const std::string cmd = cli() + " optimize " + map + " --viewport 0,0,1024,768 --target llvmpipe --no-timing -o " + out + " 2>" + err;
@@ -422,6 +433,9 @@ TEST(Target, StagesTurnOffByOption) {
             EXPECT_EQ(plan.reconstruct.clip_hidden.enabled, bool(clip)) << clip << merge;
             EXPECT_EQ(plan.reconstruct.merge_opaque, bool(merge)) << clip << merge;
         }
+    pipeline::PrepareOptions with_depth = options;
+    with_depth.depthless = false;
+    EXPECT_FALSE(pipeline::plan_target(prepared, with_depth, llvmpipe, {}).reconstruct.depthless);
     // The cover plan (OpaqueMethod::cover's pieces) wins on the meadow for
     // the iPad's profile; --no-cover-plan keeps the default's polygons.
     CostProfile ipad1;
@@ -438,10 +452,43 @@ TEST(Target, StagesTurnOffByOption) {
         EXPECT_NE(text.find("--no-clip-hidden"), std::string::npos) << command;
         EXPECT_NE(text.find("--no-merge-opaque"), std::string::npos) << command;
         EXPECT_NE(text.find("--no-cover-plan"), std::string::npos) << command;
+        EXPECT_NE(text.find("--no-depthless"), std::string::npos) << command;
     }
     const std::string out = temp("stages-off.json");
     EXPECT_EQ(std::system((cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --target llvmpipe "
-                           "--no-clip-hidden --no-merge-opaque --no-cover-plan -o " + out).c_str()), 0);
+                           "--no-clip-hidden --no-merge-opaque --no-cover-plan --no-depthless -o " + out).c_str()), 0);
+}
+
+// Issue 25: a frame without a depth buffer (ReconstructOptions::depthless)
+// where the plan predicts it faster: a tile map's ground of opaque tiles
+// (Tiled's desert) needs no depth test at all. --no-depthless keeps the
+// depth buffer; both draw the overpaint's pixels on the runtime.
+TEST(Target, OpaqueTilesDrawWithoutADepthBuffer) {
+    if (cli().empty()) GTEST_SKIP() << "no CLI in this build";
+    if (std::string why = test::corpus_missing("tiled"); !why.empty()) GTEST_SKIP() << why;
+    const std::string map = corpus_map("tiled", "/desert.tmx");
+    ASSERT_FALSE(map.empty());
+    for (const char* extra : {"", " --no-depthless"}) {
+        const std::string err = temp("desert.err"), out = temp("desert.json");
+        const std::string cmd = cli() + " optimize " + map + " --target llvmpipe --no-timing -o " + out + extra + " 2>" + err;
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(err);
+        const bool depthless = *extra == '\0';
+        EXPECT_EQ(slurp(err).find("; no depth buffer") != std::string::npos, depthless) << slurp(err);
+        const nlohmann::json doc = nlohmann::json::parse(slurp(out));
+        EXPECT_EQ(doc["depth_test"].get<bool>(), !depthless) << extra;
+        bool opaque_pass = false;
+        for (const auto& d : doc["draws"]) opaque_pass = opaque_pass || d["pass"] == "opaque";
+        EXPECT_TRUE(opaque_pass) << extra; // the ground still draws without blending
+        const std::string bench = temp("desert-bench.json");
+        const int rc = std::system((cli() + " bench " + map + " --viewport 96,64,640,480 --target llvmpipe -q --frames 0 --json -o " + bench +
+                                    extra + " 2>" + err).c_str());
+        if (rc != 0 && slurp(err).find("no OpenGL") != std::string::npos) GTEST_SKIP() << "no GL here";
+        ASSERT_EQ(rc, 0) << slurp(err);
+        const nlohmann::json result = nlohmann::json::parse(slurp(bench));
+        for (const auto& mode : result["scenes"][0]["modes"]) {
+            EXPECT_EQ(mode["pixels_differ"].get<long long>(), 0) << mode["mode"] << extra;
+        }
+    }
 }
 
 // analyze --target: per image the chosen budget (or the plain rect) and
