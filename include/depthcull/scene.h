@@ -331,6 +331,13 @@ struct ReconstructOptions {
     bool depthless = false;
 };
 
+// Whether reconstruct_scene honours ReconstructOptions::depthless with the
+// rest of `options`: an opaque pass, and no insertion points, element spans
+// or coverage skirts.
+inline bool depthless_possible(const ReconstructOptions& options) {
+    return options.opaque_polygons && options.insertion_points.empty() && !options.element_spans && !(options.coverage_margin > 0);
+}
+
 enum class ReconstructStatus {
     ok,
     invalid_scene,         // an element names a missing image or analysis, NaN transform, ...

@@ -526,7 +526,7 @@ double Chooser::evaluate(const Contestant& c, SceneAnalysis* analysis) const {
     }
     ReconstructOptions o = options;
     o.opaque_polygons = c.opaque_pass;
-    o.depthless = c.opaque_pass && c.depthless;
+    o.depthless = c.depthless; // twins always have an opaque pass
     SceneMeshes m;
     if (reconstruct_scene(scene, analysis->per_element(), o, &m) != ReconstructStatus::ok) return double(INFINITY);
     // A twin whose opaque polygons all moved to the blend pass has no
@@ -623,7 +623,7 @@ TargetChoice choose_for_target(const Scene& scene, const std::vector<TargetCandi
     c.fall_back(win, best_ms, out); // 5.
     out.predicted_ms = c.evaluate(win, &out.analysis);
     out.opaque_pass = win.opaque_pass;
-    out.depthless = win.opaque_pass && win.depthless;
+    out.depthless = win.depthless;
     out.fallback = win.name;
     for (std::size_t i = 0; i < c.n; ++i) {
         out.elements_dropped += win.variants[i].dropped;

@@ -30,8 +30,7 @@ void plan_and_reconstruct(const std::string& name, const OptimizeOptions& option
         // the depth test: such meshes keep it, so the plan is made with it.
         PrepareOptions prepare = options.prepare;
         const bool points = options.insertion_levels > 0 && !prepared.scene.insertion_points.empty();
-        prepare.depthless = prepare.depthless && !points && prepared.scene.animations.empty() && !out.reconstruct.element_spans &&
-                            out.reconstruct.insertion_points.empty() && !(out.reconstruct.coverage_margin > 0);
+        prepare.depthless = prepare.depthless && !points && prepared.scene.animations.empty() && depthless_possible(out.reconstruct);
         out.plan = plan_target(prepared, prepare, *settled.profile, out.reconstruct);
         prepared.analysis = out.plan->choice.analysis;
         out.reconstruct = out.plan->reconstruct;

@@ -126,30 +126,27 @@ void keep_merged_in_order(const ElementGraph& graph, const std::vector<std::uint
                           MergedTiles& merged) {
     if (merged.quads.empty()) return;
     const std::size_t n = graph.size();
+    constexpr std::uint32_t kNone = 0xffffffffu;
     std::vector<std::int64_t> pos(n, -1);
     for (std::size_t k = 0; k < order.size(); ++k) pos[order[k]] = std::int64_t(k);
-    std::vector<std::vector<std::uint32_t>> front(n);
+    std::vector<std::uint32_t> leader_of(n, kNone); // per tile of a block, its leader
+    for (const auto& [leader, tiles] : merged.blocks)
+        for (std::uint32_t t : tiles) leader_of[t] = leader;
+    std::vector<std::uint8_t> broken(n, 0); // per leader
+    for (std::size_t t = 0; t < n; ++t)
+        if (leader_of[t] != kNone && (graph.is_chained(t) || moved[t] || pos[leader_of[t]] < 0)) broken[leader_of[t]] = 1;
+    // One pass over the edges (j in front of b): an element in front of a
+    // tile must come after the tile's leader, one behind a tile before it.
     for (std::size_t j = 0; j < n; ++j)
-        for (const std::uint32_t* b = graph.behind_begin(j); b != graph.behind_end(j); ++b) front[*b].push_back(std::uint32_t(j));
-    std::vector<std::uint8_t> member(n, 0);
-    // Leaders in ascending order: the result never depends on the map's.
-    std::vector<std::uint32_t> leaders;
-    for (const auto& [leader, tiles] : merged.blocks) leaders.push_back(leader);
-    std::sort(leaders.begin(), leaders.end());
-    for (std::uint32_t leader : leaders) {
-        const std::vector<std::uint32_t>& tiles = merged.blocks[leader];
-        for (std::uint32_t t : tiles) member[t] = 1;
-        const std::int64_t at = pos[leader];
-        bool keep = at >= 0;
-        for (std::size_t k = 0; keep && k < tiles.size(); ++k) {
-            const std::uint32_t t = tiles[k];
-            if (graph.is_chained(t) || moved[t]) keep = false;
-            for (const std::uint32_t* b = graph.behind_begin(t); keep && b != graph.behind_end(t); ++b)
-                keep = member[*b] || pos[*b] < at;
-            for (std::size_t f = 0; keep && f < front[t].size(); ++f) keep = member[front[t][f]] || pos[front[t][f]] > at;
+        for (const std::uint32_t* b = graph.behind_begin(j); b != graph.behind_end(j); ++b) {
+            const std::uint32_t back = leader_of[*b], front = leader_of[j];
+            if (back == front) continue; // one block, or neither in a block
+            if (back != kNone && pos[j] <= pos[back]) broken[back] = 1;
+            if (front != kNone && pos[*b] >= pos[front]) broken[front] = 1;
         }
-        for (std::uint32_t t : tiles) member[t] = 0;
-        if (keep) continue;
+    // Each block is decided alone, so the map's order does not matter.
+    for (const auto& [leader, tiles] : merged.blocks) {
+        if (!broken[leader]) continue;
         for (std::uint32_t t : tiles) merged.absorbed[t] = 0;
         merged.quads.erase(leader);
         merged.merged -= std::int64_t(tiles.size());

@@ -253,8 +253,7 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
     std::vector<std::int32_t> keys = mesh_keys(scene);
     // Without depth (ReconstructOptions::depthless) both passes follow
     // one painter's order, so every element that draws takes part in it.
-    const bool depthless = options.depthless && options.opaque_polygons && options.insertion_points.empty() &&
-                           !options.element_spans && !(options.coverage_margin > 0);
+    const bool depthless = options.depthless && depthless_possible(options);
     std::vector<std::int32_t> blend_keys = keys;
     std::vector<std::uint8_t> sorted(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -306,24 +305,25 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
         if (depthless) keep_merged_in_order(graph, order, moved, merged);
         builder.set_merged(&merged);
     }
-    std::vector<std::uint32_t> all(n);
-    std::iota(all.begin(), all.end(), 0u);
-    if (depthless) {
+    if (depthless) { // no insertion points
         append_depthless_draws(scene, order, levels, denominator, shapes, analyses, keys, moved, builder, result.draws);
-    } else if (points.empty()) {
-        append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
-        append_blend_draws(scene, order, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
     } else {
+        std::vector<std::uint32_t> all(n);
+        std::iota(all.begin(), all.end(), 0u);
         append_opaque_draws(scene, all, levels, shapes, analyses, keys, denominator, builder, result.draws);
-        // One run of blend draws per segment: no draw spans a point, whose
-        // sprites' blend draws go between.
-        std::vector<std::uint32_t> part;
-        std::size_t at = 0;
-        for (std::size_t s = 0; s + 1 < segment_begin.size(); ++s) {
-            if (s > 0) points[s - 1].blend_draw = std::uint32_t(result.draws.size());
-            part.clear();
-            while (at < order.size() && order[at] < segment_begin[s + 1]) part.push_back(order[at++]);
-            append_blend_draws(scene, part, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
+        if (points.empty()) {
+            append_blend_draws(scene, order, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
+        } else {
+            // One run of blend draws per segment: no draw spans a point,
+            // whose sprites' blend draws go between.
+            std::vector<std::uint32_t> part;
+            std::size_t at = 0;
+            for (std::size_t s = 0; s + 1 < segment_begin.size(); ++s) {
+                if (s > 0) points[s - 1].blend_draw = std::uint32_t(result.draws.size());
+                part.clear();
+                while (at < order.size() && order[at] < segment_begin[s + 1]) part.push_back(order[at++]);
+                append_blend_draws(scene, part, &levels, shapes.boundary, analyses, keys, denominator, builder, result.draws);
+            }
         }
     }
     result.depth_denominator = denominator;
