@@ -403,6 +403,8 @@ struct ElementGraph {
     const std::uint32_t* behind_begin(std::size_t i) const { return targets.data() + offsets[i]; }
     const std::uint32_t* behind_end(std::size_t i) const { return targets.data() + offsets[i + 1]; }
     bool has_edge(std::size_t front, std::size_t back) const; // binary search
+    // The edges reversed: per element, those in front of it, ascending.
+    std::vector<std::vector<std::uint32_t>> in_front() const;
 };
 
 // Builds the graph with a uniform grid (broad phase) and a conservative

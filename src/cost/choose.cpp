@@ -427,9 +427,7 @@ void Chooser::choose_opaque() {
 
 void Chooser::drop_hidden() {
     // 3. Elements hidden by one opaque polygon in front.
-    std::vector<std::vector<std::uint32_t>> front(n);
-    for (std::size_t j = 0; j < n; ++j)
-        for (const std::uint32_t* b = graph.behind_begin(j); b != graph.behind_end(j); ++b) front[*b].push_back(std::uint32_t(j));
+    const std::vector<std::vector<std::uint32_t>> front = graph.in_front();
     hider.assign(n, -1);
     if (opaque_pass)
         for (std::size_t i = 0; i < n; ++i) {

@@ -425,10 +425,7 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
     ClippedParts result;
     const std::size_t n = scene.elements.size();
     if (!options.enabled || !(options.margin > 0) || graph.size() != n || levels.size() != n) return result;
-    // Who is in front of whom: the graph lists, per element, those behind it.
-    std::vector<std::vector<std::uint32_t>> front(n);
-    for (std::size_t i = 0; i < n; ++i)
-        for (const std::uint32_t* b = graph.behind_begin(i); b != graph.behind_end(i); ++b) front[*b].push_back(std::uint32_t(i));
+    const std::vector<std::vector<std::uint32_t>> front = graph.in_front();
     // Each occluder's cut region, made once.
     std::vector<std::uint8_t> made(n, 0);
     std::vector<cl::Paths> cut_of(n);

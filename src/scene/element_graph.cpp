@@ -498,6 +498,13 @@ bool ElementGraph::has_edge(std::size_t front, std::size_t back) const {
     return std::binary_search(behind_begin(front), behind_end(front), std::uint32_t(back));
 }
 
+std::vector<std::vector<std::uint32_t>> ElementGraph::in_front() const {
+    std::vector<std::vector<std::uint32_t>> out(size());
+    for (std::size_t i = 0; i < size(); ++i)
+        for (const std::uint32_t* b = behind_begin(i); b != behind_end(i); ++b) out[*b].push_back(std::uint32_t(i));
+    return out;
+}
+
 ElementGraph build_element_graph(const Scene& scene, const std::vector<const ImageAnalysis*>& analyses, GraphMode mode,
                                  std::uint64_t pair_budget) {
     std::vector<const ImageAnalysis*> a = analyses;

@@ -798,8 +798,14 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         // insertion points.
         reconstruct.merge_opaque = true;
         // Each plan also drawn without a depth buffer where predicted
-        // faster, unless sprites at insertion points or animations need it.
-        reconstruct.depthless = insertion_points.empty() && scene.animations.empty();
+        // faster, unless what the final reconstruction adds (sprites at
+        // insertion points, animations' element spans) needs the depth test.
+        {
+            ReconstructOptions final_options = reconstruct;
+            final_options.insertion_points = insertion_points;
+            final_options.element_spans = !scene.animations.empty();
+            reconstruct.depthless = depthless_possible(final_options);
+        }
         const std::vector<int> budgets = target_budgets(analyze.boundary.max_vertices);
         analyze.opaque.min_area = depthcull::min_opaque_area(cost); // the function, not the parameter
         const std::size_t nb = budgets.size();
