@@ -189,6 +189,8 @@ json runtime_json(const SceneResult& r) {
                          {"triangles", m.triangles},
                          {"fragments_rasterized", m.fragments_rasterized},
                          {"fragments_shaded", m.fragments_shaded},
+                         {"fragments_by_texel",
+                          {{"transparent", m.excess.transparent}, {"hidden", m.excess.hidden}, {"needed", m.excess.needed}}},
                          {"samples_passed", m.fragments_shaded},
                          {"rasterized_overdraw", pixels > 0 ? double(m.fragments_rasterized) / pixels : 0},
                          {"overdraw", od},

@@ -48,6 +48,26 @@ struct OverdrawStats {
 // choices rasterize many frames and price no blocks).
 OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map = nullptr, bool count_blocks = false);
 
+// Where a frame's fragments above the ideal frame go (issue 25): each
+// fragment the meshes shade, by the texel it samples (nearest, at the
+// pixel centre, through the vertices' u, v):
+struct ExcessStats {
+    std::int64_t transparent = 0; // a transparent texel (inside a boundary polygon, outside the texels)
+    std::int64_t hidden = 0;      // behind a fully opaque texel nearer in the same pixel, or one drawn there again
+    // The rest: what the ideal frame shades too (ideal_overdraw's shaded, but
+    // for centres on texel edges, which nearest sampling may give either texel).
+    std::int64_t needed = 0;
+};
+
+// Rasterizes `meshes` as analyze_overdraw does (the depth test included:
+// rejected fragments are not counted) and sorts the shaded fragments.
+// Nearer: the depth plan's z where the meshes have depth values, else the
+// order of drawing. A fragment hides what is behind when its texel is
+// opaque and it covers as ideal_overdraw says (alpha blend with colour
+// alpha 1, Blend::opaque, or the opaque pass). images[i] holds the texels
+// of the meshes' image i (Draw::image).
+ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageView>& images);
+
 // The lower limit: per pixel, walk the elements front to back and count
 // those whose sampled texel (nearest, at the pixel centre) is not
 // transparent, down to and including the first that is fully opaque there

@@ -280,6 +280,7 @@ struct RuntimeModeMeasurement {
     double cpu_ms = 0;                     // median process CPU time per frame
     ImageDiff diff;                        // against the runtime's overpaint frame
     std::int64_t off_texel_edges = 0;      // of diff.pixels_differ: count_off_texel_edges
+    ExcessStats excess;                    // the shaded fragments by texel (excess_overdraw of the meshes drawn)
     Image frame;                           // when MeasureOptions::keep_frames
 };
 

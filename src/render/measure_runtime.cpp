@@ -83,6 +83,7 @@ RuntimeMeasurement measure_runtime(GlHost& host, const Scene& scene, const std::
     // One runtime renderer per mode, sharing the first one's textures, as
     // an engine would keep several scenes on one context.
     std::vector<std::unique_ptr<runtime::Renderer>> renderers;
+    std::vector<ExcessStats> excess;
     for (std::size_t i = 0; i < order.size(); ++i) {
         std::string error;
         auto r = runtime::Renderer::create(&GlHost::get_proc_address, &error);
@@ -96,6 +97,7 @@ RuntimeMeasurement measure_runtime(GlHost& host, const Scene& scene, const std::
             throw Error(std::string(mode_name(order[i])) + " meshes: reconstruction failed");
         check(r->set_meshes(meshes), *r, "meshes");
         renderers.push_back(std::move(r));
+        excess.push_back(excess_overdraw(meshes, images));
     }
     host.bind_framebuffer(out.width, out.height);
     const runtime::Camera camera = runtime::camera_of(scene.viewport, false);
@@ -106,6 +108,7 @@ RuntimeMeasurement measure_runtime(GlHost& host, const Scene& scene, const std::
         RuntimeModeMeasurement& m = measured[i];
         runtime::Renderer& r = *renderers[i];
         m.mode = order[i];
+        m.excess = excess[i];
         runtime::FrameOptions counting;
         counting.clear_color = true;
         counting.count_samples = true;

@@ -100,22 +100,39 @@ std::uint32_t depth24(double z) {
     return std::uint32_t(std::lround(z * 16777215.0));
 }
 
-} // namespace
+// One covered pixel centre of a triangle: the vertices (after orienting
+// it), each one's barycentric weight times `area` (the edge values), and
+// whether it passed the depth test.
+struct Fragment {
+    const Draw* draw;
+    std::size_t triangle; // 1, 2, ... in the order drawn
+    std::size_t pixel;
+    const float* vertex[3];
+    std::int64_t weight[3], area;
+    bool shaded;
+    // A vertex attribute (kVertexFloats index) at the centre.
+    double attribute(int a) const {
+        return (double(weight[0]) * vertex[0][a] + double(weight[1]) * vertex[1][a] + double(weight[2]) * vertex[2][a]) / double(area);
+    }
+};
 
-OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map, bool count_blocks) {
+// Rasterizes every triangle of `meshes` the way GL does (see
+// analyze_overdraw), the depth test included: on_fragment(const Fragment&)
+// for each covered centre, on_row(const Draw&, py, first, count) after
+// each row of a triangle that covers `count` centres from column `first`
+// (`triangle` counts the triangles rasterized, to tell them apart).
+template <bool kRows, class OnFragment, class OnRow>
+void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow&& on_row) {
+    std::size_t triangle = 0;
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
-    OverdrawStats stats;
-    stats.pixels = std::int64_t(width) * height;
-    // Per-pixel counts only for a map: a 16k x 16k viewport would spend 1 GB on them.
-    std::vector<std::uint32_t> counts(map ? std::size_t(stats.pixels) : 0, 0);
-    std::vector<std::uint32_t> depth(meshes.depth_test ? std::size_t(stats.pixels) : 0, 0);
-
+    std::vector<std::uint32_t> depth(meshes.depth_test ? std::size_t(width) * std::size_t(height) : 0, 0);
     for (const Draw& draw : meshes.draws) {
         const bool write_depth = meshes.depth_test && draw.pass == Pass::opaque;
         const std::size_t vertex_count = draw.vertex_count();
         for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3) {
             Fixed p[3];
             double z[3];
+            const float* vertex[3];
             bool skip = false;
             for (int k = 0; k < 3; ++k) {
                 std::uint32_t i = draw.indices[t + std::size_t(k)];
@@ -131,6 +148,7 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map, bool
                 }
                 p[k] = {std::llround(x * kSubpixel), std::llround(y * kSubpixel)};
                 z[k] = v[2];
+                vertex[k] = v;
             }
             if (skip) continue;
             std::int64_t area = Edge(p[0], p[1]).at(p[2].x, p[2].y);
@@ -138,6 +156,7 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map, bool
             if (area < 0) {
                 std::swap(p[1], p[2]);
                 std::swap(z[1], z[2]);
+                std::swap(vertex[1], vertex[2]);
                 area = -area;
             }
             // Edge k is opposite vertex k, so its value is vertex k's barycentric weight.
@@ -156,45 +175,142 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map, bool
             // model rasterizes every contestant frame through here).
             const std::int64_t step = 1 << kSubpixelBits;
             const std::int64_t cx0 = std::int64_t(x0) * step + step / 2;
-            BlockRows blocks;
+            Fragment f{&draw, ++triangle, 0, {vertex[0], vertex[1], vertex[2]}, {0, 0, 0}, area, true};
             for (int py = y0; py <= y1; ++py) {
                 const std::int64_t cy = std::int64_t(py) * step + step / 2;
-                const std::int64_t row_start = stats.rasterized;
+                int first = 0, count = 0;
                 std::int64_t w0 = e[0].at(cx0, cy), w1 = e[1].at(cx0, cy), w2 = e[2].at(cx0, cy);
                 for (int px = x0; px <= x1; ++px, w0 += e[0].a * step, w1 += e[1].a * step, w2 += e[2].a * step) {
                     if (w0 < e[0].bias || w1 < e[1].bias || w2 < e[2].bias) continue;
-                    const std::size_t pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                    ++stats.rasterized;
+                    // A triangle's covered centres in a row are one run
+                    // (three half-planes meet a line in an interval).
+                    if constexpr (kRows)
+                        if (count++ == 0) first = px;
+                    f.pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                    f.weight[0] = w0;
+                    f.weight[1] = w1;
+                    f.weight[2] = w2;
+                    f.shaded = true;
                     if (meshes.depth_test) {
-                        std::uint32_t d = flat ? flat_depth
-                                               : depth24((double(w0) * z[0] + double(w1) * z[1] + double(w2) * z[2]) / double(area));
-                        if (d <= depth[pixel]) continue; // GL_GREATER against a buffer cleared to 0
-                        if (write_depth) depth[pixel] = d;
+                        std::uint32_t d =
+                            flat ? flat_depth : depth24((double(w0) * z[0] + double(w1) * z[1] + double(w2) * z[2]) / double(area));
+                        if (d <= depth[f.pixel])
+                            f.shaded = false; // GL_GREATER against a buffer cleared to 0
+                        else if (write_depth)
+                            depth[f.pixel] = d;
                     }
-                    if (map) ++counts[pixel];
-                    ++stats.shaded;
-                    if (draw.pass == Pass::opaque) ++stats.shaded_opaque;
+                    on_fragment(f);
                 }
-                // A triangle's covered centres in a row are one run (three
-                // half-planes meet a line in an interval): find where it
-                // starts only when blocks are asked for, off the hot loop.
-                if (const std::int64_t run = stats.rasterized - row_start; count_blocks && run > 0) {
-                    int first = x0;
-                    for (std::int64_t v0 = e[0].at(cx0, cy), v1 = e[1].at(cx0, cy), v2 = e[2].at(cx0, cy);
-                         v0 < e[0].bias || v1 < e[1].bias || v2 < e[2].bias; v0 += e[0].a * step, v1 += e[1].a * step, v2 += e[2].a * step)
-                        ++first;
-                    blocks.add_row(py, first, first + int(run) - 1);
-                }
+                if (kRows && count > 0) on_row(draw, triangle, py, first, count);
             }
-            (draw.pass == Pass::opaque ? stats.blocks_opaque : stats.blocks_blend) += blocks.total();
         }
     }
+}
+
+} // namespace
+
+OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map, bool count_blocks) {
+    const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
+    OverdrawStats stats;
+    stats.pixels = std::int64_t(width) * height;
+    // Per-pixel counts only for a map: a 16k x 16k viewport would spend 1 GB on them.
+    std::vector<std::uint32_t> counts(map ? std::size_t(stats.pixels) : 0, 0);
+    BlockRows blocks;
+    const Draw* block_draw = nullptr;
+    std::size_t block_triangle = 0;
+    auto flush_blocks = [&] {
+        if (block_draw) (block_draw->pass == Pass::opaque ? stats.blocks_opaque : stats.blocks_blend) += blocks.total();
+        blocks = BlockRows();
+        block_draw = nullptr;
+    };
+    auto on_fragment = [&](const Fragment& f) {
+        ++stats.rasterized;
+        if (!f.shaded) return;
+        if (map) ++counts[f.pixel];
+        ++stats.shaded;
+        if (f.draw->pass == Pass::opaque) ++stats.shaded_opaque;
+    };
+    auto on_row = [&](const Draw& draw, std::size_t triangle, int py, int first, int count) {
+        if (triangle != block_triangle) flush_blocks(); // blocks are counted per triangle
+        block_draw = &draw;
+        block_triangle = triangle;
+        blocks.add_row(py, first, first + count - 1);
+    };
+    if (count_blocks)
+        rasterize_meshes<true>(meshes, on_fragment, on_row);
+    else
+        rasterize_meshes<false>(meshes, on_fragment, on_row);
+    flush_blocks();
     if (map) {
         map->width = width;
         map->height = height;
         map->counts = std::move(counts);
     }
     return stats;
+}
+
+ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageView>& images) {
+    const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
+    ExcessStats out;
+    // Nearness: the depth plan's z where the meshes have depth values (24
+    // bits tell every level apart: D <= 2^22), in either pass, with or
+    // without the depth test; else the order of drawing (overpaint and
+    // meshes only draw what overlaps in painter's order; one element's
+    // triangles do not overlap).
+    const bool by_z = meshes.depth_denominator > 0;
+    auto nearness = [&](const Fragment& f) { return by_z ? std::uint32_t(depth24(f.attribute(2))) : std::uint32_t(f.triangle); };
+    // The texel alpha a fragment shows, and whether it hides what is behind
+    // (as ideal_overdraw decides: opaque texel, colour alpha 1, alpha blend
+    // or Blend::opaque, or any opaque-pass fragment).
+    auto texel_alpha = [&](const Fragment& f, bool* covers) {
+        const Draw& d = *f.draw;
+        const bool opaque_draw = d.pass == Pass::opaque || d.blend == Blend::opaque;
+        std::uint8_t alpha = 255;
+        if (!opaque_draw && d.image >= 0 && std::size_t(d.image) < images.size()) {
+            const ImageView& im = images[std::size_t(d.image)];
+            if (im.width > 0 && im.height > 0) {
+                const int tx = std::clamp(int(std::floor(f.attribute(3) * im.width)), 0, im.width - 1);
+                const int ty = std::clamp(int(std::floor(f.attribute(4) * im.height)), 0, im.height - 1);
+                alpha = im.alpha(tx, ty);
+            }
+        }
+        *covers = is_opaque(alpha) && (opaque_draw || (d.blend == Blend::alpha && f.attribute(8) >= 1.0));
+        return alpha;
+    };
+    // Per pixel, the nearest fragment that hides what is behind it, plus one
+    // (0: none).
+    std::vector<std::uint32_t> front(std::size_t(width) * std::size_t(height), 0);
+    // Whether that nearest one has been counted: overlapping opaque pieces
+    // of one element (grown polygons may overlap) shade a pixel twice where
+    // nothing rejects the second (no depth buffer).
+    std::vector<std::uint8_t> drawn(front.size(), 0);
+    auto no_rows = [](const Draw&, std::size_t, int, int, int) {};
+    rasterize_meshes<false>(
+        meshes,
+        [&](const Fragment& f) {
+            bool covers = false;
+            texel_alpha(f, &covers);
+            if (covers) front[f.pixel] = std::max(front[f.pixel], nearness(f) + 1);
+        },
+        no_rows);
+    rasterize_meshes<false>(
+        meshes,
+        [&](const Fragment& f) {
+            if (!f.shaded) return;
+            bool covers = false;
+            const std::uint8_t alpha = texel_alpha(f, &covers);
+            const std::uint32_t near = nearness(f) + 1;
+            if (is_transparent(alpha))
+                ++out.transparent;
+            else if (near < front[f.pixel] || (near == front[f.pixel] && covers && drawn[f.pixel]))
+                ++out.hidden;
+            else {
+                ++out.needed;
+                if (covers) drawn[f.pixel] = 1;
+            }
+        },
+        no_rows);
+    return out;
 }
 
 OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map,

@@ -446,6 +446,43 @@ TEST(LookUnchanged, DepthlessFramesKeepTheFrame) {
 // pass without depth, the sprite's blend pass would blend over it, so the
 // card draws in the blend pass. A card beside the sprite keeps its opaque
 // pass, and so does one whose only neighbour behind is opaque.
+// excess_overdraw sorts every fragment a frame shades, and what it calls
+// needed is exactly what the ideal frame shades (these scenes have no pixel
+// centre on a texel edge): for overpaint, the depth plan (rejected
+// fragments uncounted), the plan with hidden parts clipped and the plan
+// without a depth buffer (overlapping opaque pieces shade a pixel twice).
+TEST(Overdraw, ExcessSortsEveryShadedFragmentAndNeedsTheIdealOnes) {
+    AnalyzeOptions cover;
+    cover.opaque.method = OpaqueMethod::cover;
+    cover.opaque.max_polygons = 64;
+    cover.opaque.min_area = 4;
+    std::int64_t transparent = 0, hidden = 0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        RandomScene r = seed % 2 ? random_scene(seed, 10 + int(seed % 50), cover) : random_scene(seed, 10 + int(seed % 50));
+        std::vector<ImageView> views;
+        for (const Image& img : r.images) views.push_back(img.view());
+        const std::int64_t ideal = ideal_overdraw(r.scene, views).shaded;
+        std::vector<SceneMeshes> frames{overpaint_meshes(r.scene)};
+        for (int plan = 0; plan < 3; ++plan) {
+            ReconstructOptions o;
+            if (plan >= 1) o.clip_hidden = {true, 1, 0, 0};
+            o.depthless = plan == 2;
+            ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &frames.emplace_back()), ReconstructStatus::ok);
+        }
+        for (std::size_t f = 0; f < frames.size(); ++f) {
+            const ExcessStats e = excess_overdraw(frames[f], views);
+            EXPECT_EQ(e.transparent + e.hidden + e.needed, analyze_overdraw(frames[f]).shaded) << "seed " << seed << ", frame " << f;
+            EXPECT_EQ(e.needed, ideal) << "seed " << seed << ", frame " << f;
+            if (f == 0) {
+                transparent += e.transparent;
+                hidden += e.hidden;
+            }
+        }
+    }
+    EXPECT_GT(transparent, 0); // the test sees both kinds
+    EXPECT_GT(hidden, 0);
+}
+
 TEST(LookUnchanged, DepthlessCardsInFrontOfTranslucentSpritesBlend) {
     RandomScene r;
     r.scene.viewport = {0, 0, 40, 20};

@@ -171,6 +171,44 @@ TEST(AnalyzeOverdraw, RasterizedCountsWhatTheDepthTestRejects) {
     EXPECT_EQ(analyze_overdraw(m).shaded, 20);
 }
 
+TEST(ExcessOverdraw, SortsFragmentsByTheTexelTheySample) {
+    // The frame of StopsAtTheFirstFullyOpaqueElement, drawn as overpaint:
+    // 28 fragments, of which the ideal frame's 23, the glass's transparent
+    // texel and the 4 background pixels under the opaque square.
+    test::RenderScene rs;
+    rs.scene.viewport = {0, 0, 4, 4};
+    const int solid = rs.add_image(test::ascii_image({"##", "##"}), {0, 0, 2, 2});
+    const int glass = rs.add_image(test::ascii_image({"++", "+."}), {});
+    rs.add(solid, {2, 0, 0, 2, 0, 0});
+    rs.add(solid, {1, 0, 0, 1, 1, 1});
+    rs.add(glass, {1, 0, 0, 1, 1, 1});
+    rs.add(solid, {1, 0, 0, 1, 2, 2}, Blend::alpha, {1, 1, 1, 0.5f});
+    const ExcessStats e = excess_overdraw(overpaint_meshes(rs.scene), rs.views());
+    EXPECT_EQ(e.needed, ideal_overdraw(rs.scene, rs.views()).shaded);
+    EXPECT_EQ(e.needed, 23);
+    EXPECT_EQ(e.transparent, 1);
+    EXPECT_EQ(e.hidden, 4);
+}
+
+TEST(ExcessOverdraw, OverlappingOpaquePiecesWithoutDepthShadeTwice) {
+    // One element's two opaque pieces overlapping in the middle two columns,
+    // drawn without a depth buffer: the second fragment there is not needed.
+    SceneMeshes m = one_draw({0, 0, 4, 4}, {{0, 0}, {3, 0}, {3, 4}, {0, 4}, {1, 0}, {4, 0}, {4, 4}, {1, 4}},
+                             {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7}, 0.5f, Pass::opaque);
+    m.depth_denominator = 4;
+    const Image solid = test::ascii_image({"####", "####", "####", "####"});
+    const ExcessStats e = excess_overdraw(m, {solid.view()});
+    EXPECT_EQ(analyze_overdraw(m).shaded, 24);
+    EXPECT_EQ(e.needed, 16);
+    EXPECT_EQ(e.hidden, 8);
+    EXPECT_EQ(e.transparent, 0);
+    // With the depth test the second is rejected, not shaded.
+    m.depth_test = true;
+    const ExcessStats tested = excess_overdraw(m, {solid.view()});
+    EXPECT_EQ(tested.needed, 16);
+    EXPECT_EQ(tested.hidden, 0);
+}
+
 TEST(SummaryCounts, MatchTheMeshesTheyStandFor) {
     auto rs = test::mixed_scene();
     const SceneMeshes over = overpaint_meshes(rs.scene);
