@@ -155,6 +155,16 @@ RandomScene random_scene(std::uint64_t seed, int elements, const AnalyzeOptions&
     return r;
 }
 
+// OpaqueMethod::cover's pieces (issue 25 point 2), as many as pay in these
+// small images.
+AnalyzeOptions cover_pieces() {
+    AnalyzeOptions cover;
+    cover.opaque.method = OpaqueMethod::cover;
+    cover.opaque.max_polygons = 64;
+    cover.opaque.min_area = 4;
+    return cover;
+}
+
 void expect_same_frame(const Frame& a, const Frame& b, std::uint64_t seed, const char* what) {
     std::size_t diffs = 0, first = 0;
     for (std::size_t i = 0; i < a.rgb.size(); ++i) {
@@ -314,10 +324,7 @@ TEST(LookUnchanged, TilesUnderTilesAreCutToTheirSides) {
 // with and without hidden parts clipped at them, and hide more than the
 // default's polygons: fewer blend-pass fragments are shaded in most scenes.
 TEST(LookUnchanged, CoverPiecesKeepTheFrame) {
-    AnalyzeOptions cover;
-    cover.opaque.method = OpaqueMethod::cover;
-    cover.opaque.max_polygons = 64;
-    cover.opaque.min_area = 4;
+    const AnalyzeOptions cover = cover_pieces();
     int fewer = 0;
     for (std::uint64_t seed = 1; seed <= 40; ++seed) {
         RandomScene r = random_scene(seed, 10 + int(seed % 50), cover);
@@ -405,10 +412,7 @@ TEST(LookUnchanged, MergedOpaqueTilesKeepTheFrame) {
 // scenes an opaque pass is left and in many an element moved its opaque
 // polygons to the blend pass.
 TEST(LookUnchanged, DepthlessFramesKeepTheFrame) {
-    AnalyzeOptions cover;
-    cover.opaque.method = OpaqueMethod::cover;
-    cover.opaque.max_polygons = 64;
-    cover.opaque.min_area = 4;
+    const AnalyzeOptions cover = cover_pieces();
     int kept = 0, moved = 0;
     for (std::uint64_t seed = 1; seed <= 30; ++seed)
         for (bool pieces : {false, true}) {
@@ -446,43 +450,6 @@ TEST(LookUnchanged, DepthlessFramesKeepTheFrame) {
 // pass without depth, the sprite's blend pass would blend over it, so the
 // card draws in the blend pass. A card beside the sprite keeps its opaque
 // pass, and so does one whose only neighbour behind is opaque.
-// excess_overdraw sorts every fragment a frame shades, and what it calls
-// needed is exactly what the ideal frame shades (these scenes have no pixel
-// centre on a texel edge): for overpaint, the depth plan (rejected
-// fragments uncounted), the plan with hidden parts clipped and the plan
-// without a depth buffer (overlapping opaque pieces shade a pixel twice).
-TEST(Overdraw, ExcessSortsEveryShadedFragmentAndNeedsTheIdealOnes) {
-    AnalyzeOptions cover;
-    cover.opaque.method = OpaqueMethod::cover;
-    cover.opaque.max_polygons = 64;
-    cover.opaque.min_area = 4;
-    std::int64_t transparent = 0, hidden = 0;
-    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
-        RandomScene r = seed % 2 ? random_scene(seed, 10 + int(seed % 50), cover) : random_scene(seed, 10 + int(seed % 50));
-        std::vector<ImageView> views;
-        for (const Image& img : r.images) views.push_back(img.view());
-        const std::int64_t ideal = ideal_overdraw(r.scene, views).shaded;
-        std::vector<SceneMeshes> frames{overpaint_meshes(r.scene)};
-        for (int plan = 0; plan < 3; ++plan) {
-            ReconstructOptions o;
-            if (plan >= 1) o.clip_hidden = {true, 1, 0, 0};
-            o.depthless = plan == 2;
-            ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &frames.emplace_back()), ReconstructStatus::ok);
-        }
-        for (std::size_t f = 0; f < frames.size(); ++f) {
-            const ExcessStats e = excess_overdraw(frames[f], views);
-            EXPECT_EQ(e.transparent + e.hidden + e.needed, analyze_overdraw(frames[f]).shaded) << "seed " << seed << ", frame " << f;
-            EXPECT_EQ(e.needed, ideal) << "seed " << seed << ", frame " << f;
-            if (f == 0) {
-                transparent += e.transparent;
-                hidden += e.hidden;
-            }
-        }
-    }
-    EXPECT_GT(transparent, 0); // the test sees both kinds
-    EXPECT_GT(hidden, 0);
-}
-
 TEST(LookUnchanged, DepthlessCardsInFrontOfTranslucentSpritesBlend) {
     RandomScene r;
     r.scene.viewport = {0, 0, 40, 20};
@@ -513,6 +480,40 @@ TEST(LookUnchanged, DepthlessCardsInFrontOfTranslucentSpritesBlend) {
     for (const Draw& d : m.draws) (d.pass == Pass::opaque ? opaque : blend) += std::int64_t(d.triangle_count());
     EXPECT_EQ(opaque, 4); // the two cards on the right
     EXPECT_EQ(blend, 4);  // the sprite and the card over it
+}
+
+// excess_overdraw sorts every fragment a frame shades, and what it calls
+// needed is exactly what the ideal frame shades (these scenes have no pixel
+// centre on a texel edge): for overpaint, the depth plan (rejected
+// fragments uncounted), the plan with hidden parts clipped and the plan
+// without a depth buffer (overlapping opaque pieces shade a pixel twice).
+TEST(Overdraw, ExcessSortsEveryShadedFragmentAndNeedsTheIdealOnes) {
+    const AnalyzeOptions cover = cover_pieces();
+    std::int64_t transparent = 0, hidden = 0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        RandomScene r = seed % 2 ? random_scene(seed, 10 + int(seed % 50), cover) : random_scene(seed, 10 + int(seed % 50));
+        std::vector<ImageView> views;
+        for (const Image& img : r.images) views.push_back(img.view());
+        const std::int64_t ideal = ideal_overdraw(r.scene, views).shaded;
+        std::vector<SceneMeshes> frames{overpaint_meshes(r.scene)};
+        for (int plan = 0; plan < 3; ++plan) {
+            ReconstructOptions o;
+            if (plan >= 1) o.clip_hidden = {true, 1, 0, 0};
+            o.depthless = plan == 2;
+            ASSERT_EQ(reconstruct_scene(r.scene, r.element_analysis, o, &frames.emplace_back()), ReconstructStatus::ok);
+        }
+        for (std::size_t f = 0; f < frames.size(); ++f) {
+            const ExcessStats e = excess_overdraw(frames[f], views);
+            EXPECT_EQ(e.transparent + e.hidden + e.needed, analyze_overdraw(frames[f]).shaded) << "seed " << seed << ", frame " << f;
+            EXPECT_EQ(e.needed, ideal) << "seed " << seed << ", frame " << f;
+            if (f == 0) {
+                transparent += e.transparent;
+                hidden += e.hidden;
+            }
+        }
+    }
+    EXPECT_GT(transparent, 0); // the test sees both kinds
+    EXPECT_GT(hidden, 0);
 }
 
 // The element graph's bound (docs/element-graph.md): with a pair budget
