@@ -204,8 +204,21 @@ TEST(Calibrate, QuickCalibrationWritesACompleteFiniteProfile) {
     const CostProfile p = pipeline::read_profile(out); // every term present, finite, >= 0
     std::string what;
     EXPECT_TRUE(profile_is_complete(p, &what)) << what;
-    EXPECT_GT(p.fragment_blend_ns, 0);
-    EXPECT_GT(p.triangle_us + p.triangle_perimeter_ns_per_pixel, 0);
+    // Each term is a difference of two timings, so a busy machine can
+    // measure one as free (CI once did, for triangles): the test asserts no
+    // timing, only that such a profile never goes out unannounced.
+    const std::string err = slurp(temp("cal.err"));
+    if (p.name == "calibrated-software") {
+        if (p.fragment_blend_ns <= 0) {
+            EXPECT_NE(err.find("blended fragment"), std::string::npos) << err;
+        }
+        if (p.triangle_us + p.triangle_perimeter_ns_per_pixel <= 0) {
+            EXPECT_NE(err.find("triangle"), std::string::npos) << err;
+        }
+        if (err.find("warning: calibrate:") != std::string::npos) {
+            EXPECT_NE(err.find("without --quick"), std::string::npos) << err;
+        }
+    }
     // And it is usable as a target.
     const std::string meshes = temp("cal-meshes.json");
     EXPECT_EQ(std::system((cli() + " optimize " + DEPTHCULL_SOURCE_DIR + "/examples/meadow.json --no-cache -q --target " + out + " -o " + meshes).c_str()), 0);
