@@ -100,6 +100,11 @@ std::uint32_t depth24(double z) {
     return std::uint32_t(std::lround(z * 16777215.0));
 }
 
+// Whether an element drawn with `blend` and colour alpha `colour_alpha`
+// hides what is behind it where its texel is fully opaque (the ideal
+// frame's rule, for elements and for the meshes' fragments alike).
+bool can_cover(Blend blend, double colour_alpha) { return (blend == Blend::alpha && colour_alpha >= 1.0) || blend == Blend::opaque; }
+
 // One covered pixel centre of a triangle: the vertices (after orienting
 // it), each one's barycentric weight times `area` (the edge values), and
 // whether it passed the depth test.
@@ -274,7 +279,7 @@ ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageVi
                 alpha = im.alpha(tx, ty);
             }
         }
-        *covers = is_opaque(alpha) && (opaque_draw || (d.blend == Blend::alpha && f.attribute(8) >= 1.0));
+        *covers = is_opaque(alpha) && (d.pass == Pass::opaque || can_cover(d.blend, f.attribute(8)));
         return alpha;
     };
     // Per pixel, the nearest fragment that hides what is behind it, plus one
@@ -345,7 +350,7 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
         }
         const int x0 = int(std::max(0.0, std::floor(bx0 - 0.5))), x1 = int(std::min(double(width) - 1, std::ceil(bx1 - 0.5)));
         const int y0 = int(std::max(0.0, std::floor(by0 - 0.5))), y1 = int(std::min(double(height) - 1, std::ceil(by1 - 0.5)));
-        const bool can_cover = (e.blend == Blend::alpha && e.color[3] >= 1.0f) || e.blend == Blend::opaque;
+        const bool covers = can_cover(e.blend, e.color[3]);
         for (int py = y0; py <= y1; ++py) {
             for (int px = x0; px <= x1; ++px) {
                 const std::size_t pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
@@ -362,7 +367,7 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
                 if (shows) (*shows)[k] = 1;
                 ++stats.shaded;
                 ++stats.rasterized;
-                if (can_cover && is_opaque(alpha)) covered[pixel] = 1;
+                if (covers && is_opaque(alpha)) covered[pixel] = 1;
             }
         }
     }
