@@ -89,6 +89,7 @@ struct SceneResult {
     std::vector<CostTerms> terms;      // --target: the prediction by term
     std::string target;                // the profile's name
     double limit_ms = 0;               // --target: the ideal frame's predicted ms (limit_ms, issue 25)
+    FrameFeatures limit;               // --target: what limit_ms priced (with the ideal frame's blocks)
 };
 
 // The model's prediction for each mode drawn (the meshes measure_runtime draws).
@@ -109,7 +110,8 @@ void predict_modes(const pipeline::PreparedScene& prepared, const render::Measur
         r->terms.push_back(predict_terms(profile, r->features.back()));
         out.push_back(predict_ms(profile, r->features.back()));
     }
-    r->limit_ms = limit_ms(profile, prepared.scene, prepared.views());
+    r->limit = limit_features(prepared.scene, prepared.views());
+    r->limit_ms = predict_ms(profile, r->limit);
 }
 
 double median_of(std::vector<double> v) {
@@ -159,6 +161,20 @@ double median_prediction_error(const std::vector<SceneResult>& results) {
     return median_of(errors);
 }
 
+json features_json(const FrameFeatures& f) {
+    return {{"pixels", f.pixels},
+            {"depth_clear", f.depth_clear},
+            {"draw_calls", f.draw_calls},
+            {"texture_switches", f.texture_switches},
+            {"triangles", f.triangles},
+            {"triangle_perimeter", f.triangle_perimeter},
+            {"opaque_fragments", f.opaque_fragments},
+            {"blend_fragments", f.blend_fragments},
+            {"rejected_fragments", f.rejected_fragments},
+            {"opaque_blocks", f.opaque_blocks},
+            {"blend_blocks", f.blend_blocks}};
+}
+
 json runtime_json(const SceneResult& r) {
     json modes = json::array();
     const double pixels = double(r.rt.width) * double(r.rt.height);
@@ -175,12 +191,7 @@ json runtime_json(const SceneResult& r) {
                              {"predicted_terms_ms",
                               {{"frame", t.frame}, {"clears", t.clears}, {"draws", t.draws}, {"triangles", t.triangles},
                                {"opaque", t.opaque}, {"blend", t.blend}, {"rejected", t.rejected}}},
-                             {"model_features",
-                              {{"pixels", f.pixels}, {"depth_clear", f.depth_clear}, {"draw_calls", f.draw_calls},
-                               {"texture_switches", f.texture_switches}, {"triangles", f.triangles},
-                               {"triangle_perimeter", f.triangle_perimeter}, {"opaque_fragments", f.opaque_fragments},
-                               {"blend_fragments", f.blend_fragments}, {"rejected_fragments", f.rejected_fragments},
-                               {"opaque_blocks", f.opaque_blocks}, {"blend_blocks", f.blend_blocks}}}});
+                             {"model_features", features_json(f)}});
         } else {
             modes.push_back(json::object());
         }
@@ -191,6 +202,7 @@ json runtime_json(const SceneResult& r) {
                          {"fragments_shaded", m.fragments_shaded},
                          {"fragments_by_texel",
                           {{"transparent", m.excess.transparent}, {"hidden", m.excess.hidden}, {"needed", m.excess.needed}}},
+                         {"blocks_by_texel", {{"needed", m.excess.blocks_needed}, {"waste", m.excess.blocks_waste}}},
                          {"samples_passed", m.fragments_shaded},
                          {"rasterized_overdraw", pixels > 0 ? double(m.fragments_rasterized) / pixels : 0},
                          {"overdraw", od},
@@ -202,15 +214,17 @@ json runtime_json(const SceneResult& r) {
                          {"pixels_differ_on_texel_edges", m.diff.pixels_differ - m.off_texel_edges},
                          {"pixels_differ_elsewhere", m.off_texel_edges}});
     }
-    return {{"scene", r.path},
-            {"target", r.target},
-            {"width", r.rt.width},
-            {"height", r.rt.height},
-            {"elements", r.elements},
-            {"covered", r.covered},
-            {"ideal_overdraw", r.rt.ideal_overdraw},
-            {"limit_ms", r.limit_ms},
-            {"modes", modes}};
+    json scene = {{"scene", r.path},
+                  {"target", r.target},
+                  {"width", r.rt.width},
+                  {"height", r.rt.height},
+                  {"elements", r.elements},
+                  {"covered", r.covered},
+                  {"ideal_overdraw", r.rt.ideal_overdraw},
+                  {"limit_ms", r.limit_ms},
+                  {"modes", modes}};
+    if (!r.predicted.empty()) scene["limit_features"] = features_json(r.limit);
+    return scene;
 }
 
 std::string table(const std::vector<SceneResult>& results) {

@@ -57,6 +57,12 @@ struct ExcessStats {
     // The rest: what the ideal frame shades too (ideal_overdraw's shaded, but
     // for centres on texel edges, which nearest sampling may give either texel).
     std::int64_t needed = 0;
+    // The 4x4 blocks each triangle covers a pixel centre of (what llvmpipe
+    // shades, OverdrawStats::blocks_*), by whether one of its fragments
+    // there is needed: a block with none (transparent, hidden or rejected
+    // fragments only) is shaded for nothing; a block with one is shaded
+    // whatever the polygon's shape there.
+    std::int64_t blocks_needed = 0, blocks_waste = 0;
 };
 
 // Rasterizes `meshes` as analyze_overdraw does (the depth test included:
@@ -75,6 +81,15 @@ ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageVi
 // images[i] holds Scene::images[i]'s texels. rasterized == shaded.
 // `shows`, when given, gets per element 1 when it has a fragment there
 // (what the ideal frame draws: the limit of depthcull/cost.h).
+// blocks_opaque and blocks_blend: the 4x4 blocks (aligned to the
+// viewport's corner) that the ideal frame's triangles shade, each element
+// drawn as its rect's two triangles (split by the diagonal from texel
+// (0, 0) to (w, h)) shading only those fragments: per element and
+// triangle, the blocks it has one of them in (opaque when every one there
+// hides what is behind, so an opaque pass could draw them): what the
+// limit's frame (depthcull/cost.h: two triangles per element) shades on a
+// renderer that shades whole blocks, as llvmpipe does (issue 25,
+// docs/ideal-frame.md section 14).
 OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map = nullptr,
                              std::vector<std::uint8_t>* shows = nullptr);
 

@@ -34,6 +34,8 @@ FrameFeatures limit_features(const Scene& scene, const std::vector<ImageView>& i
     const OverdrawStats ideal = ideal_overdraw(scene, images, nullptr, &shows);
     f.pixels = ideal.pixels;
     f.blend_fragments = ideal.shaded;
+    f.opaque_blocks = ideal.blocks_opaque;
+    f.blend_blocks = ideal.blocks_blend;
     std::set<std::string> textures;
     for (std::size_t i = 0; i < scene.elements.size(); ++i) {
         if (!shows[i]) continue;

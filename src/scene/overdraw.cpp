@@ -298,9 +298,33 @@ ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageVi
             if (covers) front[f.pixel] = std::max(front[f.pixel], nearness(f) + 1);
         },
         no_rows);
+    // The blocks of the triangle being walked, one block row at a time (its
+    // fragments come row by row): per block column 0 untouched, 1 shaded,
+    // 2 shaded with a needed fragment.
+    std::vector<std::uint8_t> row_blocks(std::size_t(width / 4 + 1), 0);
+    std::vector<std::size_t> touched;
+    std::size_t block_triangle = 0, block_row = 0;
+    auto flush_blocks = [&] {
+        for (std::size_t bx : touched) {
+            (row_blocks[bx] == 2 ? out.blocks_needed : out.blocks_waste) += 1;
+            row_blocks[bx] = 0;
+        }
+        touched.clear();
+    };
     rasterize_meshes<false>(
         meshes,
         [&](const Fragment& f) {
+            const std::size_t row = f.pixel / std::size_t(width) / 4, bx = f.pixel % std::size_t(width) / 4;
+            if (f.triangle != block_triangle || row != block_row) {
+                flush_blocks();
+                block_triangle = f.triangle;
+                block_row = row;
+            }
+            std::uint8_t& block = row_blocks[bx];
+            if (block == 0) {
+                touched.push_back(bx);
+                block = 1;
+            }
             if (!f.shaded) return;
             bool covers = false;
             const std::uint8_t alpha = texel_alpha(f, &covers);
@@ -311,10 +335,12 @@ ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageVi
                 ++out.hidden;
             else {
                 ++out.needed;
+                block = 2;
                 if (covers) drawn[f.pixel] = 1;
             }
         },
         no_rows);
+    flush_blocks();
     return out;
 }
 
@@ -328,6 +354,12 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
     std::vector<std::uint32_t> counts(map ? std::size_t(stats.pixels) : 0, 0);
     // Set once a pixel has met a fully opaque element: nothing behind it counts.
     std::vector<std::uint8_t> covered(std::size_t(stats.pixels), 0);
+    // One element's 4x4 blocks over its box, as the ideal frame draws it: its
+    // rect as two triangles (split by the diagonal from texel (0, 0) to (w,
+    // h)), each shading the blocks it has one of those fragments in. Bits:
+    // 1 the first triangle has one there, 2 the second, 4 one of them does
+    // not hide what is behind.
+    std::vector<std::uint8_t> blocks;
 
     // Front to back, each element over its screen bounding box only, so the
     // cost is the sum of element areas, not elements * pixels.
@@ -351,6 +383,18 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
         const int x0 = int(std::max(0.0, std::floor(bx0 - 0.5))), x1 = int(std::min(double(width) - 1, std::ceil(bx1 - 0.5)));
         const int y0 = int(std::max(0.0, std::floor(by0 - 0.5))), y1 = int(std::min(double(height) - 1, std::ceil(by1 - 0.5)));
         const bool covers = can_cover(e.blend, e.color[3]);
+        // The diagonal as GL rasterizes it (snapped, a centre on it going to
+        // the triangle whose top or left edge it is), oriented so the
+        // triangle of corners (0, 0), (w, 0), (w, h) lies on its positive side.
+        auto snap = [&](Vec2 c) { return Fixed{std::llround((c.x - vp.x) * kSubpixel), std::llround((c.y - vp.y) * kSubpixel)}; };
+        const Fixed c0 = snap(apply(m, {0, 0})), c1 = snap(apply(m, {double(e.rect.w), 0}));
+        const Fixed c2 = snap(apply(m, {double(e.rect.w), double(e.rect.h)}));
+        Edge diagonal(c0, c2);
+        if (diagonal.at(c1.x, c1.y) < 0) diagonal = Edge(c2, c0);
+        const std::int64_t step = 1 << kSubpixelBits;
+        const int block_x0 = x0 >> 2, blocks_wide = x1 >= x0 ? (x1 >> 2) - block_x0 + 1 : 0;
+        const int block_y0 = y0 >> 2, blocks_high = y1 >= y0 ? (y1 >> 2) - block_y0 + 1 : 0;
+        blocks.assign(std::size_t(blocks_wide) * std::size_t(blocks_high), 0);
         for (int py = y0; py <= y1; ++py) {
             for (int px = x0; px <= x1; ++px) {
                 const std::size_t pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
@@ -367,8 +411,16 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
                 if (shows) (*shows)[k] = 1;
                 ++stats.shaded;
                 ++stats.rasterized;
-                if (covers && is_opaque(alpha)) covered[pixel] = 1;
+                const bool hides = covers && is_opaque(alpha);
+                if (hides) covered[pixel] = 1;
+                std::uint8_t& block = blocks[std::size_t((py >> 2) - block_y0) * std::size_t(blocks_wide) + std::size_t((px >> 2) - block_x0)];
+                const bool second = diagonal.at(std::int64_t(px) * step + step / 2, std::int64_t(py) * step + step / 2) >= diagonal.bias;
+                block |= std::uint8_t((second ? 2 : 1) | (hides ? 0 : 4));
             }
+        }
+        for (std::uint8_t block : blocks) {
+            const int shaded = (block & 1) + ((block >> 1) & 1);
+            (block & 4 ? stats.blocks_blend : stats.blocks_opaque) += shaded;
         }
     }
     if (map) {

@@ -349,11 +349,27 @@ TEST(Target, PixelIdentityHoldsForEveryTarget) {
         if (rc != 0 && slurp(temp("bench.err")).find("no OpenGL") != std::string::npos) GTEST_SKIP() << "no GL here";
         ASSERT_EQ(rc, 0) << slurp(temp("bench.err"));
         const nlohmann::json doc = nlohmann::json::parse(slurp(out));
-        for (const auto& scene : doc["scenes"])
+        for (const auto& scene : doc["scenes"]) {
+            // The limit's features, its blocks included (issue 25, docs/ideal-frame.md section 14).
+            const auto& limit = scene["limit_features"];
+            EXPECT_GT(limit["opaque_blocks"].get<long long>() + limit["blend_blocks"].get<long long>(), 0) << target;
+            EXPECT_EQ(limit["rejected_fragments"].get<long long>(), 0) << target;
             for (const auto& mode : scene["modes"]) {
                 EXPECT_EQ(mode["pixels_differ_elsewhere"].get<long long>(), 0) << target << " " << mode["mode"];
                 EXPECT_GT(mode["predicted_ms"].get<double>(), 0) << target;
+                // Each block a triangle shades holds a needed fragment or is waste.
+                const auto& features = mode["model_features"];
+                EXPECT_EQ(mode["blocks_by_texel"]["needed"].get<long long>() + mode["blocks_by_texel"]["waste"].get<long long>(),
+                          features["opaque_blocks"].get<long long>() + features["blend_blocks"].get<long long>())
+                    << target << " " << mode["mode"];
+                // Overpaint draws every element as the limit's frame does.
+                if (mode["mode"] == "overpaint") {
+                    EXPECT_EQ(mode["blocks_by_texel"]["needed"].get<long long>(),
+                              limit["opaque_blocks"].get<long long>() + limit["blend_blocks"].get<long long>())
+                        << target;
+                }
             }
+        }
     }
 }
 

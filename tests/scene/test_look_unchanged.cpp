@@ -494,7 +494,8 @@ TEST(Overdraw, ExcessSortsEveryShadedFragmentAndNeedsTheIdealOnes) {
         RandomScene r = seed % 2 ? random_scene(seed, 10 + int(seed % 50), cover) : random_scene(seed, 10 + int(seed % 50));
         std::vector<ImageView> views;
         for (const Image& img : r.images) views.push_back(img.view());
-        const std::int64_t ideal = ideal_overdraw(r.scene, views).shaded;
+        const OverdrawStats ideal_stats = ideal_overdraw(r.scene, views);
+        const std::int64_t ideal = ideal_stats.shaded;
         std::vector<SceneMeshes> frames{overpaint_meshes(r.scene)};
         for (int plan = 0; plan < 3; ++plan) {
             ReconstructOptions o;
@@ -506,7 +507,14 @@ TEST(Overdraw, ExcessSortsEveryShadedFragmentAndNeedsTheIdealOnes) {
             const ExcessStats e = excess_overdraw(frames[f], views);
             EXPECT_EQ(e.transparent + e.hidden + e.needed, analyze_overdraw(frames[f]).shaded) << "seed " << seed << ", frame " << f;
             EXPECT_EQ(e.needed, ideal) << "seed " << seed << ", frame " << f;
+            // Every block a triangle shades holds a needed fragment or not.
+            const OverdrawStats blocks = analyze_overdraw(frames[f], nullptr, true);
+            EXPECT_EQ(e.blocks_needed + e.blocks_waste, blocks.blocks_opaque + blocks.blocks_blend) << "seed " << seed << ", frame " << f;
             if (f == 0) {
+                // Overpaint draws each element as the limit's frame does, its
+                // rect's two triangles: the blocks holding its needed
+                // fragments are the ideal frame's.
+                EXPECT_EQ(e.blocks_needed, ideal_stats.blocks_opaque + ideal_stats.blocks_blend) << "seed " << seed;
                 transparent += e.transparent;
                 hidden += e.hidden;
             }

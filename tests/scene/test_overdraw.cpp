@@ -2,8 +2,10 @@
 // hand-built frames, no GL.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
+#include <string>
 
 #include "depthcull/overdraw.h"
 #include "render/render_scenes.h"
@@ -207,6 +209,88 @@ TEST(ExcessOverdraw, OverlappingOpaquePiecesWithoutDepthShadeTwice) {
     const ExcessStats tested = excess_overdraw(m, {solid.view()});
     EXPECT_EQ(tested.needed, 16);
     EXPECT_EQ(tested.hidden, 0);
+}
+
+// A w x h image of one character ('#' opaque, '+' translucent, '.'
+// transparent), or two side by side.
+Image filled(int w, int h, char left, char right = 0) {
+    std::vector<std::string> rows(std::size_t(h), std::string(std::size_t(w), left));
+    if (right)
+        for (std::string& r : rows) std::fill(r.begin() + w / 2, r.end(), right);
+    return test::ascii_image(rows);
+}
+
+TEST(IdealOverdraw, BlocksAreWhatTheLimitsTwoTrianglesPerElementShade) {
+    // One opaque 64x64 element on the 4x4 grid: its two triangles shade the
+    // blocks of AnalyzeOverdraw.BlocksCountWhatEachTriangleTouches, 272,
+    // every one opaque; overpaint draws the same quad.
+    test::RenderScene rs;
+    rs.scene.viewport = {0, 0, 128, 128};
+    const int solid = rs.add_image(filled(64, 64, '#'), {0, 0, 64, 64});
+    rs.add(solid, {1, 0, 0, 1, 0, 0});
+    OverdrawStats ideal = ideal_overdraw(rs.scene, rs.views());
+    EXPECT_EQ(ideal.blocks_opaque, 272);
+    EXPECT_EQ(ideal.blocks_blend, 0);
+    EXPECT_EQ(analyze_overdraw(overpaint_meshes(rs.scene), nullptr, true).blocks_blend, 272);
+
+    // Translucent by its colour: the same blocks, blended.
+    rs.scene.elements[0].color = {1, 1, 1, 0.5f};
+    ideal = ideal_overdraw(rs.scene, rs.views());
+    EXPECT_EQ(ideal.blocks_opaque, 0);
+    EXPECT_EQ(ideal.blocks_blend, 272);
+
+    // Its right half transparent: the left half's 8 x 16 blocks, and the 8
+    // on the diagonal (from texel (0, 0) to (64, 64)) twice.
+    test::RenderScene half;
+    half.scene.viewport = {0, 0, 128, 128};
+    half.add(half.add_image(filled(64, 64, '#', '.'), {}), {1, 0, 0, 1, 0, 0});
+    ideal = ideal_overdraw(half.scene, half.views());
+    EXPECT_EQ(ideal.blocks_opaque, 136);
+    EXPECT_EQ(ideal.blocks_blend, 0);
+    // Translucent texels there instead: blended.
+    half.images[0] = filled(64, 64, '+', '.');
+    ideal = ideal_overdraw(half.scene, half.views());
+    EXPECT_EQ(ideal.blocks_opaque, 0);
+    EXPECT_EQ(ideal.blocks_blend, 136);
+
+    // Off the grid, turned and scaled, side by side and nothing hidden:
+    // overpaint draws exactly the ideal frame, blocks included.
+    test::RenderScene apart;
+    apart.scene.viewport = {0, 0, 160, 96};
+    const int a = apart.add_image(filled(24, 40, '#'), {0, 0, 24, 40});
+    const int b = apart.add_image(filled(30, 10, '+'), {});
+    apart.add(a, {1, 0, 0, 1, 2, 1});
+    apart.add(a, {0, 1, -1, 0, 90.25, 3}); // a quarter turn, no centre on its edges
+    apart.add(b, {2, 0, 0, 1.5, 97, 50});
+    ideal = ideal_overdraw(apart.scene, apart.views());
+    const OverdrawStats over = analyze_overdraw(overpaint_meshes(apart.scene), nullptr, true);
+    EXPECT_EQ(ideal.shaded, over.shaded);
+    EXPECT_EQ(ideal.blocks_opaque + ideal.blocks_blend, over.blocks_blend);
+    EXPECT_GT(ideal.blocks_blend, 0);
+    EXPECT_GT(ideal.blocks_opaque, 0);
+}
+
+TEST(ExcessOverdraw, BlocksHoldingNoNeededFragmentAreWaste) {
+    // A 16x8 opaque background split on its diagonal (slope 1/2), an 8x8
+    // opaque square over its left half, drawn as overpaint. The background
+    // triangles' 6 blocks under the square (two on each block of the
+    // slope's first column, one on the others) hold hidden fragments only;
+    // its 6 on the right and the square's 6 (its diagonal's two blocks
+    // twice) hold needed ones, as many as the ideal frame's.
+    test::RenderScene rs;
+    rs.scene.viewport = {0, 0, 16, 8};
+    const int ground = rs.add_image(filled(16, 8, '#'), {0, 0, 16, 8});
+    const int square = rs.add_image(filled(8, 8, '#'), {0, 0, 8, 8});
+    rs.add(ground, {1, 0, 0, 1, 0, 0});
+    rs.add(square, {1, 0, 0, 1, 0, 0});
+    const SceneMeshes over = overpaint_meshes(rs.scene);
+    const ExcessStats e = excess_overdraw(over, rs.views());
+    EXPECT_EQ(e.blocks_needed, 12);
+    EXPECT_EQ(e.blocks_waste, 6);
+    EXPECT_EQ(e.blocks_needed + e.blocks_waste, analyze_overdraw(over, nullptr, true).blocks_blend);
+    const OverdrawStats ideal = ideal_overdraw(rs.scene, rs.views());
+    EXPECT_EQ(ideal.blocks_opaque, 12);
+    EXPECT_EQ(ideal.blocks_blend, 0);
 }
 
 TEST(SummaryCounts, MatchTheMeshesTheyStandFor) {
