@@ -23,9 +23,14 @@ namespace {
 // floating-point noise decides.
 constexpr int kSubpixelBits = 8;
 constexpr double kSubpixel = 1 << kSubpixelBits;
-// Beyond this a triangle is clipped by GL; we skip it rather than overflow
-// 64-bit edge products (2^27 pixels * 2^8 subpixels, squared, < 2^63).
+// Beyond this a triangle is clipped by GL; we skip it.
 constexpr double kMaxCoordinate = double(1 << 27);
+// Edge values (products of two subpixel coordinates) fit 64 bits while
+// every vertex lies within this many pixels of the viewport's corner
+// (2 * (2^22 * 2^8)^2 = 2^61); a triangle reaching further (a sprite scaled
+// or placed far out, still in view) is evaluated in 128 bits.
+constexpr double kNarrowCoordinate = double(1 << 22);
+__extension__ typedef __int128 Wide; // GCC and Clang, wasm32 included
 
 struct Fixed {
     std::int64_t x, y;
@@ -44,17 +49,19 @@ bool owns_ties(Fixed a, Fixed b) {
     return dy < 0 || (dy == 0 && dx > 0);
 }
 
-struct Edge {
-    std::int64_t a, b, c; // E(x, y) = a*x + b*y + c, in subpixel units squared
-    std::int64_t bias;    // 0 when ties count as inside, else 1
+// T: std::int64_t, or Wide where coordinates pass kNarrowCoordinate.
+template <class T>
+struct EdgeOf {
+    T a, b, c; // E(x, y) = a*x + b*y + c, in subpixel units squared
+    T bias;    // 0 when ties count as inside, else 1
 
-    Edge(Fixed p, Fixed q) {
-        a = -(q.y - p.y);
-        b = q.x - p.x;
-        c = -(a * p.x + b * p.y);
+    EdgeOf(Fixed p, Fixed q) {
+        a = -(T(q.y) - T(p.y));
+        b = T(q.x) - T(p.x);
+        c = -(a * T(p.x) + b * T(p.y));
         bias = owns_ties(p, q) ? 0 : 1;
     }
-    std::int64_t at(std::int64_t x, std::int64_t y) const { return a * x + b * y + c; }
+    T at(T x, T y) const { return a * x + b * y + c; }
 };
 
 // The 4x4 pixel blocks (aligned to the framebuffer's origin) one triangle
@@ -113,32 +120,88 @@ struct Fragment {
     std::size_t triangle; // 1, 2, ... in the order drawn
     std::size_t pixel;
     const float* vertex[3];
-    std::int64_t weight[3], area;
+    double weight[3], area; // exact below 2^53, as close as doubles get beyond
     bool shaded;
     // A vertex attribute (kVertexFloats index) at the centre.
-    double attribute(int a) const {
-        return (double(weight[0]) * vertex[0][a] + double(weight[1]) * vertex[1][a] + double(weight[2]) * vertex[2][a]) / double(area);
-    }
+    double attribute(int a) const { return (weight[0] * vertex[0][a] + weight[1] * vertex[1][a] + weight[2] * vertex[2][a]) / area; }
 };
+
+// One triangle of rasterize_meshes (which see), its edge values in T.
+template <class T, bool kRows, class OnFragment, class OnRow>
+void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t triangle, Fixed p[3], double z[3],
+                        const float* vertex[3], std::vector<std::uint32_t>& depth, OnFragment& on_fragment, OnRow& on_row) {
+    const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
+    const bool write_depth = meshes.depth_test && draw.pass == Pass::opaque;
+    T area = EdgeOf<T>(p[0], p[1]).at(p[2].x, p[2].y);
+    if (area == 0) return; // degenerate: GL draws nothing
+    if (area < 0) {
+        std::swap(p[1], p[2]);
+        std::swap(z[1], z[2]);
+        std::swap(vertex[1], vertex[2]);
+        area = -area;
+    }
+    // Edge k is opposite vertex k, so its value is vertex k's barycentric weight.
+    const EdgeOf<T> e[3] = {EdgeOf<T>(p[1], p[2]), EdgeOf<T>(p[2], p[0]), EdgeOf<T>(p[0], p[1])};
+    auto lo = [](std::int64_t v) { return int(std::floor((double(v) / kSubpixel) - 0.5)); };
+    auto hi = [](std::int64_t v) { return int(std::ceil((double(v) / kSubpixel) - 0.5)); };
+    const int x0 = std::max(0, lo(std::min({p[0].x, p[1].x, p[2].x})));
+    const int x1 = std::min(width - 1, hi(std::max({p[0].x, p[1].x, p[2].x})));
+    const int y0 = std::max(0, lo(std::min({p[0].y, p[1].y, p[2].y})));
+    const int y1 = std::min(height - 1, hi(std::max({p[0].y, p[1].y, p[2].y})));
+    const bool flat = z[0] == z[1] && z[1] == z[2];
+    const std::uint32_t flat_depth = depth24(z[0]);
+    // Edge values step by a (one pixel right, in subpixel units) from the
+    // row's first centre: the same integers as evaluating each centre
+    // afresh, without three products per pixel (the cost model rasterizes
+    // every contestant frame through here).
+    const T step = 1 << kSubpixelBits;
+    const T cx0 = T(x0) * step + step / 2;
+    Fragment f{&draw, triangle, 0, {vertex[0], vertex[1], vertex[2]}, {0, 0, 0}, double(area), true};
+    for (int py = y0; py <= y1; ++py) {
+        const T cy = T(py) * step + step / 2;
+        int first = 0, count = 0;
+        T w0 = e[0].at(cx0, cy), w1 = e[1].at(cx0, cy), w2 = e[2].at(cx0, cy);
+        for (int px = x0; px <= x1; ++px, w0 += e[0].a * step, w1 += e[1].a * step, w2 += e[2].a * step) {
+            if (w0 < e[0].bias || w1 < e[1].bias || w2 < e[2].bias) continue;
+            // A triangle's covered centres in a row are one run (three
+            // half-planes meet a line in an interval).
+            if constexpr (kRows)
+                if (count++ == 0) first = px;
+            f.pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
+            f.weight[0] = double(w0);
+            f.weight[1] = double(w1);
+            f.weight[2] = double(w2);
+            f.shaded = true;
+            if (meshes.depth_test) {
+                std::uint32_t d = flat ? flat_depth : depth24((f.weight[0] * z[0] + f.weight[1] * z[1] + f.weight[2] * z[2]) / f.area);
+                if (d <= depth[f.pixel])
+                    f.shaded = false; // GL_GREATER against a buffer cleared to 0
+                else if (write_depth)
+                    depth[f.pixel] = d;
+            }
+            on_fragment(f);
+        }
+        if (kRows && count > 0) on_row(draw, triangle, py, first, count);
+    }
+}
 
 // Rasterizes every triangle of `meshes` the way GL does (see
 // analyze_overdraw), the depth test included: on_fragment(const Fragment&)
-// for each covered centre, on_row(const Draw&, py, first, count) after
-// each row of a triangle that covers `count` centres from column `first`
-// (`triangle` counts the triangles rasterized, to tell them apart).
+// for each covered centre, on_row(const Draw&, triangle, py, first, count)
+// after each row of a triangle that covers `count` centres from column
+// `first` (`triangle` counts the triangles rasterized, to tell them apart).
 template <bool kRows, class OnFragment, class OnRow>
 void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow&& on_row) {
     std::size_t triangle = 0;
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
     std::vector<std::uint32_t> depth(meshes.depth_test ? std::size_t(width) * std::size_t(height) : 0, 0);
     for (const Draw& draw : meshes.draws) {
-        const bool write_depth = meshes.depth_test && draw.pass == Pass::opaque;
         const std::size_t vertex_count = draw.vertex_count();
         for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3) {
             Fixed p[3];
             double z[3];
             const float* vertex[3];
-            bool skip = false;
+            bool skip = false, narrow = true;
             for (int k = 0; k < 3; ++k) {
                 std::uint32_t i = draw.indices[t + std::size_t(k)];
                 if (i >= vertex_count) {
@@ -151,63 +214,17 @@ void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow
                     skip = true;
                     break;
                 }
+                narrow = narrow && std::abs(x) < kNarrowCoordinate && std::abs(y) < kNarrowCoordinate;
                 p[k] = {std::llround(x * kSubpixel), std::llround(y * kSubpixel)};
                 z[k] = v[2];
                 vertex[k] = v;
             }
             if (skip) continue;
-            std::int64_t area = Edge(p[0], p[1]).at(p[2].x, p[2].y);
-            if (area == 0) continue; // degenerate: GL draws nothing
-            if (area < 0) {
-                std::swap(p[1], p[2]);
-                std::swap(z[1], z[2]);
-                std::swap(vertex[1], vertex[2]);
-                area = -area;
-            }
-            // Edge k is opposite vertex k, so its value is vertex k's barycentric weight.
-            const Edge e[3] = {Edge(p[1], p[2]), Edge(p[2], p[0]), Edge(p[0], p[1])};
-            auto lo = [](std::int64_t v) { return int(std::floor((double(v) / kSubpixel) - 0.5)); };
-            auto hi = [](std::int64_t v) { return int(std::ceil((double(v) / kSubpixel) - 0.5)); };
-            int x0 = std::max(0, lo(std::min({p[0].x, p[1].x, p[2].x})));
-            int x1 = std::min(width - 1, hi(std::max({p[0].x, p[1].x, p[2].x})));
-            int y0 = std::max(0, lo(std::min({p[0].y, p[1].y, p[2].y})));
-            int y1 = std::min(height - 1, hi(std::max({p[0].y, p[1].y, p[2].y})));
-            const bool flat = z[0] == z[1] && z[1] == z[2];
-            const std::uint32_t flat_depth = depth24(z[0]);
-            // Edge values step by a (one pixel right, in subpixel units) from
-            // the row's first centre: the same integers as evaluating each
-            // centre afresh, without three products per pixel (the cost
-            // model rasterizes every contestant frame through here).
-            const std::int64_t step = 1 << kSubpixelBits;
-            const std::int64_t cx0 = std::int64_t(x0) * step + step / 2;
-            Fragment f{&draw, ++triangle, 0, {vertex[0], vertex[1], vertex[2]}, {0, 0, 0}, area, true};
-            for (int py = y0; py <= y1; ++py) {
-                const std::int64_t cy = std::int64_t(py) * step + step / 2;
-                int first = 0, count = 0;
-                std::int64_t w0 = e[0].at(cx0, cy), w1 = e[1].at(cx0, cy), w2 = e[2].at(cx0, cy);
-                for (int px = x0; px <= x1; ++px, w0 += e[0].a * step, w1 += e[1].a * step, w2 += e[2].a * step) {
-                    if (w0 < e[0].bias || w1 < e[1].bias || w2 < e[2].bias) continue;
-                    // A triangle's covered centres in a row are one run
-                    // (three half-planes meet a line in an interval).
-                    if constexpr (kRows)
-                        if (count++ == 0) first = px;
-                    f.pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                    f.weight[0] = w0;
-                    f.weight[1] = w1;
-                    f.weight[2] = w2;
-                    f.shaded = true;
-                    if (meshes.depth_test) {
-                        std::uint32_t d =
-                            flat ? flat_depth : depth24((double(w0) * z[0] + double(w1) * z[1] + double(w2) * z[2]) / double(area));
-                        if (d <= depth[f.pixel])
-                            f.shaded = false; // GL_GREATER against a buffer cleared to 0
-                        else if (write_depth)
-                            depth[f.pixel] = d;
-                    }
-                    on_fragment(f);
-                }
-                if (kRows && count > 0) on_row(draw, triangle, py, first, count);
-            }
+            ++triangle;
+            if (narrow)
+                rasterize_triangle<std::int64_t, kRows>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);
+            else
+                rasterize_triangle<Wide, kRows>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);
         }
     }
 }
@@ -385,13 +402,19 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
         const bool covers = can_cover(e.blend, e.color[3]);
         // The diagonal as GL rasterizes it (snapped, a centre on it going to
         // the triangle whose top or left edge it is), oriented so the
-        // triangle of corners (0, 0), (w, 0), (w, h) lies on its positive side.
-        auto snap = [&](Vec2 c) { return Fixed{std::llround((c.x - vp.x) * kSubpixel), std::llround((c.y - vp.y) * kSubpixel)}; };
-        const Fixed c0 = snap(apply(m, {0, 0})), c1 = snap(apply(m, {double(e.rect.w), 0}));
-        const Fixed c2 = snap(apply(m, {double(e.rect.w), double(e.rect.h)}));
-        Edge diagonal(c0, c2);
-        if (diagonal.at(c1.x, c1.y) < 0) diagonal = Edge(c2, c0);
-        const std::int64_t step = 1 << kSubpixelBits;
+        // triangle of corners (0, 0), (w, 0), (w, h) lies on its positive
+        // side. Corners beyond where rasterize_meshes skips a triangle (GL
+        // would clip it) split by texel coordinates instead, ties to the
+        // other one.
+        const Vec2 corner0 = apply(m, {0, 0}) - Vec2{vp.x, vp.y}, corner1 = apply(m, {double(e.rect.w), 0}) - Vec2{vp.x, vp.y};
+        const Vec2 corner2 = apply(m, {double(e.rect.w), double(e.rect.h)}) - Vec2{vp.x, vp.y};
+        bool exact = true;
+        for (Vec2 c : {corner0, corner1, corner2}) exact = exact && std::abs(c.x) < kMaxCoordinate && std::abs(c.y) < kMaxCoordinate;
+        auto snap = [&](Vec2 c) { return exact ? Fixed{std::llround(c.x * kSubpixel), std::llround(c.y * kSubpixel)} : Fixed{0, 0}; };
+        const Fixed c0 = snap(corner0), c1 = snap(corner1), c2 = snap(corner2);
+        EdgeOf<Wide> diagonal(c0, c2);
+        if (diagonal.at(c1.x, c1.y) < 0) diagonal = EdgeOf<Wide>(c2, c0);
+        const Wide step = 1 << kSubpixelBits;
         const int block_x0 = x0 >> 2, blocks_wide = x1 >= x0 ? (x1 >> 2) - block_x0 + 1 : 0;
         const int block_y0 = y0 >> 2, blocks_high = y1 >= y0 ? (y1 >> 2) - block_y0 + 1 : 0;
         blocks.assign(std::size_t(blocks_wide) * std::size_t(blocks_high), 0);
@@ -414,7 +437,8 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
                 const bool hides = covers && is_opaque(alpha);
                 if (hides) covered[pixel] = 1;
                 std::uint8_t& block = blocks[std::size_t((py >> 2) - block_y0) * std::size_t(blocks_wide) + std::size_t((px >> 2) - block_x0)];
-                const bool second = diagonal.at(std::int64_t(px) * step + step / 2, std::int64_t(py) * step + step / 2) >= diagonal.bias;
+                const bool second = exact ? diagonal.at(Wide(px) * step + step / 2, Wide(py) * step + step / 2) >= diagonal.bias
+                                          : u * e.rect.h > v * e.rect.w;
                 block |= std::uint8_t((second ? 2 : 1) | (hides ? 0 : 4));
             }
         }

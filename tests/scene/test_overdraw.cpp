@@ -87,6 +87,24 @@ TEST(AnalyzeOverdraw, FanThroughPixelCentresTilesOnce) {
     for (auto c : map.counts) EXPECT_EQ(c, 1u);
 }
 
+TEST(AnalyzeOverdraw, VerticesFarOutsideTheViewportKeepTheirEdges) {
+    // A sprite scaled up or placed far out can put a vertex of a triangle
+    // still in view millions of pixels away, where edge values no longer
+    // fit 64 bits. The same edge lines, through vertices near and far,
+    // cover the same centres.
+    for (double far : {1e6, 1e7, 5e7, 1.3e8}) {
+        const double near = 100;
+        // Edges through the origin at slopes 1 and -1: y >= |x|, ties by the fill rule.
+        const auto wedge = [](double d) { return one_draw({-4, 0, 8, 8}, {{0, 0}, {d, d}, {-d, d}}, {0, 1, 2}); };
+        EXPECT_EQ(analyze_overdraw(wedge(far)).shaded, analyze_overdraw(wedge(near)).shaded) << far;
+        // Rows of centres y = 0.5 .. 7.5 hold 2, 4, 6, then 8 centres with
+        // |x| <= y: 52, of which the 8 on the edges go 4 to each side.
+        EXPECT_EQ(analyze_overdraw(wedge(far)).shaded, 48) << far;
+        // A triangle around the whole viewport.
+        EXPECT_EQ(analyze_overdraw(one_draw({0, 0, 8, 8}, {{-far, -far}, {far, -far}, {0.5, far}}, {0, 1, 2})).shaded, 64) << far;
+    }
+}
+
 TEST(AnalyzeOverdraw, ViewportOffsetAndClipping) {
     // A 4x4 square at world (10, 20) seen through a viewport at (12, 21):
     // 2 columns x 3 rows remain.
