@@ -23,8 +23,11 @@ namespace {
 // floating-point noise decides.
 constexpr int kSubpixelBits = 8;
 constexpr double kSubpixel = 1 << kSubpixelBits;
-// Beyond this a triangle is clipped by GL; we skip it.
-constexpr double kMaxCoordinate = double(1 << 27);
+// A triangle with a vertex beyond this many pixels from the viewport's
+// corner is skipped (GL clips it to what is in view; far past anything a
+// scene within limits.h's kMaxCoordinate places, and within what 128-bit
+// edge values hold: 2^54 subpixels, products under 2^111).
+constexpr double kMaxCoordinate = double(std::int64_t(1) << 46);
 // Edge values (products of two subpixel coordinates) fit 64 bits while
 // every vertex lies within this many pixels of the viewport's corner
 // (2 * (2^22 * 2^8)^2 = 2^61); a triangle reaching further (a sprite scaled
@@ -142,8 +145,10 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
     }
     // Edge k is opposite vertex k, so its value is vertex k's barycentric weight.
     const EdgeOf<T> e[3] = {EdgeOf<T>(p[1], p[2]), EdgeOf<T>(p[2], p[0]), EdgeOf<T>(p[0], p[1])};
-    auto lo = [](std::int64_t v) { return int(std::floor((double(v) / kSubpixel) - 0.5)); };
-    auto hi = [](std::int64_t v) { return int(std::ceil((double(v) / kSubpixel) - 0.5)); };
+    // Pixel columns and rows, clamped before they become ints (a far vertex
+    // lies outside int's range).
+    auto lo = [](std::int64_t v) { return int(std::clamp(std::floor((double(v) / kSubpixel) - 0.5), -1.0, double(1 << 30))); };
+    auto hi = [](std::int64_t v) { return int(std::clamp(std::ceil((double(v) / kSubpixel) - 0.5), -1.0, double(1 << 30))); };
     const int x0 = std::max(0, lo(std::min({p[0].x, p[1].x, p[2].x})));
     const int x1 = std::min(width - 1, hi(std::max({p[0].x, p[1].x, p[2].x})));
     const int y0 = std::max(0, lo(std::min({p[0].y, p[1].y, p[2].y})));

@@ -92,7 +92,7 @@ TEST(AnalyzeOverdraw, VerticesFarOutsideTheViewportKeepTheirEdges) {
     // still in view millions of pixels away, where edge values no longer
     // fit 64 bits. The same edge lines, through vertices near and far,
     // cover the same centres.
-    for (double far : {1e6, 1e7, 5e7, 1.3e8}) {
+    for (double far : {1e6, 1e7, 5e7, 1.3e8, 1e12}) {
         const double near = 100;
         // Edges through the origin at slopes 1 and -1: y >= |x|, ties by the fill rule.
         const auto wedge = [](double d) { return one_draw({-4, 0, 8, 8}, {{0, 0}, {d, d}, {-d, d}}, {0, 1, 2}); };
