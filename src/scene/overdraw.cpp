@@ -23,10 +23,11 @@ namespace {
 // floating-point noise decides.
 constexpr int kSubpixelBits = 8;
 constexpr double kSubpixel = 1 << kSubpixelBits;
-// A triangle with a vertex beyond this many pixels from the viewport's
-// corner is skipped (GL clips it to what is in view; far past anything a
-// scene within limits.h's kMaxCoordinate places, and within what 128-bit
-// edge values hold: 2^54 subpixels, products under 2^111).
+// A triangle with a vertex beyond this many pixels (7.0e13) from the
+// viewport's corner is skipped, though GL would clip it to what is in view:
+// a sprite's corner within limits.h's bounds (transform numbers up to 1e9,
+// images up to 16384 px) lies within 3.3e13, and 128-bit edge values hold
+// this (2^54 subpixels, products under 2^111).
 constexpr double kMaxCoordinate = double(std::int64_t(1) << 46);
 // Edge values (products of two subpixel coordinates) fit 64 bits while
 // every vertex lies within this many pixels of the viewport's corner
