@@ -11,8 +11,9 @@ TERMS = ["frame_us", "clear_color_ns_per_pixel", "clear_depth_ns_per_pixel", "dr
 # The block model (docs/ideal-frame.md section 9): llvmpipe shades whole
 # 4x4 blocks, so the fragment and perimeter terms are replaced by the
 # blocks each pass's triangles cover (model_features opaque_blocks,
-# blend_blocks). A profile cannot price blocks yet: --blocks prints this
-# fit's terms and error beside the profile fit's, to compare.
+# blend_blocks). A profile cannot price blocks yet: fit-profile --blocks
+# prints this fit's terms and error beside the profile fit's, to compare,
+# and bench-corpus prices the ideal frame with it (the block limit).
 SHARED = 6  # frame .. triangle_us: the terms both models have, first in TERMS and row()
 BLOCK_TERMS = TERMS[:SHARED] + ["opaque_block_ns", "blend_block_ns", "fragment_rejected_ns"]
 
@@ -21,10 +22,15 @@ def block_row(f):
     return row(f)[:SHARED] + [f["opaque_blocks"] * 1e-6, f["blend_blocks"] * 1e-6, f["rejected_fragments"] * 1e-6]
 
 
+def predict(r, terms):
+    """A row's frame time (ms) by fitted terms."""
+    return sum(a * c for a, c in zip(r, terms))
+
+
 def fit(rows, y):
     """NNLS on the relative error; returns the terms and each frame's |error|."""
     b = nnls(rows, y, [1 / max(v, 0.05) for v in y])
-    return b, [abs(sum(a * c for a, c in zip(r, b)) - v) / v for r, v in zip(rows, y)]
+    return b, [abs(predict(r, b) - v) / v for r, v in zip(rows, y)]
 
 
 def row(f):

@@ -89,10 +89,9 @@ ClipHiddenOptions clip_hidden_options(const CostProfile& p);
 // triangles: two per element that shows a fragment (its rect, clipped to
 // the viewport for the perimeter). predict_ms of it is the frame time no
 // reconstruction of the scene can beat on that renderer, by the model.
-// opaque_blocks and blend_blocks: ideal_overdraw's per-element blocks (no
-// profile prices them: the fewest 4x4 blocks llvmpipe shades for those
-// fragments, to set beside a frame's). images[i] holds Scene::images[i]'s
-// texels.
+// opaque_blocks and blend_blocks: ideal_overdraw's blocks, the 4x4 blocks
+// that frame's triangles shade on llvmpipe (no profile prices them; they
+// are set beside a frame's). images[i] holds Scene::images[i]'s texels.
 FrameFeatures limit_features(const Scene& scene, const std::vector<ImageView>& images);
 inline double limit_ms(const CostProfile& p, const Scene& scene, const std::vector<ImageView>& images) {
     return predict_ms(p, limit_features(scene, images));

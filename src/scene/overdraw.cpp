@@ -40,6 +40,14 @@ struct Fixed {
     std::int64_t x, y;
 };
 
+// A point (pixels from the viewport's corner) snapped as llvmpipe snaps a
+// vertex; false beyond kMaxCoordinate, where the rasterizer skips it.
+bool snap(double x, double y, Fixed* out) {
+    if (!(std::abs(x) < kMaxCoordinate && std::abs(y) < kMaxCoordinate)) return false;
+    *out = {std::llround(x * kSubpixel), std::llround(y * kSubpixel)};
+    return true;
+}
+
 // Which pixel centres exactly on an edge belong to the triangle, so a
 // pixel on an edge two triangles share is shaded once. Edges are oriented
 // so the interior is on the positive side; with window y growing down the
@@ -216,12 +224,11 @@ void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow
                 }
                 const float* v = &draw.vertices[std::size_t(i) * kVertexFloats];
                 double x = double(v[0]) - meshes.viewport.x, y = double(v[1]) - meshes.viewport.y;
-                if (!(std::abs(x) < kMaxCoordinate && std::abs(y) < kMaxCoordinate)) {
+                if (!snap(x, y, &p[k])) {
                     skip = true;
                     break;
                 }
                 narrow = narrow && std::abs(x) < kNarrowCoordinate && std::abs(y) < kNarrowCoordinate;
-                p[k] = {std::llround(x * kSubpixel), std::llround(y * kSubpixel)};
                 z[k] = v[2];
                 vertex[k] = v;
             }
@@ -414,10 +421,8 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
         // other one.
         const Vec2 corner0 = apply(m, {0, 0}) - Vec2{vp.x, vp.y}, corner1 = apply(m, {double(e.rect.w), 0}) - Vec2{vp.x, vp.y};
         const Vec2 corner2 = apply(m, {double(e.rect.w), double(e.rect.h)}) - Vec2{vp.x, vp.y};
-        bool exact = true;
-        for (Vec2 c : {corner0, corner1, corner2}) exact = exact && std::abs(c.x) < kMaxCoordinate && std::abs(c.y) < kMaxCoordinate;
-        auto snap = [&](Vec2 c) { return exact ? Fixed{std::llround(c.x * kSubpixel), std::llround(c.y * kSubpixel)} : Fixed{0, 0}; };
-        const Fixed c0 = snap(corner0), c1 = snap(corner1), c2 = snap(corner2);
+        Fixed c0{}, c1{}, c2{};
+        const bool exact = snap(corner0.x, corner0.y, &c0) && snap(corner1.x, corner1.y, &c1) && snap(corner2.x, corner2.y, &c2);
         EdgeOf<Wide> diagonal(c0, c2);
         if (diagonal.at(c1.x, c1.y) < 0) diagonal = EdgeOf<Wide>(c2, c0);
         const Wide step = 1 << kSubpixelBits;
