@@ -138,8 +138,32 @@ struct Fragment {
     double attribute(int a) const { return (weight[0] * vertex[0][a] + weight[1] * vertex[1][a] + weight[2] * vertex[2][a]) / area; }
 };
 
+// floor(n / d) for d > 0 (C++ division truncates towards zero).
+template <class T>
+T floor_div(T n, T d) {
+    const T q = n / d;
+    return n % d != 0 && n < 0 ? q - 1 : q;
+}
+
+// Narrows [lo, hi], the columns k (0 ..) of a row whose centres lie inside,
+// to those where one edge's value w + a * k is at least its bias: a
+// half-plane meets a row in a ray, so the test per pixel becomes one
+// division per row, in the same integers.
+template <class T>
+void narrow_to_edge(T w, T a, T bias, std::int64_t& lo, std::int64_t& hi) {
+    if (a == 0) {
+        if (w < bias) hi = lo - 1; // the row lies outside this edge
+    } else if (a > 0) {
+        const T k = -floor_div<T>(w - bias, a); // ceil((bias - w) / a)
+        if (k > T(lo)) lo = k > T(hi) ? hi + 1 : std::int64_t(k);
+    } else {
+        const T k = floor_div<T>(w - bias, -a);
+        if (k < T(hi)) hi = k < T(lo) ? lo - 1 : std::int64_t(k);
+    }
+}
+
 // One triangle of rasterize_meshes (which see), its edge values in T.
-template <class T, bool kRows, class OnFragment, class OnRow>
+template <class T, bool kRows, bool kPixels, class OnFragment, class OnRow>
 void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t triangle, Fixed p[3], double z[3],
                         const float* vertex[3], std::vector<std::uint32_t>& depth, OnFragment& on_fragment, OnRow& on_row) {
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
@@ -166,45 +190,69 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
     const std::uint32_t flat_depth = depth24(z[0]);
     // Edge values step by a (one pixel right, in subpixel units) from the
     // row's first centre: the same integers as evaluating each centre
-    // afresh, without three products per pixel (the cost model rasterizes
-    // every contestant frame through here).
+    // afresh. Each row's covered centres are one run (three half-planes
+    // meet a line in an interval), found by division, so the pixels outside
+    // the triangle in its box cost nothing and a caller counting runs
+    // (kPixels false) pays per row, not per pixel: the cost model
+    // rasterizes every contestant frame through here.
     const T step = 1 << kSubpixelBits;
     const T cx0 = T(x0) * step + step / 2;
+    const T a[3] = {e[0].a * step, e[1].a * step, e[2].a * step};
     Fragment f{&draw, triangle, 0, {vertex[0], vertex[1], vertex[2]}, {0, 0, 0}, double(area), true};
     for (int py = y0; py <= y1; ++py) {
         const T cy = T(py) * step + step / 2;
-        int first = 0, count = 0;
-        T w0 = e[0].at(cx0, cy), w1 = e[1].at(cx0, cy), w2 = e[2].at(cx0, cy);
-        for (int px = x0; px <= x1; ++px, w0 += e[0].a * step, w1 += e[1].a * step, w2 += e[2].a * step) {
-            if (w0 < e[0].bias || w1 < e[1].bias || w2 < e[2].bias) continue;
-            // A triangle's covered centres in a row are one run (three
-            // half-planes meet a line in an interval).
-            if constexpr (kRows)
-                if (count++ == 0) first = px;
-            f.pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
-            f.weight[0] = double(w0);
-            f.weight[1] = double(w1);
-            f.weight[2] = double(w2);
-            f.shaded = true;
-            if (meshes.depth_test) {
-                std::uint32_t d = flat ? flat_depth : depth24((f.weight[0] * z[0] + f.weight[1] * z[1] + f.weight[2] * z[2]) / f.area);
-                if (d <= depth[f.pixel])
-                    f.shaded = false; // GL_GREATER against a buffer cleared to 0
-                else if (write_depth)
-                    depth[f.pixel] = d;
+        T w[3] = {e[0].at(cx0, cy), e[1].at(cx0, cy), e[2].at(cx0, cy)};
+        std::int64_t first = 0, last = std::int64_t(x1) - x0;
+        for (int k = 0; k < 3; ++k) narrow_to_edge<T>(w[k], a[k], e[k].bias, first, last);
+        if (first > last) continue;
+        if constexpr (kPixels) {
+            for (int k = 0; k < 3; ++k) w[k] += a[k] * T(first);
+            const std::size_t row = std::size_t(py) * std::size_t(width) + std::size_t(x0);
+            for (std::int64_t px = first; px <= last; ++px, w[0] += a[0], w[1] += a[1], w[2] += a[2]) {
+                f.pixel = row + std::size_t(px);
+                f.weight[0] = double(w[0]);
+                f.weight[1] = double(w[1]);
+                f.weight[2] = double(w[2]);
+                f.shaded = true;
+                if (meshes.depth_test) {
+                    std::uint32_t d = flat ? flat_depth : depth24((f.weight[0] * z[0] + f.weight[1] * z[1] + f.weight[2] * z[2]) / f.area);
+                    if (d <= depth[f.pixel])
+                        f.shaded = false; // GL_GREATER against a buffer cleared to 0
+                    else if (write_depth)
+                        depth[f.pixel] = d;
+                }
+                on_fragment(f);
             }
-            on_fragment(f);
         }
-        if (kRows && count > 0) on_row(draw, triangle, py, first, count);
+        // Without on_fragment, the depth test alone, per pixel: how many of
+        // the run's centres pass it.
+        std::int64_t passed = last - first + 1;
+        if (!kPixels && meshes.depth_test) {
+            std::uint32_t* d = &depth[std::size_t(py) * std::size_t(width) + std::size_t(x0) + std::size_t(first)];
+            passed = 0;
+            if (flat) {
+                for (std::int64_t px = first; px <= last; ++px, ++d)
+                    if (flat_depth > *d) ++passed, *d = write_depth ? flat_depth : *d;
+            } else {
+                for (int k = 0; k < 3; ++k) w[k] += a[k] * T(first);
+                for (std::int64_t px = first; px <= last; ++px, ++d, w[0] += a[0], w[1] += a[1], w[2] += a[2]) {
+                    const std::uint32_t v = depth24((double(w[0]) * z[0] + double(w[1]) * z[1] + double(w[2]) * z[2]) / f.area);
+                    if (v > *d) ++passed, *d = write_depth ? v : *d;
+                }
+            }
+        }
+        if constexpr (kRows) on_row(draw, triangle, py, x0 + int(first), int(last - first + 1), int(passed));
     }
 }
 
 // Rasterizes every triangle of `meshes` the way GL does (see
 // analyze_overdraw), the depth test included: on_fragment(const Fragment&)
-// for each covered centre, on_row(const Draw&, triangle, py, first, count)
-// after each row of a triangle that covers `count` centres from column
-// `first` (`triangle` counts the triangles rasterized, to tell them apart).
-template <bool kRows, class OnFragment, class OnRow>
+// for each covered centre (kPixels), on_row(const Draw&, triangle, py,
+// first, count, passed) after each row of a triangle that covers `count`
+// centres from column `first`, `passed` of them passing the depth test
+// (kRows; `triangle` counts the triangles rasterized, to tell them apart;
+// `passed` is only counted without kPixels).
+template <bool kRows, bool kPixels, class OnFragment, class OnRow>
 void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow&& on_row) {
     std::size_t triangle = 0;
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
@@ -235,9 +283,9 @@ void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow
             if (skip) continue;
             ++triangle;
             if (narrow)
-                rasterize_triangle<std::int64_t, kRows>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);
+                rasterize_triangle<std::int64_t, kRows, kPixels>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);
             else
-                rasterize_triangle<Wide, kRows>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);
+                rasterize_triangle<Wide, kRows, kPixels>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);
         }
     }
 }
@@ -265,16 +313,26 @@ OverdrawStats analyze_overdraw(const SceneMeshes& meshes, OverdrawMap* map, bool
         ++stats.shaded;
         if (f.draw->pass == Pass::opaque) ++stats.shaded_opaque;
     };
-    auto on_row = [&](const Draw& draw, std::size_t triangle, int py, int first, int count) {
+    auto on_row = [&](const Draw& draw, std::size_t triangle, int py, int first, int count, int) {
         if (triangle != block_triangle) flush_blocks(); // blocks are counted per triangle
         block_draw = &draw;
         block_triangle = triangle;
         blocks.add_row(py, first, first + count - 1);
     };
-    if (count_blocks)
-        rasterize_meshes<true>(meshes, on_fragment, on_row);
+    // Without a map the counts are the rows' runs: no work per pixel but the
+    // depth test's.
+    auto on_run = [&](const Draw& draw, std::size_t triangle, int py, int first, int count, int passed) {
+        stats.rasterized += count;
+        stats.shaded += passed;
+        if (draw.pass == Pass::opaque) stats.shaded_opaque += passed;
+        if (count_blocks) on_row(draw, triangle, py, first, count, passed);
+    };
+    if (!map)
+        rasterize_meshes<true, false>(meshes, on_fragment, on_run);
+    else if (count_blocks)
+        rasterize_meshes<true, true>(meshes, on_fragment, on_row);
     else
-        rasterize_meshes<false>(meshes, on_fragment, on_row);
+        rasterize_meshes<false, true>(meshes, on_fragment, on_row);
     flush_blocks();
     if (map) {
         map->width = width;
@@ -319,8 +377,8 @@ ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageVi
     // of one element (grown polygons may overlap) shade a pixel twice where
     // nothing rejects the second (no depth buffer).
     std::vector<std::uint8_t> drawn(front.size(), 0);
-    auto no_rows = [](const Draw&, std::size_t, int, int, int) {};
-    rasterize_meshes<false>(
+    auto no_rows = [](const Draw&, std::size_t, int, int, int, int) {};
+    rasterize_meshes<false, true>(
         meshes,
         [&](const Fragment& f) {
             bool covers = false;
@@ -341,7 +399,7 @@ ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageVi
         }
         touched.clear();
     };
-    rasterize_meshes<false>(
+    rasterize_meshes<false, true>(
         meshes,
         [&](const Fragment& f) {
             const std::size_t row = f.pixel / std::size_t(width) / 4, bx = f.pixel % std::size_t(width) / 4;
