@@ -205,39 +205,32 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
         std::int64_t first = 0, last = std::int64_t(x1) - x0;
         for (int k = 0; k < 3; ++k) narrow_to_edge<T>(w[k], a[k], e[k].bias, first, last);
         if (first > last) continue;
-        if constexpr (kPixels) {
+        // Per pixel only for on_fragment or the depth test: without either,
+        // every centre of the run passes.
+        std::int64_t passed = last - first + 1;
+        if (kPixels || meshes.depth_test) {
+            passed = 0;
             for (int k = 0; k < 3; ++k) w[k] += a[k] * T(first);
             const std::size_t row = std::size_t(py) * std::size_t(width) + std::size_t(x0);
             for (std::int64_t px = first; px <= last; ++px, w[0] += a[0], w[1] += a[1], w[2] += a[2]) {
-                f.pixel = row + std::size_t(px);
-                f.weight[0] = double(w[0]);
-                f.weight[1] = double(w[1]);
-                f.weight[2] = double(w[2]);
-                f.shaded = true;
+                const std::size_t pixel = row + std::size_t(px);
+                bool shaded = true;
                 if (meshes.depth_test) {
-                    std::uint32_t d = flat ? flat_depth : depth24((f.weight[0] * z[0] + f.weight[1] * z[1] + f.weight[2] * z[2]) / f.area);
-                    if (d <= depth[f.pixel])
-                        f.shaded = false; // GL_GREATER against a buffer cleared to 0
+                    const std::uint32_t d =
+                        flat ? flat_depth : depth24((double(w[0]) * z[0] + double(w[1]) * z[1] + double(w[2]) * z[2]) / f.area);
+                    if (d <= depth[pixel])
+                        shaded = false; // GL_GREATER against a buffer cleared to 0
                     else if (write_depth)
-                        depth[f.pixel] = d;
+                        depth[pixel] = d;
                 }
-                on_fragment(f);
-            }
-        }
-        // Without on_fragment, the depth test alone, per pixel: how many of
-        // the run's centres pass it.
-        std::int64_t passed = last - first + 1;
-        if (!kPixels && meshes.depth_test) {
-            std::uint32_t* d = &depth[std::size_t(py) * std::size_t(width) + std::size_t(x0) + std::size_t(first)];
-            passed = 0;
-            if (flat) {
-                for (std::int64_t px = first; px <= last; ++px, ++d)
-                    if (flat_depth > *d) ++passed, *d = write_depth ? flat_depth : *d;
-            } else {
-                for (int k = 0; k < 3; ++k) w[k] += a[k] * T(first);
-                for (std::int64_t px = first; px <= last; ++px, ++d, w[0] += a[0], w[1] += a[1], w[2] += a[2]) {
-                    const std::uint32_t v = depth24((double(w[0]) * z[0] + double(w[1]) * z[1] + double(w[2]) * z[2]) / f.area);
-                    if (v > *d) ++passed, *d = write_depth ? v : *d;
+                passed += shaded;
+                if constexpr (kPixels) {
+                    f.pixel = pixel;
+                    f.weight[0] = double(w[0]);
+                    f.weight[1] = double(w[1]);
+                    f.weight[2] = double(w[2]);
+                    f.shaded = shaded;
+                    on_fragment(f);
                 }
             }
         }
@@ -250,8 +243,7 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
 // for each covered centre (kPixels), on_row(const Draw&, triangle, py,
 // first, count, passed) after each row of a triangle that covers `count`
 // centres from column `first`, `passed` of them passing the depth test
-// (kRows; `triangle` counts the triangles rasterized, to tell them apart;
-// `passed` is only counted without kPixels).
+// (kRows; `triangle` counts the triangles rasterized, to tell them apart).
 template <bool kRows, bool kPixels, class OnFragment, class OnRow>
 void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow&& on_row) {
     std::size_t triangle = 0;
