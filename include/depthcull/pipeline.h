@@ -185,8 +185,9 @@ struct TargetPlan {
 
 // Analyzes each distinct image rect of `prepared` at a few vertex budgets
 // (4, 6, 8 up to options.analyze's cap) with the profile's MIN_OPAQUE_AREA
-// (through the cache), then choose_for_target. Deterministic; never
-// depends on options.threads.
+// (through the cache), then choose_for_target for each plan it weighs (on
+// options.threads side by side). Deterministic; never depends on
+// options.threads.
 TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
                        const ReconstructOptions& reconstruct);
 

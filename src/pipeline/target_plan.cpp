@@ -1,8 +1,11 @@
 // pipeline::plan_target: --target over a prepared scene. Each distinct
 // image rect analyzed at a few vertex budgets with the profile's
 // MIN_OPAQUE_AREA (through the cache, on threads), then the cost model's
-// choose_for_target. Candidates are stored by index, so the plan never
-// depends on the thread count.
+// choose_for_target for each plan weighed, side by side on threads (each
+// rasterizes dozens of contestant frames on the CPU: most of
+// `optimize --target`'s time). Candidates and plans are stored by index
+// and settled in a fixed order, so the plan never depends on the thread
+// count.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -15,38 +18,50 @@ namespace depthcull::pipeline {
 
 namespace {
 
-// One plan; `clip` (issue 25): hidden parts are clipped, and when
-// `occluders` the choice and MIN_OPAQUE_AREA price what opaque polygons
-// hide as clipped away (free) rather than rejected.
-TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
-                     const ReconstructOptions& reconstruct, bool clip, bool occluders) {
+// One plan to weigh: PrepareOptions' opaque method, and `clip` (issue 25):
+// hidden parts are clipped, and when `occluders` the choice and
+// MIN_OPAQUE_AREA price what opaque polygons hide as clipped away (free)
+// rather than rejected.
+struct PlanJob {
+    const PrepareOptions* options;
+    bool clip, occluders;
     TargetPlan plan;
+    std::vector<int> element_key;
+};
+
+// The job's candidates: each distinct rect of the prepared scene analyzed
+// at the plan's vertex budgets with its MIN_OPAQUE_AREA (through the
+// cache, on threads).
+void analyze_candidates(const PreparedScene& prepared, const CostProfile& profile, PlanJob& job) {
+    const PrepareOptions& options = *job.options;
+    TargetPlan& plan = job.plan;
     plan.profile = profile;
     const Scene& scene = prepared.scene;
     AnalyzeOptions analyze = analysis_options(options, scene); // the settled filter
     plan.budgets = target_budgets(analyze.boundary.max_vertices);
     CostProfile priced = profile;
-    if (occluders) priced.fragment_rejected_ns = 0;
+    if (job.occluders) priced.fragment_rejected_ns = 0;
     plan.min_opaque_area = min_opaque_area(priced);
     analyze.opaque.min_area = plan.min_opaque_area;
 
     // Keys: the prepared scene's distinct analyses.
     const SceneAnalysis& analysis = prepared.analysis;
-    std::vector<int> element_key(scene.elements.size(), -1);
+    job.element_key.assign(scene.elements.size(), -1);
     std::vector<std::size_t> first_use(analysis.images.size(), std::size_t(-1));
     for (std::size_t i = 0; i < scene.elements.size(); ++i) {
         if (!analysis.of(i)) continue;
         const std::size_t k = analysis.of_element[i];
-        element_key[i] = int(k);
+        job.element_key[i] = int(k);
         if (first_use[k] == std::size_t(-1)) first_use[k] = i;
     }
     const std::size_t keys = analysis.images.size(), nb = plan.budgets.size();
     plan.candidates.resize(keys * nb);
-    std::vector<std::uint8_t> hit(keys * nb, 0);
+    std::vector<std::uint8_t> hit(keys * nb, 0), used(keys * nb, 0);
     const std::vector<ImageView> views = prepared.views();
     parallel_for(keys * nb, options.threads, [&](std::size_t w) {
         const std::size_t k = w / nb, b = w % nb;
         if (first_use[k] == std::size_t(-1)) return;
+        used[w] = 1;
         const Element& e = scene.elements[first_use[k]];
         AnalyzeOptions o = analyze;
         o.boundary.max_vertices = plan.budgets[b];
@@ -61,76 +76,90 @@ TargetPlan plan_once(const PreparedScene& prepared, const PrepareOptions& option
         hit[w] = h;
     });
     for (std::size_t w = 0; w < keys * nb; ++w) {
-        if (first_use[w / nb] == std::size_t(-1)) continue;
         plan.cache_hits += hit[w];
-        plan.analyzed += !hit[w];
+        plan.analyzed += used[w] && !hit[w];
     }
+}
+
+// The job's choice among its candidates (choose_for_target). Reads only
+// the job and the prepared scene, so jobs choose on threads side by side.
+void choose(const PreparedScene& prepared, const CostProfile& profile, const ReconstructOptions& reconstruct, PlanJob& job) {
+    TargetPlan& plan = job.plan;
+    const std::size_t nb = plan.budgets.size(), keys = nb ? plan.candidates.size() / nb : 0;
     std::vector<TargetCandidates> candidates(keys);
     for (std::size_t k = 0; k < keys; ++k) {
-        if (first_use[k] == std::size_t(-1)) continue;
+        if (std::find(job.element_key.begin(), job.element_key.end(), int(k)) == job.element_key.end()) continue;
         for (std::size_t b = 0; b < nb; ++b) {
             candidates[k].analyses.push_back(&plan.candidate(k, b)); // local: the plan keeps none of these pointers
             candidates[k].max_vertices.push_back(plan.budgets[b]);
         }
     }
     ReconstructOptions chosen = reconstruct;
-    chosen.depthless = options.depthless; // the chooser draws each plan with and without depth
-    if (clip) chosen.clip_hidden = clip_hidden_options(profile);
-    chosen.clip_hidden.plan_occluders = occluders;
-    plan.choice = choose_for_target(scene, candidates, element_key, profile, chosen);
+    chosen.merge_opaque = job.options->merge_opaque;
+    chosen.depthless = job.options->depthless; // the chooser draws each plan with and without depth
+    if (job.clip) chosen.clip_hidden = clip_hidden_options(profile);
+    chosen.clip_hidden.plan_occluders = job.occluders;
+    plan.choice = choose_for_target(prepared.scene, candidates, job.element_key, profile, chosen);
     plan.reconstruct = chosen;
     plan.reconstruct.clip_hidden.plan_occluders = false;
     plan.reconstruct.opaque_polygons = reconstruct.opaque_polygons && plan.choice.opaque_pass;
     plan.reconstruct.depthless = plan.choice.depthless;
-    return plan;
 }
 
-// The plan for the opaque polygons options.analyze asks for: the plain
-// plan, or the one planned for clipping where it is predicted faster.
-TargetPlan plan_method(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
-                       const ReconstructOptions& reconstruct) {
-    // Issue 25: hidden parts clipped where the profile says it pays, and
-    // opaque merging (it only takes triangles and edges away), each on
-    // unless options turn it off (--no-clip-hidden, --no-merge-opaque).
-    const bool clip = options.clip_hidden && clip_hidden_options(profile).enabled;
-    ReconstructOptions base = reconstruct;
-    base.merge_opaque = options.merge_opaque;
-    TargetPlan plan = plan_once(prepared, options, profile, base, clip, false);
-    if (!clip) return plan;
-    // Planned for clipping too (more opaque polygons, priced as hiding for
-    // free): kept only when the whole frame is predicted faster, as the
-    // local estimates miss whether each cut pays.
-    TargetPlan planned = plan_once(prepared, options, profile, base, true, true);
-    if (planned.choice.predicted_ms < plan.choice.predicted_ms) {
-        planned.analyzed += plan.analyzed;
-        planned.cache_hits += plan.cache_hits;
-        return planned;
-    }
-    plan.analyzed += planned.analyzed;
-    plan.cache_hits += planned.cache_hits;
-    return plan;
+// `other`'s plan when predicted faster than `plan`'s (ties keep `plan`),
+// the analysis counts of both.
+void keep_faster(TargetPlan& plan, TargetPlan& other) {
+    if (other.choice.predicted_ms < plan.choice.predicted_ms) std::swap(plan, other);
+    plan.analyzed += other.analyzed;
+    plan.cache_hits += other.cache_hits;
 }
 
 } // namespace
 
 TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
                        const ReconstructOptions& reconstruct) {
-    TargetPlan plan = plan_method(prepared, options, profile, reconstruct);
-    // Issue 25 point 2: the default's few opaque polygons against the opaque
-    // region cut into as many convex pieces as pay (OpaqueMethod::cover,
-    // each piece worth MIN_OPAQUE_AREA texels), kept only when the whole
-    // frame is predicted faster. --no-cover-plan turns it off (to measure
-    // what it gains).
-    if (!options.cover_plan || options.analyze.opaque.method != OpaqueMethod::fast || options.analyze.opaque.max_polygons <= 0)
-        return plan;
-    PrepareOptions cover_options = options;
-    cover_options.analyze.opaque.method = OpaqueMethod::cover;
-    cover_options.analyze.opaque.max_polygons = kCoverPlanPolygons;
-    TargetPlan cover = plan_method(prepared, cover_options, profile, reconstruct);
-    cover.opaque_cover = true;
-    if (cover.choice.predicted_ms < plan.choice.predicted_ms) std::swap(cover, plan);
-    plan.analyzed += cover.analyzed;
-    plan.cache_hits += cover.cache_hits;
+    // The plans weighed, in the order ties are settled:
+    // - the default's opaque polygons: the plain plan and (issue 25), where
+    //   the profile says clipping hidden parts pays, the one planned for
+    //   clipping (more opaque polygons, priced as hiding for free), kept
+    //   only when the whole frame is predicted faster, as the local
+    //   estimates miss whether each cut pays; --no-clip-hidden turns it off;
+    // - issue 25 point 2: the same with the opaque region cut into as many
+    //   convex pieces as pay (OpaqueMethod::cover, each piece worth
+    //   MIN_OPAQUE_AREA texels), kept only when predicted faster than the
+    //   first; --no-cover-plan turns it off (to measure what it gains).
+    // Opaque merging (it only takes triangles and edges away) is on unless
+    // --no-merge-opaque.
+    const bool clip = options.clip_hidden && clip_hidden_options(profile).enabled;
+    const PrepareOptions cover_options = [&] {
+        PrepareOptions o = options;
+        o.analyze.opaque.method = OpaqueMethod::cover;
+        o.analyze.opaque.max_polygons = kCoverPlanPolygons;
+        return o;
+    }();
+    const bool cover = options.cover_plan && options.analyze.opaque.method == OpaqueMethod::fast && options.analyze.opaque.max_polygons > 0;
+    std::vector<PlanJob> jobs;
+    for (const PrepareOptions* o : {&options, &cover_options}) {
+        if (o == &cover_options && !cover) break;
+        jobs.push_back({o, clip, false, {}, {}});
+        if (clip) jobs.push_back({o, true, true, {}, {}});
+    }
+    // Candidates first (each analysis on threads, through the cache), then
+    // every choice at once: each rasterizes its contestants' frames alone.
+    for (PlanJob& job : jobs) analyze_candidates(prepared, profile, job);
+    parallel_for(jobs.size(), options.threads, [&](std::size_t j) { choose(prepared, profile, reconstruct, jobs[j]); });
+
+    std::vector<TargetPlan> by_method;
+    for (std::size_t j = 0; j < jobs.size(); j += clip ? 2 : 1) {
+        TargetPlan plan = std::move(jobs[j].plan);
+        if (clip) keep_faster(plan, jobs[j + 1].plan);
+        by_method.push_back(std::move(plan));
+    }
+    TargetPlan plan = std::move(by_method[0]);
+    if (by_method.size() > 1) {
+        by_method[1].opaque_cover = true;
+        keep_faster(plan, by_method[1]);
+    }
     return plan;
 }
 

@@ -162,10 +162,37 @@ void narrow_to_edge(T w, T a, T bias, std::int64_t& lo, std::int64_t& hi) {
     }
 }
 
+// The pixels whose centres a triangle may cover: its snapped vertices' box,
+// clamped to the viewport (before its coordinates become ints: a far
+// vertex lies outside int's range). Empty when x0 > x1 or y0 > y1.
+struct PixelBox {
+    int x0, y0, x1, y1;
+};
+[[gnu::always_inline]] inline PixelBox pixel_box(const Fixed p[3], int width, int height) {
+    auto lo = [](std::int64_t v) { return int(std::clamp(std::floor((double(v) / kSubpixel) - 0.5), -1.0, double(1 << 30))); };
+    auto hi = [](std::int64_t v) { return int(std::clamp(std::ceil((double(v) / kSubpixel) - 0.5), -1.0, double(1 << 30))); };
+    return {std::max(0, lo(std::min({p[0].x, p[1].x, p[2].x}))), std::max(0, lo(std::min({p[0].y, p[1].y, p[2].y}))),
+            std::min(width - 1, hi(std::max({p[0].x, p[1].x, p[2].x}))), std::min(height - 1, hi(std::max({p[0].y, p[1].y, p[2].y})))};
+}
+
+// The depth buffer, cleared to 0, over only the box the frame's triangles
+// reach (every read and write lands in it): the cost model rasterizes every
+// contestant frame (optimize --target) in a viewport that may be a whole
+// map of up to 16384^2 px, where a buffer for all of it cost 1 GiB and its
+// clearing each time, though the scene drew in a corner.
+struct DepthBuffer {
+    PixelBox box{0, 0, -1, -1};
+    std::vector<std::uint32_t> depth;
+    // The depths of row py from column x (both inside the box).
+    std::uint32_t* at(int x, int py) {
+        return depth.data() + std::size_t(py - box.y0) * std::size_t(box.x1 - box.x0 + 1) + std::size_t(x - box.x0);
+    }
+};
+
 // One triangle of rasterize_meshes (which see), its edge values in T.
 template <class T, bool kRows, bool kPixels, class OnFragment, class OnRow>
-void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t triangle, Fixed p[3], double z[3],
-                        const float* vertex[3], std::vector<std::uint32_t>& depth, OnFragment& on_fragment, OnRow& on_row) {
+void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t triangle, Fixed p[3], double z[3], const float* vertex[3],
+                        DepthBuffer& depth, OnFragment& on_fragment, OnRow& on_row) {
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
     const bool write_depth = meshes.depth_test && draw.pass == Pass::opaque;
     T area = EdgeOf<T>(p[0], p[1]).at(p[2].x, p[2].y);
@@ -178,14 +205,7 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
     }
     // Edge k is opposite vertex k, so its value is vertex k's barycentric weight.
     const EdgeOf<T> e[3] = {EdgeOf<T>(p[1], p[2]), EdgeOf<T>(p[2], p[0]), EdgeOf<T>(p[0], p[1])};
-    // Pixel columns and rows, clamped before they become ints (a far vertex
-    // lies outside int's range).
-    auto lo = [](std::int64_t v) { return int(std::clamp(std::floor((double(v) / kSubpixel) - 0.5), -1.0, double(1 << 30))); };
-    auto hi = [](std::int64_t v) { return int(std::clamp(std::ceil((double(v) / kSubpixel) - 0.5), -1.0, double(1 << 30))); };
-    const int x0 = std::max(0, lo(std::min({p[0].x, p[1].x, p[2].x})));
-    const int x1 = std::min(width - 1, hi(std::max({p[0].x, p[1].x, p[2].x})));
-    const int y0 = std::max(0, lo(std::min({p[0].y, p[1].y, p[2].y})));
-    const int y1 = std::min(height - 1, hi(std::max({p[0].y, p[1].y, p[2].y})));
+    const auto [x0, y0, x1, y1] = pixel_box(p, width, height);
     const bool flat = z[0] == z[1] && z[1] == z[2];
     const std::uint32_t flat_depth = depth24(z[0]);
     // Edge values step by a (one pixel right, in subpixel units) from the
@@ -212,30 +232,84 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
             passed = 0;
             for (int k = 0; k < 3; ++k) w[k] += a[k] * T(first);
             const std::size_t row = std::size_t(py) * std::size_t(width) + std::size_t(x0);
-            for (std::int64_t px = first; px <= last; ++px, w[0] += a[0], w[1] += a[1], w[2] += a[2]) {
-                const std::size_t pixel = row + std::size_t(px);
-                bool shaded = true;
-                if (meshes.depth_test) {
-                    const std::uint32_t d =
-                        flat ? flat_depth : depth24((double(w[0]) * z[0] + double(w[1]) * z[1] + double(w[2]) * z[2]) / f.area);
-                    if (d <= depth[pixel])
-                        shaded = false; // GL_GREATER against a buffer cleared to 0
-                    else if (write_depth)
-                        depth[pixel] = d;
-                }
-                passed += shaded;
-                if constexpr (kPixels) {
-                    f.pixel = pixel;
-                    f.weight[0] = double(w[0]);
-                    f.weight[1] = double(w[1]);
-                    f.weight[2] = double(w[2]);
-                    f.shaded = shaded;
-                    on_fragment(f);
+            std::uint32_t* stored = meshes.depth_test ? depth.at(x0, py) : nullptr; // from column x0
+            // A flat triangle's run without fragments to report (the cost
+            // model's usual case) needs no edge values, only its one depth.
+            if (!kPixels && flat) {
+                for (std::int64_t px = first; px <= last; ++px)
+                    if (flat_depth > stored[px]) { // GL_GREATER against a buffer cleared to 0
+                        ++passed;
+                        if (write_depth) stored[px] = flat_depth;
+                    }
+            } else {
+                for (std::int64_t px = first; px <= last; ++px, w[0] += a[0], w[1] += a[1], w[2] += a[2]) {
+                    const std::size_t pixel = row + std::size_t(px);
+                    bool shaded = true;
+                    if (meshes.depth_test) {
+                        const std::uint32_t d =
+                            flat ? flat_depth : depth24((double(w[0]) * z[0] + double(w[1]) * z[1] + double(w[2]) * z[2]) / f.area);
+                        if (d <= stored[px])
+                            shaded = false; // GL_GREATER against a buffer cleared to 0
+                        else if (write_depth)
+                            stored[px] = d;
+                    }
+                    passed += shaded;
+                    if constexpr (kPixels) {
+                        f.pixel = pixel;
+                        f.weight[0] = double(w[0]);
+                        f.weight[1] = double(w[1]);
+                        f.weight[2] = double(w[2]);
+                        f.shaded = shaded;
+                        on_fragment(f);
+                    }
                 }
             }
         }
         if constexpr (kRows) on_row(draw, triangle, py, x0 + int(first), int(last - first + 1), int(passed));
     }
+}
+
+// Triangle t of `draw` (its first index): the vertices snapped, their z
+// and attributes, and whether the edge values fit 64 bits; false when GL
+// would not draw it here (an index past the vertices, a vertex beyond
+// kMaxCoordinate).
+[[gnu::always_inline]] inline bool triangle_at(const SceneMeshes& meshes, const Draw& draw, std::size_t t, Fixed p[3], double z[3],
+                                               const float* vertex[3], bool* narrow) {
+    *narrow = true;
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t i = draw.indices[t + std::size_t(k)];
+        if (i >= draw.vertex_count()) return false;
+        const float* v = &draw.vertices[std::size_t(i) * kVertexFloats];
+        const double x = double(v[0]) - meshes.viewport.x, y = double(v[1]) - meshes.viewport.y;
+        if (!snap(x, y, &p[k])) return false;
+        *narrow = *narrow && std::abs(x) < kNarrowCoordinate && std::abs(y) < kNarrowCoordinate;
+        z[k] = v[2];
+        vertex[k] = v;
+    }
+    return true;
+}
+
+// The depth buffer over the box of every vertex of `meshes` (a pixel wider
+// than its vertices' box, as snapping moves a vertex by at most 1/512 px),
+// which holds every triangle's pixel_box. A vertex too far out to be drawn
+// (snap) only makes the box larger, never wrong; min and max skip NaN.
+DepthBuffer depth_buffer_for(const SceneMeshes& meshes, int width, int height) {
+    float fx0 = INFINITY, fy0 = INFINITY, fx1 = -INFINITY, fy1 = -INFINITY;
+    for (const Draw& draw : meshes.draws)
+        for (std::size_t v = 0; v + kVertexFloats <= draw.vertices.size(); v += kVertexFloats) {
+            fx0 = std::min(fx0, draw.vertices[v]), fx1 = std::max(fx1, draw.vertices[v]);
+            fy0 = std::min(fy0, draw.vertices[v + 1]), fy1 = std::max(fy1, draw.vertices[v + 1]);
+        }
+    const double x0 = fx0 - meshes.viewport.x, y0 = fy0 - meshes.viewport.y, x1 = fx1 - meshes.viewport.x, y1 = fy1 - meshes.viewport.y;
+    DepthBuffer out;
+    if (!(x0 <= x1 && y0 <= y1) || width <= 0 || height <= 0) return out; // nothing is drawn
+    // Clamped before they become ints (a far vertex lies outside int's range).
+    auto column = [&](double v) { return int(std::clamp(v, 0.0, double(width - 1))); };
+    auto row = [&](double v) { return int(std::clamp(v, 0.0, double(height - 1))); };
+    out.box = {column(std::floor(x0 - 0.5) - 1), row(std::floor(y0 - 0.5) - 1), column(std::ceil(x1 - 0.5) + 1),
+               row(std::ceil(y1 - 0.5) + 1)};
+    out.depth.assign(std::size_t(out.box.x1 - out.box.x0 + 1) * std::size_t(out.box.y1 - out.box.y0 + 1), 0);
+    return out;
 }
 
 // Rasterizes every triangle of `meshes` the way GL does (see
@@ -248,31 +322,15 @@ template <bool kRows, bool kPixels, class OnFragment, class OnRow>
 void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow&& on_row) {
     std::size_t triangle = 0;
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
-    std::vector<std::uint32_t> depth(meshes.depth_test ? std::size_t(width) * std::size_t(height) : 0, 0);
+    DepthBuffer depth;
+    if (meshes.depth_test) depth = depth_buffer_for(meshes, width, height);
     for (const Draw& draw : meshes.draws) {
-        const std::size_t vertex_count = draw.vertex_count();
         for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3) {
             Fixed p[3];
             double z[3];
             const float* vertex[3];
-            bool skip = false, narrow = true;
-            for (int k = 0; k < 3; ++k) {
-                std::uint32_t i = draw.indices[t + std::size_t(k)];
-                if (i >= vertex_count) {
-                    skip = true;
-                    break;
-                }
-                const float* v = &draw.vertices[std::size_t(i) * kVertexFloats];
-                double x = double(v[0]) - meshes.viewport.x, y = double(v[1]) - meshes.viewport.y;
-                if (!snap(x, y, &p[k])) {
-                    skip = true;
-                    break;
-                }
-                narrow = narrow && std::abs(x) < kNarrowCoordinate && std::abs(y) < kNarrowCoordinate;
-                z[k] = v[2];
-                vertex[k] = v;
-            }
-            if (skip) continue;
+            bool narrow;
+            if (!triangle_at(meshes, draw, t, p, z, vertex, &narrow)) continue;
             ++triangle;
             if (narrow)
                 rasterize_triangle<std::int64_t, kRows, kPixels>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);

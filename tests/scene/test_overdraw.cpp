@@ -193,6 +193,37 @@ TEST(AnalyzeOverdraw, DepthTestedRunsCountWhatTestingEveryFragmentGives) {
     EXPECT_GT(by_run.shaded_opaque, 0);
 }
 
+TEST(AnalyzeOverdraw, AFrameInTheCornerOfAHugeViewportCountsAsInItsOwn) {
+    // The depth buffer spans only what the triangles reach (a whole map's
+    // viewport would cost 1 GiB): the same depth-tested frame, seen in the
+    // far corner of a 16384^2 viewport (whole blocks from its origin, and
+    // partly beyond its right and bottom sides), counts what it counts in
+    // a viewport of its own.
+    std::mt19937 rng(11);
+    SceneMeshes own;
+    own.viewport = {0, 0, 40, 32};
+    own.depth_test = true;
+    std::uniform_real_distribution<double> x(0, 46), y(0, 38), z(0, 1);
+    for (int k = 0; k < 6; ++k) {
+        Draw d;
+        d.pass = k % 2 ? Pass::blend : Pass::opaque;
+        for (int i = 0; i < 60; ++i) d.vertices.insert(d.vertices.end(), {float(x(rng)), float(y(rng)), float(z(rng)), 0, 0, 1, 1, 1, 1});
+        for (std::uint32_t i = 0; i + 2 < 60; i += 3) d.indices.insert(d.indices.end(), {i, i + 1, i + 2});
+        own.draws.push_back(std::move(d));
+    }
+    const OverdrawStats expected = analyze_overdraw(own, nullptr, true);
+    EXPECT_LT(expected.shaded, expected.rasterized);
+    SceneMeshes corner = own;
+    corner.viewport = {-16344, -16352, 16384, 16384}; // its bottom-right 40x32 pixels are `own`'s
+    const OverdrawStats got = analyze_overdraw(corner, nullptr, true);
+    EXPECT_EQ(got.rasterized, expected.rasterized);
+    EXPECT_EQ(got.shaded, expected.shaded);
+    EXPECT_EQ(got.shaded_opaque, expected.shaded_opaque);
+    EXPECT_EQ(got.blocks_opaque, expected.blocks_opaque);
+    EXPECT_EQ(got.blocks_blend, expected.blocks_blend);
+    EXPECT_EQ(got.pixels, 16384LL * 16384);
+}
+
 TEST(AnalyzeOverdraw, ViewportOffsetAndClipping) {
     // A 4x4 square at world (10, 20) seen through a viewport at (12, 21):
     // 2 columns x 3 rows remain.
