@@ -482,6 +482,25 @@ ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageVi
     return out;
 }
 
+namespace {
+
+// The pixels whose centres element e's rect may cover on screen (its
+// corners' box, clamped to the viewport before the numbers become ints: an
+// element far out lies beyond int's range). Empty when x0 > x1 or y0 > y1.
+PixelBox element_pixel_box(const Element& e, const Viewport& vp, int width, int height) {
+    double bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
+    for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), 0}, Vec2{0, double(e.rect.h)}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
+        const Vec2 s = apply(e.transform, c);
+        bx0 = std::min(bx0, s.x - vp.x), by0 = std::min(by0, s.y - vp.y);
+        bx1 = std::max(bx1, s.x - vp.x), by1 = std::max(by1, s.y - vp.y);
+    }
+    auto to_int = [](double v, int hi) { return int(std::clamp(v, -1.0, double(hi))); }; // NaN: -1
+    return {std::max(0, to_int(std::floor(bx0 - 0.5), width)), std::max(0, to_int(std::floor(by0 - 0.5), height)),
+            std::min(width - 1, to_int(std::ceil(bx1 - 0.5), width)), std::min(height - 1, to_int(std::ceil(by1 - 0.5), height))};
+}
+
+} // namespace
+
 OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& images, OverdrawMap* map,
                              std::vector<std::uint8_t>* shows) {
     if (shows) shows->assign(scene.elements.size(), 0);
@@ -490,8 +509,18 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
     OverdrawStats stats;
     stats.pixels = std::int64_t(width) * height;
     std::vector<std::uint32_t> counts(map ? std::size_t(stats.pixels) : 0, 0);
-    // Set once a pixel has met a fully opaque element: nothing behind it counts.
-    std::vector<std::uint8_t> covered(std::size_t(stats.pixels), 0);
+    // Set once a pixel has met a fully opaque element: nothing behind it
+    // counts. Over the box of what the elements cover only (a whole map's
+    // viewport may be 16384^2 px).
+    PixelBox drawn{0, 0, -1, -1};
+    for (const Element& e : scene.elements) {
+        const PixelBox b = element_pixel_box(e, vp, width, height);
+        if (b.x0 > b.x1 || b.y0 > b.y1) continue;
+        drawn = drawn.x0 > drawn.x1 ? b
+                                    : PixelBox{std::min(drawn.x0, b.x0), std::min(drawn.y0, b.y0), std::max(drawn.x1, b.x1), std::max(drawn.y1, b.y1)};
+    }
+    const std::size_t drawn_width = drawn.x0 <= drawn.x1 ? std::size_t(drawn.x1 - drawn.x0 + 1) : 0;
+    std::vector<std::uint8_t> covered(drawn_width * std::size_t(drawn.x0 <= drawn.x1 ? drawn.y1 - drawn.y0 + 1 : 0), 0);
     // One element's 4x4 blocks over its box, as the ideal frame draws it: its
     // rect as two triangles (split by the diagonal from texel (0, 0) to (w,
     // h)), each shading the blocks it has one of those fragments in. Bits:
@@ -510,16 +539,8 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
         const auto& m = e.transform;
         const double det = m[0] * m[3] - m[1] * m[2];
         if (!(det != 0) || !std::isfinite(det)) continue;
-        double bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
-        for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), 0}, Vec2{0, double(e.rect.h)}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
-            Vec2 s = apply(m, c);
-            bx0 = std::min(bx0, s.x - vp.x);
-            by0 = std::min(by0, s.y - vp.y);
-            bx1 = std::max(bx1, s.x - vp.x);
-            by1 = std::max(by1, s.y - vp.y);
-        }
-        const int x0 = int(std::max(0.0, std::floor(bx0 - 0.5))), x1 = int(std::min(double(width) - 1, std::ceil(bx1 - 0.5)));
-        const int y0 = int(std::max(0.0, std::floor(by0 - 0.5))), y1 = int(std::min(double(height) - 1, std::ceil(by1 - 0.5)));
+        const auto [x0, y0, x1, y1] = element_pixel_box(e, vp, width, height);
+        if (x0 > x1 || y0 > y1) continue;
         const bool covers = can_cover(e.blend, e.color[3]);
         // The diagonal as GL rasterizes it (snapped, a centre on it going to
         // the triangle whose top or left edge it is), oriented so the
@@ -540,7 +561,8 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
         for (int py = y0; py <= y1; ++py) {
             for (int px = x0; px <= x1; ++px) {
                 const std::size_t pixel = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                if (covered[pixel]) continue;
+                std::uint8_t& hidden = covered[std::size_t(py - drawn.y0) * drawn_width + std::size_t(px - drawn.x0)];
+                if (hidden) continue;
                 // Pixel centre back to texel space of the rect (inverse of the SVG matrix).
                 const double qx = vp.x + px + 0.5 - m[4], qy = vp.y + py + 0.5 - m[5];
                 const double u = (m[3] * qx - m[2] * qy) / det, v = (m[0] * qy - m[1] * qx) / det;
@@ -554,7 +576,7 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
                 ++stats.shaded;
                 ++stats.rasterized;
                 const bool hides = covers && is_opaque(alpha);
-                if (hides) covered[pixel] = 1;
+                if (hides) hidden = 1;
                 std::uint8_t& block = blocks[std::size_t((py >> 2) - block_y0) * std::size_t(blocks_wide) + std::size_t((px >> 2) - block_x0)];
                 const bool second = exact ? diagonal.at(Wide(px) * step + step / 2, Wide(py) * step + step / 2) >= diagonal.bias
                                           : u * e.rect.h > v * e.rect.w;

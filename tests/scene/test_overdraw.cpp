@@ -288,6 +288,26 @@ TEST(IdealOverdraw, IsALowerBoundOfTheHandOptimizedScene) {
     EXPECT_EQ(over.pixels, 64 * 48);
 }
 
+TEST(IdealOverdraw, AFrameInTheCornerOfAHugeViewportCountsAsInItsOwn) {
+    // What is hidden is kept only over the box the elements cover (a whole
+    // map's viewport would cost 256 MB): the mixed scene seen in the far
+    // corner of a 16384^2 viewport (whole blocks from its origin) counts
+    // what it counts in its own 64x48 one.
+    auto rs = test::mixed_scene();
+    const Viewport vp = rs.scene.viewport;
+    ASSERT_EQ(vp.width, 64);
+    ASSERT_EQ(vp.height, 48);
+    std::vector<std::uint8_t> shows_own, shows_corner;
+    const OverdrawStats own = ideal_overdraw(rs.scene, rs.views(), nullptr, &shows_own);
+    rs.scene.viewport = {vp.x + 64 - 16384, vp.y + 48 - 16384, 16384, 16384};
+    const OverdrawStats corner = ideal_overdraw(rs.scene, rs.views(), nullptr, &shows_corner);
+    EXPECT_EQ(corner.shaded, own.shaded);
+    EXPECT_EQ(corner.blocks_opaque, own.blocks_opaque);
+    EXPECT_EQ(corner.blocks_blend, own.blocks_blend);
+    EXPECT_EQ(shows_corner, shows_own);
+    EXPECT_GT(own.blocks_opaque, 0);
+}
+
 TEST(AnalyzeOverdraw, RasterizedCountsWhatTheDepthTestRejects) {
     // A near opaque quad, then a far one under it: 4 + 16 covered, 4 + 12 shaded.
     SceneMeshes m;
