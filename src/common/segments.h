@@ -1,5 +1,6 @@
-// Internal to the core: the segment-touch test both polygon predicates use
-// (boundary's integer is_simple and the double is_simple of geometry.cpp).
+// Internal to the core: the segment-touch test the polygon predicates and
+// triangulations use (boundary's integer is_simple, the double is_simple
+// of geometry.cpp, triangulate and triangulate_holes).
 #pragma once
 
 namespace depthcull {
@@ -10,6 +11,12 @@ namespace depthcull {
 // (products of small integers or halves are exact in double).
 template <class P>
 bool segments_touch(P a, P b, P c, P d) {
+    // Closed segments whose boxes are apart share no point: most pairs a
+    // triangulation tests end here, before four (128-bit) orientations.
+    auto lo = [](auto u, auto v) { return u < v ? u : v; };
+    auto hi = [](auto u, auto v) { return u < v ? v : u; };
+    if (hi(a.x, b.x) < lo(c.x, d.x) || hi(c.x, d.x) < lo(a.x, b.x) || hi(a.y, b.y) < lo(c.y, d.y) || hi(c.y, d.y) < lo(a.y, b.y))
+        return false;
     auto sign = [](auto v) { return (v > 0) - (v < 0); };
     // p, known collinear with ab, lies within it.
     auto on_segment = [](P s, P e, P p) {
