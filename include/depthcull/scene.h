@@ -248,6 +248,10 @@ inline constexpr double kTexelMargin = 1.0 / 32;
 // 1/256-pixel moves) are clipped anywhere; others (turned, scaled anyhow)
 // only `margin` inside their rect. What is left is triangulated whole,
 // holes included. Without Clipper (wasm builds) it does nothing.
+namespace detail {
+struct ClipMemo; // src/scene/clip_hidden.cpp
+}
+
 struct ClipHiddenOptions {
     bool enabled = false;
     double fragment_cost = 1;
@@ -257,6 +261,11 @@ struct ClipHiddenOptions {
     // For choose_for_target (depthcull/cost.h): price what opaque
     // polygons hide as clipped away (free) rather than rejected.
     bool plan_occluders = false;
+    // Internal, for choose_for_target, which reconstructs dozens of frames
+    // of one scene that cut most elements alike: where it keeps each
+    // element's last cut, reused when the element is cut with the same
+    // polygons by the same occluders again. Null: none.
+    detail::ClipMemo* memo = nullptr;
 };
 
 struct ReconstructOptions {

@@ -25,6 +25,7 @@
 #include <tuple>
 
 #include "depthcull/cost.h"
+#include "scene/internal.h"
 #include "scene/placement.h"
 
 namespace depthcull {
@@ -190,6 +191,9 @@ struct Chooser {
     bool opaque_pass = false;
     // 3.
     std::vector<std::int64_t> hider; // the element whose opaque polygon hides it
+    // evaluate()'s cuts, kept from one contestant frame to the next: most
+    // cut their elements alike (ClipHiddenOptions::memo).
+    std::unique_ptr<detail::ClipMemo, detail::ClipMemoDelete> clip_memo = detail::make_clip_memo();
 
     // Issue 25: with hidden parts clipped, what an opaque polygon hides is
     // not drawn at all instead of rejected (a bound: the cut may not pay).
@@ -525,6 +529,7 @@ double Chooser::evaluate(const Contestant& c, SceneAnalysis* analysis) const {
     ReconstructOptions o = options;
     o.opaque_polygons = c.opaque_pass;
     o.depthless = c.depthless; // twins always have an opaque pass
+    o.clip_hidden.memo = clip_memo.get();
     SceneMeshes m;
     if (reconstruct_scene(scene, analysis->per_element(), o, &m) != ReconstructStatus::ok) return double(INFINITY);
     // A twin whose opaque polygons all moved to the blend pass has no

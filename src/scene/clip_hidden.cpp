@@ -67,6 +67,10 @@ namespace depthcull::detail {
 
 #ifndef DEPTHCULL_HAVE_CLIPPER
 
+struct ClipMemo {
+    std::int64_t reused = 0;
+};
+
 ClippedParts clip_hidden_parts(const Scene&, const std::vector<const ImageAnalysis*>&, const ElementShapes&,
                                const std::vector<std::int64_t>&, const ElementGraph&, const std::vector<std::int32_t>&,
                                const MeshBuilder&, const ClipHiddenOptions&) {
@@ -74,6 +78,21 @@ ClippedParts clip_hidden_parts(const Scene&, const std::vector<const ImageAnalys
 }
 
 #else
+
+// Per element, its last cut of each region (its blend-pass polygons, its
+// opaque tile): what was cut (the region's texel polygons and the cuts
+// tried, in Clipper's integers) and what came of it. A cut is a function
+// of those alone for one element of one scene, so an equal one is reused.
+struct ClipMemo {
+    struct Entry {
+        bool valid = false, made = false;
+        std::vector<Polygon> texel;
+        std::vector<ClipperLib::Paths> cuts;
+        ClippedPart part;
+    };
+    std::vector<Entry> entries; // [2 * element + region]
+    std::int64_t reused = 0;
+};
 
 namespace {
 
@@ -426,6 +445,7 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
     const std::size_t n = scene.elements.size();
     if (!options.enabled || !(options.margin > 0) || graph.size() != n || levels.size() != n) return result;
     const std::vector<std::vector<std::uint32_t>> front = graph.in_front();
+    if (options.memo) options.memo->entries.resize(std::max(options.memo->entries.size(), 2 * n));
     // Each occluder's cut region, made once.
     std::vector<std::uint8_t> made(n, 0);
     std::vector<cl::Paths> cut_of(n);
@@ -515,19 +535,28 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                 }
                 return r;
             };
-            // The first of the cuts that is made (region_of once per shape).
-            auto first_cut = [&](Shape shape, std::unordered_map<std::uint32_t, ClippedPart>& into) {
+            // The first of the cuts that is made (region_of once per shape),
+            // or the memo's when it cut the same region with the same cuts.
+            auto first_cut = [&](Shape shape, std::size_t slot, std::unordered_map<std::uint32_t, ClippedPart>& into) {
                 const Region region = region_of(shape);
-                ClippedPart part;
-                for (const cl::Paths& c : cuts)
-                    if (clip_region(scene, b, region, c, options, snapped, &part)) {
-                        into.emplace(b, std::move(part));
-                        ++result.elements;
+                ClipMemo::Entry* memo = options.memo ? &options.memo->entries[2 * std::size_t(b) + slot] : nullptr;
+                if (!memo || !memo->valid || memo->texel != region.texel || memo->cuts != cuts) {
+                    ClippedPart part;
+                    bool made = false;
+                    for (const cl::Paths& c : cuts)
+                        if ((made = clip_region(scene, b, region, c, options, snapped, &part))) break;
+                    if (!memo) {
+                        if (made) into.emplace(b, std::move(part)), ++result.elements;
                         return;
                     }
+                    *memo = {true, made, region.texel, cuts, made ? std::move(part) : ClippedPart{}};
+                } else {
+                    ++options.memo->reused;
+                }
+                if (memo->made) into.emplace(b, memo->part), ++result.elements;
             };
-            if (blend) first_cut(shapes.boundary[b], result.blend);
-            if (opaque_tile) first_cut(Shape::rect, result.opaque);
+            if (blend) first_cut(shapes.boundary[b], 0, result.blend);
+            if (opaque_tile) first_cut(Shape::rect, 1, result.opaque);
         }
     } catch (...) {
         // Clipper throws only on coordinates past its range (checked before) or
@@ -538,5 +567,9 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
 }
 
 #endif
+
+void ClipMemoDelete::operator()(ClipMemo* memo) const { delete memo; }
+std::unique_ptr<ClipMemo, ClipMemoDelete> make_clip_memo() { return std::unique_ptr<ClipMemo, ClipMemoDelete>(new ClipMemo); }
+std::int64_t clip_memo_reused(const ClipMemo& memo) { return memo.reused; }
 
 } // namespace depthcull::detail

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "depthcull/scene.h"
@@ -219,6 +220,15 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
                                const std::vector<std::int64_t>& levels, const ElementGraph& graph,
                                const std::vector<std::int32_t>& keys, const MeshBuilder& builder,
                                const ClipHiddenOptions& options);
+
+// ClipHiddenOptions::memo: made here, kept by the caller for the frames of
+// one scene (choose_for_target), one reconstruction at a time.
+struct ClipMemoDelete {
+    void operator()(ClipMemo* memo) const;
+};
+std::unique_ptr<ClipMemo, ClipMemoDelete> make_clip_memo();
+// How many cuts `memo` gave again instead of making them (tests).
+std::int64_t clip_memo_reused(const ClipMemo& memo);
 
 // Issue 25, ReconstructOptions::depthless (depthless.cpp): per element, 1
 // when its opaque polygons may lie in front of what an element behind draws

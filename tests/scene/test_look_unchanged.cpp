@@ -13,6 +13,7 @@
 
 #include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
+#include "scene/internal.h"
 #include "testing/random_shapes.h"
 
 namespace depthcull::test {
@@ -228,6 +229,46 @@ TEST(LookUnchanged, ClippedHiddenPartsKeepTheFrame) {
         cut_scenes += b.rasterized < a.rasterized;
     }
     EXPECT_GE(cut_scenes, 10);
+}
+
+// Issue 25: choose_for_target keeps each element's last cut from one
+// contestant frame to the next (ClipHiddenOptions::memo) and reuses it
+// where the element is cut alike. Whatever came between (here frames
+// alternating with every other element's opaque polygons dropped, so the
+// elements behind them are cut differently), a frame made with the memo is
+// byte for byte the one made without it.
+TEST(LookUnchanged, ClipMemoGivesTheMeshesOfAFreshCut) {
+    std::int64_t reused = 0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        RandomScene r = random_scene(seed, 10 + int(seed % 50));
+        std::vector<ImageAnalysis> thinned(r.analyses.size());
+        std::vector<const ImageAnalysis*> fewer = r.element_analysis;
+        for (std::size_t i = 0; i < fewer.size(); i += 2) {
+            thinned[i] = *fewer[i];
+            thinned[i].opaque.clear();
+            fewer[i] = &thinned[i];
+        }
+        const auto memo = detail::make_clip_memo();
+        int frame = 0;
+        for (const auto* analyses : {&r.element_analysis, &fewer, &r.element_analysis, &r.element_analysis, &fewer}) {
+            ReconstructOptions o;
+            o.clip_hidden = {true, 1, 0, 0};
+            SceneMeshes fresh, kept;
+            ASSERT_EQ(reconstruct_scene(r.scene, *analyses, o, &fresh), ReconstructStatus::ok);
+            o.clip_hidden.memo = memo.get();
+            ASSERT_EQ(reconstruct_scene(r.scene, *analyses, o, &kept), ReconstructStatus::ok);
+            ASSERT_EQ(kept.draws.size(), fresh.draws.size()) << "seed " << seed << ", frame " << frame;
+            for (std::size_t d = 0; d < fresh.draws.size(); ++d) {
+                EXPECT_EQ(kept.draws[d].vertices, fresh.draws[d].vertices) << "seed " << seed << ", frame " << frame << ", draw " << d;
+                EXPECT_EQ(kept.draws[d].indices, fresh.draws[d].indices) << "seed " << seed << ", frame " << frame << ", draw " << d;
+                EXPECT_EQ(kept.draws[d].image, fresh.draws[d].image);
+                EXPECT_EQ(kept.draws[d].pass, fresh.draws[d].pass);
+            }
+            ++frame;
+        }
+        reused += detail::clip_memo_reused(*memo);
+    }
+    EXPECT_GT(reused, 0); // the memo was used, not only filled
 }
 
 // Issue 25: an occluder inside an element (touching none of its edges)
