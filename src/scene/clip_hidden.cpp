@@ -83,15 +83,39 @@ ClippedParts clip_hidden_parts(const Scene&, const std::vector<const ImageAnalys
 // opaque tile): what was cut (the region's texel polygons and the cuts
 // tried, in Clipper's integers) and what came of it. A cut is a function
 // of those alone for one element of one scene, so an equal one is reused.
+// Its memory is bounded (kMaxBytes, about what the entries hold): past
+// it, a cut not kept yet is made each time, as without a memo.
 struct ClipMemo {
     struct Entry {
         bool valid = false, made = false;
         std::vector<Polygon> texel;
         std::vector<ClipperLib::Paths> cuts;
         ClippedPart part;
+        std::size_t bytes = 0;
     };
+    static constexpr std::size_t kMaxBytes = std::size_t(32) << 20;
     std::vector<Entry> entries; // [2 * element + region]
+    std::size_t bytes = 0;      // held by the entries
     std::int64_t reused = 0;
+
+    static std::size_t bytes_of(const std::vector<Polygon>& texel, const std::vector<ClipperLib::Paths>& cuts, const ClippedPart& part) {
+        std::size_t b = sizeof(Entry);
+        for (const Polygon& p : texel) b += p.size() * sizeof(Vec2);
+        for (const ClipperLib::Paths& c : cuts)
+            for (const ClipperLib::Path& p : c) b += p.size() * sizeof(ClipperLib::IntPoint);
+        for (const Polygon& p : part.pieces) b += p.size() * sizeof(Vec2);
+        for (const auto& t : part.triangles) b += t.size() * sizeof(std::uint32_t);
+        return b;
+    }
+    // Keeps a cut made (in place of the entry's old one) while it fits.
+    void keep(Entry& entry, const std::vector<Polygon>& texel, const std::vector<ClipperLib::Paths>& cuts, bool made, const ClippedPart& part) {
+        bytes -= entry.bytes;
+        entry = Entry{};
+        const std::size_t b = bytes_of(texel, cuts, part);
+        if (bytes + b > kMaxBytes) return;
+        entry = {true, made, texel, cuts, part, b};
+        bytes += b;
+    }
 };
 
 namespace {
@@ -540,20 +564,17 @@ ClippedParts clip_hidden_parts(const Scene& scene, const std::vector<const Image
             auto first_cut = [&](Shape shape, std::size_t slot, std::unordered_map<std::uint32_t, ClippedPart>& into) {
                 const Region region = region_of(shape);
                 ClipMemo::Entry* memo = options.memo ? &options.memo->entries[2 * std::size_t(b) + slot] : nullptr;
-                if (!memo || !memo->valid || memo->texel != region.texel || memo->cuts != cuts) {
-                    ClippedPart part;
-                    bool made = false;
-                    for (const cl::Paths& c : cuts)
-                        if ((made = clip_region(scene, b, region, c, options, snapped, &part))) break;
-                    if (!memo) {
-                        if (made) into.emplace(b, std::move(part)), ++result.elements;
-                        return;
-                    }
-                    *memo = {true, made, region.texel, cuts, made ? std::move(part) : ClippedPart{}};
-                } else {
+                if (memo && memo->valid && memo->texel == region.texel && memo->cuts == cuts) {
                     ++options.memo->reused;
+                    if (memo->made) into.emplace(b, memo->part), ++result.elements;
+                    return;
                 }
-                if (memo->made) into.emplace(b, memo->part), ++result.elements;
+                ClippedPart part;
+                bool made = false;
+                for (const cl::Paths& c : cuts)
+                    if ((made = clip_region(scene, b, region, c, options, snapped, &part))) break;
+                if (memo) options.memo->keep(*memo, region.texel, cuts, made, part);
+                if (made) into.emplace(b, std::move(part)), ++result.elements;
             };
             if (blend) first_cut(shapes.boundary[b], 0, result.blend);
             if (opaque_tile) first_cut(Shape::rect, 1, result.opaque);
