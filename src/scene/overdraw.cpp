@@ -162,17 +162,25 @@ void narrow_to_edge(T w, T a, T bias, std::int64_t& lo, std::int64_t& hi) {
     }
 }
 
-// The pixels whose centres a triangle may cover: its snapped vertices' box,
-// clamped to the viewport (before its coordinates become ints: a far
-// vertex lies outside int's range). Empty when x0 > x1 or y0 > y1.
+// Pixels of the viewport, inclusive. Empty when x0 > x1 or y0 > y1.
 struct PixelBox {
     int x0, y0, x1, y1;
 };
+
+// The viewport's pixels whose centres lie in the box [x0, x1] x [y0, y1]
+// (pixels from the viewport's corner), clamped before they become ints: a
+// far coordinate lies outside int's range; NaN gives none.
+PixelBox centres_in(double x0, double y0, double x1, double y1, int width, int height) {
+    auto to_int = [](double v, int size) { return v >= -1.0 ? (v <= double(size) ? int(v) : size) : -1; };
+    return {std::max(0, to_int(std::floor(x0 - 0.5), width)), std::max(0, to_int(std::floor(y0 - 0.5), height)),
+            std::min(width - 1, to_int(std::ceil(x1 - 0.5), width)), std::min(height - 1, to_int(std::ceil(y1 - 0.5), height))};
+}
+
+// The pixels whose centres a triangle may cover: its snapped vertices' box.
 [[gnu::always_inline]] inline PixelBox pixel_box(const Fixed p[3], int width, int height) {
-    auto lo = [](std::int64_t v) { return int(std::clamp(std::floor((double(v) / kSubpixel) - 0.5), -1.0, double(1 << 30))); };
-    auto hi = [](std::int64_t v) { return int(std::clamp(std::ceil((double(v) / kSubpixel) - 0.5), -1.0, double(1 << 30))); };
-    return {std::max(0, lo(std::min({p[0].x, p[1].x, p[2].x}))), std::max(0, lo(std::min({p[0].y, p[1].y, p[2].y}))),
-            std::min(width - 1, hi(std::max({p[0].x, p[1].x, p[2].x}))), std::min(height - 1, hi(std::max({p[0].y, p[1].y, p[2].y})))};
+    return centres_in(double(std::min({p[0].x, p[1].x, p[2].x})) / kSubpixel, double(std::min({p[0].y, p[1].y, p[2].y})) / kSubpixel,
+                      double(std::max({p[0].x, p[1].x, p[2].x})) / kSubpixel, double(std::max({p[0].y, p[1].y, p[2].y})) / kSubpixel, width,
+                      height);
 }
 
 // The depth buffer, cleared to 0, over only the box the frame's triangles
@@ -289,10 +297,10 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
     return true;
 }
 
-// The depth buffer over the box of every vertex of `meshes` (a pixel wider
-// than its vertices' box, as snapping moves a vertex by at most 1/512 px),
-// which holds every triangle's pixel_box. A vertex too far out to be drawn
-// (snap) only makes the box larger, never wrong; min and max skip NaN.
+// The depth buffer over the centres in the box of every vertex of `meshes`
+// grown by a pixel, which holds every triangle's pixel_box. A vertex too far
+// out to be drawn (snap) only makes the box larger, never wrong; min and
+// max skip NaN, and no vertex at all leaves the box empty.
 DepthBuffer depth_buffer_for(const SceneMeshes& meshes, int width, int height) {
     float fx0 = INFINITY, fy0 = INFINITY, fx1 = -INFINITY, fy1 = -INFINITY;
     for (const Draw& draw : meshes.draws)
@@ -300,15 +308,12 @@ DepthBuffer depth_buffer_for(const SceneMeshes& meshes, int width, int height) {
             fx0 = std::min(fx0, draw.vertices[v]), fx1 = std::max(fx1, draw.vertices[v]);
             fy0 = std::min(fy0, draw.vertices[v + 1]), fy1 = std::max(fy1, draw.vertices[v + 1]);
         }
-    const double x0 = fx0 - meshes.viewport.x, y0 = fy0 - meshes.viewport.y, x1 = fx1 - meshes.viewport.x, y1 = fy1 - meshes.viewport.y;
+    // A pixel wider on every side: snapping moves a vertex by up to 1/512 px.
     DepthBuffer out;
-    if (!(x0 <= x1 && y0 <= y1) || width <= 0 || height <= 0) return out; // nothing is drawn
-    // Clamped before they become ints (a far vertex lies outside int's range).
-    auto column = [&](double v) { return int(std::clamp(v, 0.0, double(width - 1))); };
-    auto row = [&](double v) { return int(std::clamp(v, 0.0, double(height - 1))); };
-    out.box = {column(std::floor(x0 - 0.5) - 1), row(std::floor(y0 - 0.5) - 1), column(std::ceil(x1 - 0.5) + 1),
-               row(std::ceil(y1 - 0.5) + 1)};
-    out.depth.assign(std::size_t(out.box.x1 - out.box.x0 + 1) * std::size_t(out.box.y1 - out.box.y0 + 1), 0);
+    out.box = centres_in(double(fx0) - meshes.viewport.x - 1, double(fy0) - meshes.viewport.y - 1, double(fx1) - meshes.viewport.x + 1,
+                         double(fy1) - meshes.viewport.y + 1, width, height);
+    if (out.box.x0 <= out.box.x1 && out.box.y0 <= out.box.y1) // else no triangle covers a centre
+        out.depth.assign(std::size_t(out.box.x1 - out.box.x0 + 1) * std::size_t(out.box.y1 - out.box.y0 + 1), 0);
     return out;
 }
 
@@ -484,9 +489,8 @@ ExcessStats excess_overdraw(const SceneMeshes& meshes, const std::vector<ImageVi
 
 namespace {
 
-// The pixels whose centres element e's rect may cover on screen (its
-// corners' box, clamped to the viewport before the numbers become ints: an
-// element far out lies beyond int's range). Empty when x0 > x1 or y0 > y1.
+// The pixels whose centres element e's rect may cover on screen: its
+// corners' box.
 PixelBox element_pixel_box(const Element& e, const Viewport& vp, int width, int height) {
     double bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
     for (Vec2 c : {Vec2{0, 0}, Vec2{double(e.rect.w), 0}, Vec2{0, double(e.rect.h)}, Vec2{double(e.rect.w), double(e.rect.h)}}) {
@@ -494,9 +498,7 @@ PixelBox element_pixel_box(const Element& e, const Viewport& vp, int width, int 
         bx0 = std::min(bx0, s.x - vp.x), by0 = std::min(by0, s.y - vp.y);
         bx1 = std::max(bx1, s.x - vp.x), by1 = std::max(by1, s.y - vp.y);
     }
-    auto to_int = [](double v, int hi) { return int(std::clamp(v, -1.0, double(hi))); }; // NaN: -1
-    return {std::max(0, to_int(std::floor(bx0 - 0.5), width)), std::max(0, to_int(std::floor(by0 - 0.5), height)),
-            std::min(width - 1, to_int(std::ceil(bx1 - 0.5), width)), std::min(height - 1, to_int(std::ceil(by1 - 0.5), height))};
+    return centres_in(bx0, by0, bx1, by1, width, height);
 }
 
 } // namespace
@@ -516,8 +518,9 @@ OverdrawStats ideal_overdraw(const Scene& scene, const std::vector<ImageView>& i
     for (const Element& e : scene.elements) {
         const PixelBox b = element_pixel_box(e, vp, width, height);
         if (b.x0 > b.x1 || b.y0 > b.y1) continue;
-        drawn = drawn.x0 > drawn.x1 ? b
-                                    : PixelBox{std::min(drawn.x0, b.x0), std::min(drawn.y0, b.y0), std::max(drawn.x1, b.x1), std::max(drawn.y1, b.y1)};
+        drawn = drawn.x0 > drawn.x1
+                    ? b
+                    : PixelBox{std::min(drawn.x0, b.x0), std::min(drawn.y0, b.y0), std::max(drawn.x1, b.x1), std::max(drawn.y1, b.y1)};
     }
     const std::size_t drawn_width = drawn.x0 <= drawn.x1 ? std::size_t(drawn.x1 - drawn.x0 + 1) : 0;
     std::vector<std::uint8_t> covered(drawn_width * std::size_t(drawn.x0 <= drawn.x1 ? drawn.y1 - drawn.y0 + 1 : 0), 0);
