@@ -138,9 +138,10 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
         return o;
     }();
     const bool cover = options.cover_plan && options.analyze.opaque.method == OpaqueMethod::fast && options.analyze.opaque.max_polygons > 0;
-    std::vector<PlanJob> jobs;
-    for (const PrepareOptions* o : {&options, &cover_options}) {
-        if (o == &cover_options && !cover) break;
+    std::vector<const PrepareOptions*> methods{&options};
+    if (cover) methods.push_back(&cover_options);
+    std::vector<PlanJob> jobs; // per method: the plain plan, then (clip) the one planned for clipping
+    for (const PrepareOptions* o : methods) {
         jobs.push_back({o, clip, false, {}, {}});
         if (clip) jobs.push_back({o, true, true, {}, {}});
     }
