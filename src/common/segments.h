@@ -19,10 +19,7 @@ bool segments_touch(P a, P b, P c, P d) {
         return false;
     auto sign = [](auto v) { return (v > 0) - (v < 0); };
     // p, known collinear with ab, lies within it.
-    auto on_segment = [](P s, P e, P p) {
-        return (s.x < e.x ? s.x : e.x) <= p.x && p.x <= (s.x < e.x ? e.x : s.x) && (s.y < e.y ? s.y : e.y) <= p.y &&
-               p.y <= (s.y < e.y ? e.y : s.y);
-    };
+    auto on_segment = [&](P s, P e, P p) { return lo(s.x, e.x) <= p.x && p.x <= hi(s.x, e.x) && lo(s.y, e.y) <= p.y && p.y <= hi(s.y, e.y); };
     const int o1 = sign(orient(a, b, c)), o2 = sign(orient(a, b, d));
     const int o3 = sign(orient(c, d, a)), o4 = sign(orient(c, d, b));
     if (o1 * o2 < 0 && o3 * o4 < 0) return true; // a proper crossing
