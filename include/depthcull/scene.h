@@ -249,7 +249,8 @@ inline constexpr double kTexelMargin = 1.0 / 32;
 // only `margin` inside their rect. What is left is triangulated whole,
 // holes included. Without Clipper (wasm builds) it does nothing.
 namespace detail {
-struct ClipMemo; // src/scene/clip_hidden.cpp
+struct ClipMemo;  // src/scene/clip_hidden.cpp
+struct GraphMemo; // src/scene/element_graph.cpp
 }
 
 struct ClipHiddenOptions {
@@ -307,6 +308,12 @@ struct ReconstructOptions {
     // among their elements (correct, less batching), so a pile of sprites
     // costs linear time and memory. Edges <= graph_pair_budget + 2n.
     std::uint64_t graph_pair_budget = limits::kGraphPairBudget;
+    // Internal, for choose_for_target, whose contestant frames mostly draw
+    // the same boundary polygons (they differ in opaque polygons, dropped
+    // elements, the depth buffer): where graphs built for one scene are
+    // kept with what they were built from, and an equal build is answered
+    // from. Null: none.
+    detail::GraphMemo* graph_memo = nullptr;
     // Fill Draw::element_spans (for renderers that sample through texel
     // maps); off for engines and files.
     bool element_spans = false;

@@ -194,6 +194,9 @@ struct Chooser {
     // evaluate()'s cuts, kept from one contestant frame to the next: most
     // cut their elements alike (ClipHiddenOptions::memo).
     std::unique_ptr<detail::ClipMemo, detail::ClipMemoDelete> clip_memo = detail::make_clip_memo();
+    // And their element graphs: most draw the same boundary polygons
+    // (ReconstructOptions::graph_memo).
+    std::unique_ptr<detail::GraphMemo, detail::GraphMemoDelete> graph_memo = detail::make_graph_memo();
 
     // Issue 25: with hidden parts clipped, what an opaque polygon hides is
     // not drawn at all instead of rejected (a bound: the cut may not pay).
@@ -530,6 +533,7 @@ double Chooser::evaluate(const Contestant& c, SceneAnalysis* analysis) const {
     o.opaque_polygons = c.opaque_pass;
     o.depthless = c.depthless; // twins always have an opaque pass
     o.clip_hidden.memo = clip_memo.get();
+    o.graph_memo = graph_memo.get();
     SceneMeshes m;
     if (reconstruct_scene(scene, analysis->per_element(), o, &m) != ReconstructStatus::ok) return double(INFINITY);
     // A twin whose opaque polygons all moved to the blend pass has no

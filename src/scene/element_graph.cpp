@@ -19,6 +19,7 @@
 // origin pair up.
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include "scene/internal.h"
 
@@ -488,6 +489,115 @@ ElementGraph build_graph(const Scene& scene, const std::vector<const ImageAnalys
     if (std::find(chained.begin(), chained.end(), std::uint8_t(1)) != chained.end()) graph.chained = std::move(chained);
     return graph;
 }
+
+// Graphs kept for the frames of one scene (ReconstructOptions::graph_memo).
+// An entry holds all build_graph reads besides the scene: each element's
+// shape, its boundary polygons (each distinct set once, elements naming
+// theirs), the mode, the budget, and `sorted` where the graph chains (the
+// only place it is read). The least recently used entry gives way. Its
+// memory is bounded (kMaxBytes, about what the entries hold): a graph
+// that does not fit is built each time, as without a memo.
+struct GraphMemo {
+    struct Entry {
+        std::vector<Shape> shapes;
+        std::vector<std::uint32_t> set_of; // per element with Shape::analysis: its polygons in `sets`
+        std::vector<std::vector<Polygon>> sets;
+        std::vector<std::uint8_t> sorted; // where graph.chained is not empty
+        GraphMode mode = GraphMode::polygons;
+        std::uint64_t budget = 0;
+        ElementGraph graph;
+        std::size_t bytes = 0;
+        std::uint64_t used = 0;
+    };
+    static constexpr std::size_t kMaxEntries = 8;
+    static constexpr std::size_t kMaxBytes = std::size_t(64) << 20;
+    const Scene* scene = nullptr;
+    std::size_t elements = 0;
+    std::vector<Entry> entries;
+    std::size_t bytes = 0; // held by the entries
+    std::uint64_t clock = 0;
+    std::int64_t reused = 0;
+};
+
+namespace {
+
+// `sorted` as build_graph reads it (null: every element).
+std::vector<std::uint8_t> sorted_flags(const std::vector<std::uint8_t>* sorted, std::size_t n) {
+    std::vector<std::uint8_t> out(n, 1);
+    if (sorted)
+        for (std::size_t i = 0; i < n; ++i) out[i] = i < sorted->size() && (*sorted)[i] ? 1 : 0;
+    return out;
+}
+
+bool built_from(const GraphMemo::Entry& e, const std::vector<const ImageAnalysis*>& analyses, const std::vector<Shape>& shapes,
+                GraphMode mode, const std::vector<std::uint8_t>* sorted, std::uint64_t budget) {
+    if (e.mode != mode || e.budget != budget || e.shapes != shapes) return false;
+    // Each analysis is compared with its first element's set; the rest of
+    // its elements must then name that set (sets are distinct by analysis,
+    // so two equal sets only make a build be made again).
+    std::unordered_map<const ImageAnalysis*, std::uint32_t> set_of_analysis;
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+        if (shapes[i] != Shape::analysis) continue;
+        const auto [it, fresh] = set_of_analysis.emplace(analyses[i], e.set_of[i]);
+        if (fresh ? !(analyses[i] && analyses[i]->boundary == e.sets[e.set_of[i]]) : it->second != e.set_of[i]) return false;
+    }
+    return e.graph.chained.empty() || e.sorted == sorted_flags(sorted, shapes.size());
+}
+
+} // namespace
+
+ElementGraph build_graph(GraphMemo* memo, const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
+                         const std::vector<Shape>& shapes, GraphMode mode, const std::vector<std::uint8_t>* sorted,
+                         std::uint64_t pair_budget) {
+    const std::size_t n = scene.elements.size();
+    const bool usable = memo && shapes.size() == n && analyses.size() == n;
+    for (std::size_t i = 0; usable && i < n; ++i)
+        if (shapes[i] == Shape::analysis && !analyses[i]) return build_graph(scene, analyses, shapes, mode, sorted, pair_budget);
+    if (!usable) return build_graph(scene, analyses, shapes, mode, sorted, pair_budget);
+    if (memo->scene != &scene || memo->elements != n) *memo = GraphMemo{}, memo->scene = &scene, memo->elements = n;
+    ++memo->clock;
+    for (GraphMemo::Entry& e : memo->entries)
+        if (built_from(e, analyses, shapes, mode, sorted, pair_budget)) {
+            e.used = memo->clock;
+            ++memo->reused;
+            return e.graph;
+        }
+
+    GraphMemo::Entry e;
+    e.graph = build_graph(scene, analyses, shapes, mode, sorted, pair_budget);
+    e.shapes = shapes;
+    e.mode = mode;
+    e.budget = pair_budget;
+    e.used = memo->clock;
+    e.set_of.assign(n, std::uint32_t(-1));
+    std::unordered_map<const ImageAnalysis*, std::uint32_t> index;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (shapes[i] != Shape::analysis) continue;
+        const auto [it, fresh] = index.emplace(analyses[i], std::uint32_t(e.sets.size()));
+        if (fresh) e.sets.push_back(analyses[i]->boundary);
+        e.set_of[i] = it->second;
+    }
+    if (!e.graph.chained.empty()) e.sorted = sorted_flags(sorted, n);
+    e.bytes = sizeof(GraphMemo::Entry) + n * (sizeof(Shape) + sizeof(std::uint32_t)) + e.sorted.size() +
+              (e.graph.offsets.size() + e.graph.targets.size()) * sizeof(std::uint32_t) + e.graph.chained.size();
+    for (const std::vector<Polygon>& set : e.sets)
+        for (const Polygon& p : set) e.bytes += sizeof(Polygon) + p.size() * sizeof(Vec2);
+    if (e.bytes > GraphMemo::kMaxBytes) return std::move(e.graph);
+    // Room made by the least recently used entries.
+    while (!memo->entries.empty() && (memo->entries.size() >= GraphMemo::kMaxEntries || memo->bytes + e.bytes > GraphMemo::kMaxBytes)) {
+        auto oldest = std::min_element(memo->entries.begin(), memo->entries.end(),
+                                       [](const GraphMemo::Entry& a, const GraphMemo::Entry& b) { return a.used < b.used; });
+        memo->bytes -= oldest->bytes;
+        memo->entries.erase(oldest);
+    }
+    memo->bytes += e.bytes;
+    memo->entries.push_back(std::move(e));
+    return memo->entries.back().graph;
+}
+
+void GraphMemoDelete::operator()(GraphMemo* memo) const { delete memo; }
+std::unique_ptr<GraphMemo, GraphMemoDelete> make_graph_memo() { return std::unique_ptr<GraphMemo, GraphMemoDelete>(new GraphMemo); }
+std::int64_t graph_memo_reused(const GraphMemo& memo) { return memo.reused; }
 
 } // namespace depthcull::detail
 

@@ -260,7 +260,7 @@ ReconstructStatus reconstruct_scene(const Scene& scene, const std::vector<const 
         if (!shapes.blended[i] && !(depthless && shapes.opaque[i] != Shape::none)) blend_keys[i] = -1;
         sorted[i] = blend_keys[i] >= 0;
     }
-    ElementGraph graph = build_graph(scene, analyses, shapes.boundary, options.graph, &sorted, options.graph_pair_budget);
+    ElementGraph graph = build_graph(options.graph_memo, scene, analyses, shapes.boundary, options.graph, &sorted, options.graph_pair_budget);
     std::vector<InsertionPoint> points = options.insertion_points;
     for (std::size_t k = 0; k < points.size(); ++k)
         if (points[k].element > n || points[k].levels < 0 || points[k].levels > kMaxDepthLevels ||

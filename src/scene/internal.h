@@ -65,6 +65,21 @@ ElementGraph build_graph(const Scene& scene, const std::vector<const ImageAnalys
                          const std::vector<Shape>& shapes, GraphMode mode, const std::vector<std::uint8_t>* sorted,
                          std::uint64_t pair_budget);
 
+// build_graph through `memo` (null: built afresh): a build from the same
+// shapes, boundary polygons (compared by value), mode and budget, and the
+// same `sorted` where the graph chains, is the memo's graph again.
+ElementGraph build_graph(GraphMemo* memo, const Scene& scene, const std::vector<const ImageAnalysis*>& analyses,
+                         const std::vector<Shape>& shapes, GraphMode mode, const std::vector<std::uint8_t>* sorted,
+                         std::uint64_t pair_budget);
+// ReconstructOptions::graph_memo: made here, kept by the caller for the
+// frames of one scene, one reconstruction at a time.
+struct GraphMemoDelete {
+    void operator()(GraphMemo* memo) const;
+};
+std::unique_ptr<GraphMemo, GraphMemoDelete> make_graph_memo();
+// How many builds `memo` answered (tests).
+std::int64_t graph_memo_reused(const GraphMemo& memo);
+
 } // namespace depthcull::detail
 
 #include <unordered_map>

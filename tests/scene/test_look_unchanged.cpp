@@ -271,6 +271,97 @@ TEST(LookUnchanged, ClipMemoGivesTheMeshesOfAFreshCut) {
     EXPECT_GT(reused, 0); // the memo was used, not only filled
 }
 
+// The chooser keeps the element graphs its contestant frames build
+// (ReconstructOptions::graph_memo) and answers an equal build from them.
+// Whatever came between (frames with other boundary polygons, opaque
+// polygons dropped, without a depth buffer, which changes what the chain
+// of a crowded cell links; a pair budget of 3 makes every cell crowded), a
+// frame made with the memo is byte for byte the one made without it.
+TEST(LookUnchanged, GraphMemoGivesTheMeshesOfAFreshGraph) {
+    std::int64_t reused = 0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        RandomScene r = random_scene(seed, 10 + int(seed % 50));
+        // Every third element drawing its rect as its boundary, every other
+        // one without opaque polygons: other graphs, then the same again.
+        std::vector<ImageAnalysis> changed(r.element_analysis.size());
+        std::vector<const ImageAnalysis*> rects = r.element_analysis, fewer = r.element_analysis;
+        for (std::size_t i = 0; i < rects.size(); i += 3) {
+            changed[i] = *rects[i];
+            changed[i].boundary = {detail::rect_polygon(r.scene.elements[i].rect)};
+            rects[i] = &changed[i];
+        }
+        std::vector<ImageAnalysis> thinned(r.element_analysis.size());
+        for (std::size_t i = 0; i < fewer.size(); i += 2) {
+            thinned[i] = *fewer[i];
+            thinned[i].opaque.clear();
+            fewer[i] = &thinned[i];
+        }
+        for (const std::uint64_t budget : {limits::kGraphPairBudget, std::uint64_t(3)}) {
+            const auto memo = detail::make_graph_memo();
+            int frame = 0;
+            for (const auto* analyses : {&r.element_analysis, &rects, &fewer, &r.element_analysis, &rects, &r.element_analysis, &fewer})
+                for (const bool depthless : {false, true}) {
+                    ReconstructOptions o;
+                    o.graph_pair_budget = budget;
+                    o.depthless = depthless;
+                    o.clip_hidden = {true, 1, 0, 0};
+                    SceneMeshes fresh, kept;
+                    ASSERT_EQ(reconstruct_scene(r.scene, *analyses, o, &fresh), ReconstructStatus::ok);
+                    o.graph_memo = memo.get();
+                    ASSERT_EQ(reconstruct_scene(r.scene, *analyses, o, &kept), ReconstructStatus::ok);
+                    ASSERT_EQ(kept.draws.size(), fresh.draws.size()) << "seed " << seed << ", frame " << frame;
+                    for (std::size_t d = 0; d < fresh.draws.size(); ++d) {
+                        EXPECT_EQ(kept.draws[d].vertices, fresh.draws[d].vertices) << "seed " << seed << ", frame " << frame << ", draw " << d;
+                        EXPECT_EQ(kept.draws[d].indices, fresh.draws[d].indices) << "seed " << seed << ", frame " << frame << ", draw " << d;
+                        EXPECT_EQ(kept.draws[d].image, fresh.draws[d].image);
+                        EXPECT_EQ(kept.draws[d].pass, fresh.draws[d].pass);
+                    }
+                    ++frame;
+                }
+            reused += detail::graph_memo_reused(*memo);
+        }
+    }
+    EXPECT_GT(reused, 0); // the memo was used, not only filled
+}
+
+// The same memo's contract on the graph itself: a build through it is the
+// graph built afresh, for every `sorted` (which the chain of crowded cells
+// reads) and boundary polygons, in any order of builds.
+TEST(ElementGraphMemo, GivesTheGraphBuiltAfresh) {
+    std::int64_t reused = 0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        RandomScene r = random_scene(seed, 10 + int(seed % 50));
+        const std::size_t n = r.scene.elements.size();
+        std::vector<ImageAnalysis> changed(n);
+        std::vector<const ImageAnalysis*> rects = r.element_analysis;
+        for (std::size_t i = 0; i < n; i += 3) {
+            changed[i] = *rects[i];
+            changed[i].boundary = {detail::rect_polygon(r.scene.elements[i].rect)};
+            rects[i] = &changed[i];
+        }
+        std::vector<std::uint8_t> odd(n, 0);
+        for (std::size_t i = 1; i < n; i += 2) odd[i] = 1;
+        const std::vector<std::uint8_t> none(n, 0);
+        using Flags = const std::vector<std::uint8_t>*;
+        for (const std::uint64_t budget : {limits::kGraphPairBudget, std::uint64_t(3)}) {
+            const auto memo = detail::make_graph_memo();
+            for (int round = 0; round < 2; ++round)
+                for (const auto* analyses : {&r.element_analysis, &rects})
+                    for (Flags sorted : {Flags(nullptr), Flags(&odd), Flags(&none)}) {
+                        const detail::ElementShapes shapes = detail::element_shapes(r.scene, *analyses, true);
+                        const ElementGraph fresh = detail::build_graph(r.scene, *analyses, shapes.boundary, GraphMode::polygons, sorted, budget);
+                        const ElementGraph kept =
+                            detail::build_graph(memo.get(), r.scene, *analyses, shapes.boundary, GraphMode::polygons, sorted, budget);
+                        EXPECT_EQ(kept.offsets, fresh.offsets) << "seed " << seed;
+                        EXPECT_EQ(kept.targets, fresh.targets) << "seed " << seed;
+                        EXPECT_EQ(kept.chained, fresh.chained) << "seed " << seed;
+                    }
+            reused += detail::graph_memo_reused(*memo);
+        }
+    }
+    EXPECT_GT(reused, 0);
+}
+
 // Issue 25: an occluder inside an element (touching none of its edges)
 // leaves a ring, triangulated whole: on a tile GL snaps exactly 8
 // triangles instead of two ear-clipped strips' 12; on a turned, scaled
