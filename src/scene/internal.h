@@ -122,8 +122,10 @@ constexpr std::size_t kMaxHoleTriangulationVertices = 64;
 // length / max_aspect, to a point other than its ends is not taken: the
 // thin triangle it would close could turn over once GL rounds the points,
 // or sample texels loosely (clip_hidden.cpp). 0: no such limit.
+// `cones` false: no diagonal is skipped for starting outside the region
+// at an end (tests: the skip changes nothing but the time).
 std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<GridPoint>>& contours, std::int64_t clearance = 0,
-                                                  double max_aspect = 0);
+                                                  double max_aspect = 0, bool cones = true);
 
 struct ClippedParts {
     std::unordered_map<std::uint32_t, ClippedPart> blend;  // blend-pass polygons (or rect) cut

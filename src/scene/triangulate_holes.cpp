@@ -81,10 +81,34 @@ bool passes_near_a_point(const std::vector<GridPoint>& p, std::uint32_t i, std::
     return false;
 }
 
+// Each point's neighbours along its contour, ordered so that the region
+// lies to the left of prev -> point -> next (an outline turning
+// counterclockwise, a hole clockwise, y up), and the turn there.
+struct Corner {
+    std::uint32_t prev, next;
+    Wide turn;
+};
+
+// Whether a diagonal from corner point v towards t starts into the region:
+// strictly inside the angle the region makes at v. Only contours meet v's
+// neighbourhood there (points are distinct), so one that does not starts
+// outside (or along an edge): touching no edge, it then lies outside
+// whole, and the full test below would refuse it too, after scanning
+// every edge. Exact, so the triangulation is the same.
+bool opens_into(const std::vector<GridPoint>& p, const Corner& c, GridPoint v, GridPoint t) {
+    const GridPoint u = p[c.prev], w = p[c.next];
+    const bool after_in = orient(u, v, t) > 0, before_in = orient(v, w, t) > 0;
+    if (c.turn > 0) return after_in && before_in; // convex: inside both edges
+    if (c.turn < 0) return after_in || before_in; // reflex: outside both is outside
+    // Straight on: the half plane left of it; a spike back: not decided here.
+    const bool ahead = Wide(v.x - u.x) * Wide(w.x - v.x) + Wide(v.y - u.y) * Wide(w.y - v.y) > 0;
+    return ahead ? after_in : true;
+}
+
 } // namespace
 
 std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<GridPoint>>& contours, std::int64_t clearance,
-                                                  double max_aspect) {
+                                                  double max_aspect, bool cones) {
     std::vector<std::uint32_t> none;
     if (contours.empty()) return none;
     std::vector<GridPoint> p;
@@ -108,6 +132,21 @@ std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<
         std::sort(sorted.begin(), sorted.end());
         if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return none;
     }
+    // A contour without area has no inside to start into: no cones then.
+    std::vector<Corner> corners(n);
+    for (std::size_t c = 0, first = 0; c < contours.size(); first += contours[c].size(), ++c) {
+        const std::size_t m = contours[c].size();
+        const Wide area = doubled_area(contours[c]);
+        cones = cones && area != 0;
+        const bool left = c == 0 ? area > 0 : area < 0; // the region lies left of the contour's own order
+        for (std::size_t k = 0; k < m; ++k) {
+            const std::uint32_t before = std::uint32_t(first + (k + m - 1) % m), after = std::uint32_t(first + (k + 1) % m);
+            Corner& corner = corners[first + k];
+            corner.prev = left ? before : after;
+            corner.next = left ? after : before;
+            corner.turn = orient(p[corner.prev], p[first + k], p[corner.next]);
+        }
+    }
     std::vector<std::uint8_t> adjacent(n * n, 0);
     for (auto [a, b] : edges) adjacent[a * n + b] = adjacent[b * n + a] = 1;
 
@@ -117,6 +156,7 @@ std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<
     for (std::uint32_t i = 0; i < n; ++i)
         for (std::uint32_t j = i + 1; j < n; ++j) {
             if (adjacent[i * n + j]) continue;
+            if (cones && (!opens_into(p, corners[i], p[i], p[j]) || !opens_into(p, corners[j], p[j], p[i]))) continue;
             const Wide dx = p[j].x - p[i].x, dy = p[j].y - p[i].y;
             candidates.emplace_back(dx * dx + dy * dy, i, j);
         }

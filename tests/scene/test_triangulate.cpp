@@ -367,5 +367,44 @@ RC_GTEST_PROP(TriangulateHoles, TilesTheRegionExactly, ()) {
     RC_ASSERT(!::testing::Test::HasFailure());
 }
 
+// The diagonals skipped for starting outside the region at an end (a cone
+// test at each end) are ones the full test refuses: the triangulation is
+// the same with and without the skip, on outlines with reflex corners (a
+// star) around holes, either orientation, with and without the clearance
+// and aspect limits, triangulated or refused alike.
+RC_GTEST_PROP(TriangulateHoles, SkippingDiagonalsThatStartOutsideChangesNothing, ()) {
+    const std::int64_t scale = *rc::gen::element(std::int64_t(1), std::int64_t(7), std::int64_t(1) << 32);
+    auto at = [&](std::int64_t x, std::int64_t y) { return GridPoint{x * scale, y * scale}; };
+    // Every point 60..100 from the centre, at most 72 degrees apart: each
+    // edge passes at least 48 from it, outside the holes' square.
+    const int m = *rc::gen::inRange(8, 25);
+    std::vector<GridPoint> outline;
+    for (int i = 0; i < m; ++i) {
+        const double a = 2 * M_PI * (i + 0.3 * (*rc::gen::inRange(-100, 101)) / 100.0) / m;
+        const double r = *rc::gen::inRange(60, 101);
+        outline.push_back(at(std::llround(r * std::cos(a)), std::llround(r * std::sin(a))));
+    }
+    std::vector<std::vector<GridPoint>> region{outline};
+    // Holes in the cells of a 2x2 grid over -25..25, one per cell at most.
+    for (int cell = 0; cell < 4; ++cell) {
+        if (*rc::gen::inRange(0, 3) == 0) continue;
+        const int x0 = -25 + (cell % 2) * 25 + 1, y0 = -25 + (cell / 2) * 25 + 1;
+        const int ax = x0 + *rc::gen::inRange(0, 10), ay = y0 + *rc::gen::inRange(0, 10);
+        const int bx = ax + 2 + *rc::gen::inRange(0, 10), by = ay + 2 + *rc::gen::inRange(0, 10);
+        if (*rc::gen::inRange(0, 2) == 0) region.push_back({at(ax, ay), at(bx, ay), at(bx, by), at(ax, by)});
+        else region.push_back({at(ax, ay), at(bx, by), at((ax + bx) / 2 - 1, by)});
+        if (*rc::gen::inRange(0, 2) == 0) std::reverse(region.back().begin(), region.back().end());
+    }
+    if (*rc::gen::inRange(0, 2) == 0) std::reverse(region[0].begin(), region[0].end());
+    const std::int64_t clearance = *rc::gen::element(std::int64_t(0), scale / 8 + 1);
+    const double aspect = *rc::gen::element(0.0, 8.0, 64.0);
+    const std::vector<std::uint32_t> skipping = detail::triangulate_with_holes(region, clearance, aspect);
+    const std::vector<std::uint32_t> trying_all = detail::triangulate_with_holes(region, clearance, aspect, false);
+    RC_ASSERT(skipping == trying_all);
+    if (!skipping.empty()) check_region(region, skipping);
+    RC_ASSERT(!::testing::Test::HasFailure());
+    RC_TAG(skipping.empty() ? "refused" : "triangulated");
+}
+
 } // namespace
 } // namespace depthcull
