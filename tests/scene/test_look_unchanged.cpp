@@ -231,6 +231,49 @@ TEST(LookUnchanged, ClippedHiddenPartsKeepTheFrame) {
     EXPECT_GE(cut_scenes, 10);
 }
 
+// Every other element's analysis without its opaque polygons (copies
+// kept in `store`).
+std::vector<const ImageAnalysis*> without_opaque_every_other(const RandomScene& r, std::vector<ImageAnalysis>& store) {
+    std::vector<const ImageAnalysis*> out = r.element_analysis;
+    store.assign(out.size(), {});
+    for (std::size_t i = 0; i < out.size(); i += 2) {
+        store[i] = *out[i];
+        store[i].opaque.clear();
+        out[i] = &store[i];
+    }
+    return out;
+}
+
+// Every third element's boundary its whole rect (copies kept in `store`).
+std::vector<const ImageAnalysis*> rect_boundary_every_third(const RandomScene& r, std::vector<ImageAnalysis>& store) {
+    std::vector<const ImageAnalysis*> out = r.element_analysis;
+    store.assign(out.size(), {});
+    for (std::size_t i = 0; i < out.size(); i += 3) {
+        store[i] = *out[i];
+        store[i].boundary = {detail::rect_polygon(r.scene.elements[i].rect)};
+        out[i] = &store[i];
+    }
+    return out;
+}
+
+// A frame made through a memo (which `use_memo` sets on the options)
+// against the one made without it, byte for byte.
+template <class UseMemo>
+void expect_same_frame_with_memo(const RandomScene& r, const std::vector<const ImageAnalysis*>& analyses, ReconstructOptions o,
+                                 UseMemo use_memo, std::uint64_t seed, int frame) {
+    SceneMeshes fresh, kept;
+    ASSERT_EQ(reconstruct_scene(r.scene, analyses, o, &fresh), ReconstructStatus::ok);
+    use_memo(o);
+    ASSERT_EQ(reconstruct_scene(r.scene, analyses, o, &kept), ReconstructStatus::ok);
+    ASSERT_EQ(kept.draws.size(), fresh.draws.size()) << "seed " << seed << ", frame " << frame;
+    for (std::size_t d = 0; d < fresh.draws.size(); ++d) {
+        EXPECT_EQ(kept.draws[d].vertices, fresh.draws[d].vertices) << "seed " << seed << ", frame " << frame << ", draw " << d;
+        EXPECT_EQ(kept.draws[d].indices, fresh.draws[d].indices) << "seed " << seed << ", frame " << frame << ", draw " << d;
+        EXPECT_EQ(kept.draws[d].image, fresh.draws[d].image);
+        EXPECT_EQ(kept.draws[d].pass, fresh.draws[d].pass);
+    }
+}
+
 // Issue 25: choose_for_target keeps each element's last cut from one
 // contestant frame to the next (ClipHiddenOptions::memo) and reuses it
 // where the element is cut alike. Whatever came between (here frames
@@ -241,30 +284,14 @@ TEST(LookUnchanged, ClipMemoGivesTheMeshesOfAFreshCut) {
     std::int64_t reused = 0;
     for (std::uint64_t seed = 1; seed <= 20; ++seed) {
         RandomScene r = random_scene(seed, 10 + int(seed % 50));
-        std::vector<ImageAnalysis> thinned(r.analyses.size());
-        std::vector<const ImageAnalysis*> fewer = r.element_analysis;
-        for (std::size_t i = 0; i < fewer.size(); i += 2) {
-            thinned[i] = *fewer[i];
-            thinned[i].opaque.clear();
-            fewer[i] = &thinned[i];
-        }
+        std::vector<ImageAnalysis> thinned;
+        std::vector<const ImageAnalysis*> fewer = without_opaque_every_other(r, thinned);
         const auto memo = detail::make_clip_memo();
         int frame = 0;
         for (const auto* analyses : {&r.element_analysis, &fewer, &r.element_analysis, &r.element_analysis, &fewer}) {
             ReconstructOptions o;
             o.clip_hidden = {true, 1, 0, 0};
-            SceneMeshes fresh, kept;
-            ASSERT_EQ(reconstruct_scene(r.scene, *analyses, o, &fresh), ReconstructStatus::ok);
-            o.clip_hidden.memo = memo.get();
-            ASSERT_EQ(reconstruct_scene(r.scene, *analyses, o, &kept), ReconstructStatus::ok);
-            ASSERT_EQ(kept.draws.size(), fresh.draws.size()) << "seed " << seed << ", frame " << frame;
-            for (std::size_t d = 0; d < fresh.draws.size(); ++d) {
-                EXPECT_EQ(kept.draws[d].vertices, fresh.draws[d].vertices) << "seed " << seed << ", frame " << frame << ", draw " << d;
-                EXPECT_EQ(kept.draws[d].indices, fresh.draws[d].indices) << "seed " << seed << ", frame " << frame << ", draw " << d;
-                EXPECT_EQ(kept.draws[d].image, fresh.draws[d].image);
-                EXPECT_EQ(kept.draws[d].pass, fresh.draws[d].pass);
-            }
-            ++frame;
+            expect_same_frame_with_memo(r, *analyses, o, [&](ReconstructOptions& m) { m.clip_hidden.memo = memo.get(); }, seed, frame++);
         }
         reused += detail::clip_memo_reused(*memo);
     }
@@ -281,21 +308,9 @@ TEST(LookUnchanged, GraphMemoGivesTheMeshesOfAFreshGraph) {
     std::int64_t reused = 0;
     for (std::uint64_t seed = 1; seed <= 20; ++seed) {
         RandomScene r = random_scene(seed, 10 + int(seed % 50));
-        // Every third element drawing its rect as its boundary, every other
-        // one without opaque polygons: other graphs, then the same again.
-        std::vector<ImageAnalysis> changed(r.element_analysis.size());
-        std::vector<const ImageAnalysis*> rects = r.element_analysis, fewer = r.element_analysis;
-        for (std::size_t i = 0; i < rects.size(); i += 3) {
-            changed[i] = *rects[i];
-            changed[i].boundary = {detail::rect_polygon(r.scene.elements[i].rect)};
-            rects[i] = &changed[i];
-        }
-        std::vector<ImageAnalysis> thinned(r.element_analysis.size());
-        for (std::size_t i = 0; i < fewer.size(); i += 2) {
-            thinned[i] = *fewer[i];
-            thinned[i].opaque.clear();
-            fewer[i] = &thinned[i];
-        }
+        // Other boundary polygons, other opaque polygons: other graphs, then the same again.
+        std::vector<ImageAnalysis> changed, thinned;
+        std::vector<const ImageAnalysis*> rects = rect_boundary_every_third(r, changed), fewer = without_opaque_every_other(r, thinned);
         for (const std::uint64_t budget : {limits::kGraphPairBudget, std::uint64_t(3)}) {
             const auto memo = detail::make_graph_memo();
             int frame = 0;
@@ -305,18 +320,7 @@ TEST(LookUnchanged, GraphMemoGivesTheMeshesOfAFreshGraph) {
                     o.graph_pair_budget = budget;
                     o.depthless = depthless;
                     o.clip_hidden = {true, 1, 0, 0};
-                    SceneMeshes fresh, kept;
-                    ASSERT_EQ(reconstruct_scene(r.scene, *analyses, o, &fresh), ReconstructStatus::ok);
-                    o.graph_memo = memo.get();
-                    ASSERT_EQ(reconstruct_scene(r.scene, *analyses, o, &kept), ReconstructStatus::ok);
-                    ASSERT_EQ(kept.draws.size(), fresh.draws.size()) << "seed " << seed << ", frame " << frame;
-                    for (std::size_t d = 0; d < fresh.draws.size(); ++d) {
-                        EXPECT_EQ(kept.draws[d].vertices, fresh.draws[d].vertices) << "seed " << seed << ", frame " << frame << ", draw " << d;
-                        EXPECT_EQ(kept.draws[d].indices, fresh.draws[d].indices) << "seed " << seed << ", frame " << frame << ", draw " << d;
-                        EXPECT_EQ(kept.draws[d].image, fresh.draws[d].image);
-                        EXPECT_EQ(kept.draws[d].pass, fresh.draws[d].pass);
-                    }
-                    ++frame;
+                    expect_same_frame_with_memo(r, *analyses, o, [&](ReconstructOptions& m) { m.graph_memo = memo.get(); }, seed, frame++);
                 }
             reused += detail::graph_memo_reused(*memo);
         }
@@ -332,13 +336,8 @@ TEST(ElementGraphMemo, GivesTheGraphBuiltAfresh) {
     for (std::uint64_t seed = 1; seed <= 20; ++seed) {
         RandomScene r = random_scene(seed, 10 + int(seed % 50));
         const std::size_t n = r.scene.elements.size();
-        std::vector<ImageAnalysis> changed(n);
-        std::vector<const ImageAnalysis*> rects = r.element_analysis;
-        for (std::size_t i = 0; i < n; i += 3) {
-            changed[i] = *rects[i];
-            changed[i].boundary = {detail::rect_polygon(r.scene.elements[i].rect)};
-            rects[i] = &changed[i];
-        }
+        std::vector<ImageAnalysis> changed;
+        std::vector<const ImageAnalysis*> rects = rect_boundary_every_third(r, changed);
         std::vector<std::uint8_t> odd(n, 0);
         for (std::size_t i = 1; i < n; i += 2) odd[i] = 1;
         const std::vector<std::uint8_t> none(n, 0);
