@@ -533,8 +533,9 @@ bool built_from(const GraphMemo::Entry& e, const std::vector<const ImageAnalysis
                 GraphMode mode, const std::vector<std::uint8_t>* sorted, std::uint64_t budget) {
     if (e.mode != mode || e.budget != budget || e.shapes != shapes) return false;
     // Each analysis is compared with its first element's set; the rest of
-    // its elements must then name that set (sets are distinct by analysis,
-    // so two equal sets only make a build be made again).
+    // its elements must then name that set. (An entry keeps a set per
+    // analysis it was built from, so two of them holding equal polygons
+    // can only make an equal build be made again, never a wrong one.)
     std::unordered_map<const ImageAnalysis*, std::uint32_t> set_of_analysis;
     for (std::size_t i = 0; i < shapes.size(); ++i) {
         if (shapes[i] != Shape::analysis) continue;
@@ -550,9 +551,8 @@ ElementGraph build_graph(GraphMemo* memo, const Scene& scene, const std::vector<
                          const std::vector<Shape>& shapes, GraphMode mode, const std::vector<std::uint8_t>* sorted,
                          std::uint64_t pair_budget) {
     const std::size_t n = scene.elements.size();
-    const bool usable = memo && shapes.size() == n && analyses.size() == n;
-    for (std::size_t i = 0; usable && i < n; ++i)
-        if (shapes[i] == Shape::analysis && !analyses[i]) return build_graph(scene, analyses, shapes, mode, sorted, pair_budget);
+    bool usable = memo && shapes.size() == n && analyses.size() == n;
+    for (std::size_t i = 0; usable && i < n; ++i) usable = shapes[i] != Shape::analysis || analyses[i];
     if (!usable) return build_graph(scene, analyses, shapes, mode, sorted, pair_budget);
     if (memo->scene != &scene || memo->elements != n) *memo = GraphMemo{}, memo->scene = &scene, memo->elements = n;
     ++memo->clock;

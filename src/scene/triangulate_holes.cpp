@@ -90,11 +90,12 @@ struct Corner {
 };
 
 // Whether a diagonal from corner point v towards t starts into the region:
-// strictly inside the angle the region makes at v. Only contours meet v's
-// neighbourhood there (points are distinct), so one that does not starts
-// outside (or along an edge): touching no edge, it then lies outside
-// whole, and the full test below would refuse it too, after scanning
-// every edge. Exact, so the triangulation is the same.
+// strictly inside the angle the region makes at v. Near v the region is
+// that angle alone (no other point is v; an edge passing through v would
+// touch every diagonal from v), so a diagonal that does not start inside
+// it runs along an edge or starts outside, and then, touching no edge,
+// lies outside whole: the full test below refuses it either way, after
+// scanning every edge. Exact, so the triangulation is the same.
 bool opens_into(const std::vector<GridPoint>& p, const Corner& c, GridPoint v, GridPoint t) {
     const GridPoint u = p[c.prev], w = p[c.next];
     const bool after_in = orient(u, v, t) > 0, before_in = orient(v, w, t) > 0;
