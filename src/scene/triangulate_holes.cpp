@@ -134,10 +134,11 @@ std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<
         if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return none;
     }
     // A contour without area has no inside to start into: no cones then.
+    std::vector<Wide> areas; // per contour, doubled and signed
     std::vector<Corner> corners(n);
     for (std::size_t c = 0, first = 0; c < contours.size(); first += contours[c].size(), ++c) {
         const std::size_t m = contours[c].size();
-        const Wide area = doubled_area(contours[c]);
+        const Wide area = areas.emplace_back(doubled_area(contours[c]));
         cones = cones && area != 0;
         const bool left = c == 0 ? area > 0 : area < 0; // the region lies left of the contour's own order
         for (std::size_t k = 0; k < m; ++k) {
@@ -191,12 +192,9 @@ std::vector<std::uint32_t> triangulate_with_holes(const std::vector<std::vector<
 
     // The faces: 3-cycles with no point inside and their centre in the region
     // (a triangular hole is a 3-cycle too).
-    const Wide outer = doubled_area(contours[0]);
+    const Wide outer = areas[0];
     Wide expected = outer < 0 ? -outer : outer;
-    for (std::size_t h = 1; h < contours.size(); ++h) {
-        const Wide a = doubled_area(contours[h]);
-        expected -= a < 0 ? -a : a;
-    }
+    for (std::size_t h = 1; h < contours.size(); ++h) expected -= areas[h] < 0 ? -areas[h] : areas[h];
     // Each face is found once: from its two lowest points' edge.
     std::vector<std::uint32_t> triangles;
     Wide covered = 0;
