@@ -191,6 +191,18 @@ struct TargetPlan {
 TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& options, const CostProfile& profile,
                        const ReconstructOptions& reconstruct);
 
+// What one of plan_target's choices may hold at once, reserved from
+// PrepareOptions::memory before it runs, so choices side by side on threads
+// stay within the budget whatever -j is (past it they run one at a time):
+// kTargetChoiceBytesPerElement per element for its contestant frames, plus
+// kTargetChoiceFixedBytes for its memos (cuts and element graphs, each
+// bounded) and the cost model's depth band. An estimate (a scene of 125,000
+// tiles held 1.5 KiB per element per choice), not a limit: one choice runs
+// even when it needs more than the whole budget.
+inline constexpr std::uint64_t kTargetChoiceBytesPerElement = 2048;
+inline constexpr std::uint64_t kTargetChoiceFixedBytes = std::uint64_t(128) << 20;
+std::uint64_t target_choice_bytes(const Scene& scene);
+
 // ---- optimize: the whole pipeline as one call. Every command that
 // optimizes a scene (optimize, render, bench, report), the C API and the
 // examples go through it; nothing else strings the stages together.

@@ -191,6 +191,13 @@ struct Chooser {
     bool opaque_pass = false;
     // 3.
     std::vector<std::int64_t> hider; // the element whose opaque polygon hides it
+    // The elements each one hides, hider inverted (CSR: hides[hides_begin[j] ..
+    // hides_begin[j + 1]]), so that reverting one element's opaque polygons
+    // costs what it hid, not a pass over the scene: fall_back reverts every
+    // element of a key, and a scan per element was quadratic (500,000 tiles
+    // of one key took minutes).
+    std::vector<std::size_t> hides_begin;
+    std::vector<std::uint32_t> hides;
     // evaluate()'s cuts, kept from one contestant frame to the next: most
     // cut their elements alike (ClipHiddenOptions::memo).
     std::unique_ptr<detail::ClipMemo, detail::ClipMemoDelete> clip_memo = detail::make_clip_memo();
@@ -478,6 +485,14 @@ void Chooser::drop_hidden() {
                 }
             }
         }
+    hides_begin.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+        if (hider[i] >= 0) ++hides_begin[std::size_t(hider[i]) + 1];
+    for (std::size_t j = 0; j < n; ++j) hides_begin[j + 1] += hides_begin[j];
+    hides.assign(hides_begin[n], 0);
+    std::vector<std::size_t> fill(hides_begin.begin(), hides_begin.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+        if (hider[i] >= 0) hides[fill[std::size_t(hider[i])]++] = std::uint32_t(i);
 }
 
 std::vector<Contestant> Chooser::contestants() const {
@@ -570,8 +585,7 @@ void Chooser::fall_back(Contestant& win, double& best_ms, TargetChoice& out) con
                     if (usable(i) && key_of(i) == k && t.variants[i].opaque != Opaque::none && !t.variants[i].dropped) {
                         t.variants[i].opaque = Opaque::none;
                         changed = true;
-                        for (std::size_t h = 0; h < n; ++h)
-                            if (hider[h] == std::int64_t(i)) t.variants[h].dropped = false;
+                        for (std::size_t h = hides_begin[i]; h < hides_begin[i + 1]; ++h) t.variants[hides[h]].dropped = false;
                     }
                 if (changed) {
                     const double ms = evaluate(t, &scratch);

@@ -86,9 +86,12 @@ void analyze_candidates(const PreparedScene& prepared, const CostProfile& profil
 void choose(const PreparedScene& prepared, const CostProfile& profile, const ReconstructOptions& reconstruct, PlanJob& job) {
     TargetPlan& plan = job.plan;
     const std::size_t nb = plan.budgets.size(), keys = nb ? plan.candidates.size() / nb : 0;
+    std::vector<std::uint8_t> used(keys, 0); // one pass: a search per key took keys x elements
+    for (int k : job.element_key)
+        if (k >= 0 && std::size_t(k) < keys) used[std::size_t(k)] = 1;
     std::vector<TargetCandidates> candidates(keys);
     for (std::size_t k = 0; k < keys; ++k) {
-        if (std::find(job.element_key.begin(), job.element_key.end(), int(k)) == job.element_key.end()) continue;
+        if (!used[k]) continue;
         for (std::size_t b = 0; b < nb; ++b) {
             candidates[k].analyses.push_back(&plan.candidate(k, b)); // local: the plan keeps none of these pointers
             candidates[k].max_vertices.push_back(plan.budgets[b]);
@@ -148,7 +151,12 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
     // Candidates first (each analysis on threads, through the cache), then
     // every choice at once: each rasterizes its contestants' frames alone.
     for (PlanJob& job : jobs) analyze_candidates(prepared, profile, job);
-    parallel_for(jobs.size(), options.threads, [&](std::size_t j) { choose(prepared, profile, reconstruct, jobs[j]); });
+    MemoryBudget& memory = options.memory ? *options.memory : shared_memory_budget();
+    const std::uint64_t choice_bytes = target_choice_bytes(prepared.scene);
+    parallel_for(jobs.size(), options.threads, [&](std::size_t j) {
+        const MemoryBudget::Hold hold = memory.reserve(choice_bytes);
+        choose(prepared, profile, reconstruct, jobs[j]);
+    });
 
     std::vector<TargetPlan> by_method;
     for (std::size_t j = 0; j < jobs.size(); j += clip ? 2 : 1) {
@@ -162,6 +170,10 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
         keep_faster(plan, by_method[1]);
     }
     return plan;
+}
+
+std::uint64_t target_choice_bytes(const Scene& scene) {
+    return kTargetChoiceFixedBytes + kTargetChoiceBytesPerElement * std::uint64_t(scene.elements.size());
 }
 
 std::string target_summary(const std::string& path, const TargetPlan& plan) {

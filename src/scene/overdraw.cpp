@@ -200,7 +200,7 @@ struct DepthBuffer {
 // One triangle of rasterize_meshes (which see), its edge values in T.
 template <class T, bool kRows, bool kPixels, class OnFragment, class OnRow>
 void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t triangle, Fixed p[3], double z[3], const float* vertex[3],
-                        DepthBuffer& depth, OnFragment& on_fragment, OnRow& on_row) {
+                        DepthBuffer& depth, int band_y0, int band_y1, OnFragment& on_fragment, OnRow& on_row) {
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
     const bool write_depth = meshes.depth_test && draw.pass == Pass::opaque;
     T area = EdgeOf<T>(p[0], p[1]).at(p[2].x, p[2].y);
@@ -213,7 +213,8 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
     }
     // Edge k is opposite vertex k, so its value is vertex k's barycentric weight.
     const EdgeOf<T> e[3] = {EdgeOf<T>(p[1], p[2]), EdgeOf<T>(p[2], p[0]), EdgeOf<T>(p[0], p[1])};
-    const auto [x0, y0, x1, y1] = pixel_box(p, width, height);
+    const auto [x0, box_y0, x1, box_y1] = pixel_box(p, width, height);
+    const int y0 = std::max(box_y0, band_y0), y1 = std::min(box_y1, band_y1); // the rows of this band
     const bool flat = z[0] == z[1] && z[1] == z[2];
     const std::uint32_t flat_depth = depth24(z[0]);
     // Edge values step by a (one pixel right, in subpixel units) from the
@@ -301,7 +302,7 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
 // grown by a pixel, which holds every triangle's pixel_box. A vertex too far
 // out to be drawn (snap) only makes the box larger, never wrong; min and
 // max skip NaN, and no vertex at all leaves the box empty.
-DepthBuffer depth_buffer_for(const SceneMeshes& meshes, int width, int height) {
+PixelBox depth_box_for(const SceneMeshes& meshes, int width, int height) {
     float fx0 = INFINITY, fy0 = INFINITY, fx1 = -INFINITY, fy1 = -INFINITY;
     for (const Draw& draw : meshes.draws)
         for (std::size_t v = 0; v + kVertexFloats <= draw.vertices.size(); v += kVertexFloats) {
@@ -309,13 +310,20 @@ DepthBuffer depth_buffer_for(const SceneMeshes& meshes, int width, int height) {
             fy0 = std::min(fy0, draw.vertices[v + 1]), fy1 = std::max(fy1, draw.vertices[v + 1]);
         }
     // A pixel wider on every side: snapping moves a vertex by up to 1/512 px.
-    DepthBuffer out;
-    out.box = centres_in(double(fx0) - meshes.viewport.x - 1, double(fy0) - meshes.viewport.y - 1, double(fx1) - meshes.viewport.x + 1,
-                         double(fy1) - meshes.viewport.y + 1, width, height);
-    if (out.box.x0 <= out.box.x1 && out.box.y0 <= out.box.y1) // else no triangle covers a centre
-        out.depth.assign(std::size_t(out.box.x1 - out.box.x0 + 1) * std::size_t(out.box.y1 - out.box.y0 + 1), 0);
-    return out;
+    return centres_in(double(fx0) - meshes.viewport.x - 1, double(fy0) - meshes.viewport.y - 1, double(fx1) - meshes.viewport.x + 1,
+                      double(fy1) - meshes.viewport.y + 1, width, height);
 }
+
+// The most depth values held at once (16 MiB). A larger depth-tested frame
+// is rasterized a band of rows at a time, every triangle in order within
+// each band: the cost model rasterizes each contestant frame of optimize
+// --target in the scene's viewport, up to 16384^2 px, where one buffer for
+// all of it took 1 GiB per frame (per plan weighed at once) and the time to
+// clear it. Each pixel still meets its fragments in drawing order, so every
+// depth test, count and per-pixel result is the same; bands start on block
+// rows (multiples of 4), so a triangle's blocks (BlockRows, one triangle at
+// a time) split between bands at a block row and add up the same.
+constexpr std::size_t kDepthBandPixels = std::size_t(1) << 22;
 
 // Rasterizes every triangle of `meshes` the way GL does (see
 // analyze_overdraw), the depth test included: on_fragment(const Fragment&)
@@ -325,23 +333,76 @@ DepthBuffer depth_buffer_for(const SceneMeshes& meshes, int width, int height) {
 // (kRows; `triangle` counts the triangles rasterized, to tell them apart).
 template <bool kRows, bool kPixels, class OnFragment, class OnRow>
 void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow&& on_row) {
-    std::size_t triangle = 0;
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
     DepthBuffer depth;
-    if (meshes.depth_test) depth = depth_buffer_for(meshes, width, height);
-    for (const Draw& draw : meshes.draws) {
+    // The number-th triangle drawn, within rows band_y0 .. band_y1.
+    auto draw_triangle = [&](const Draw& draw, std::size_t number, Fixed p[3], double z[3], const float* vertex[3], bool narrow, int band_y0,
+                             int band_y1) {
+        if (narrow)
+            rasterize_triangle<std::int64_t, kRows, kPixels>(meshes, draw, number, p, z, vertex, depth, band_y0, band_y1, on_fragment,
+                                                             on_row);
+        else
+            rasterize_triangle<Wide, kRows, kPixels>(meshes, draw, number, p, z, vertex, depth, band_y0, band_y1, on_fragment, on_row);
+    };
+    PixelBox box{0, 0, -1, -1};
+    int band = height; // rows per band
+    if (meshes.depth_test) {
+        box = depth_box_for(meshes, width, height);
+        if (box.x0 > box.x1 || box.y0 > box.y1) box = {0, 0, -1, -1}; // no triangle covers a centre
+        else {
+            const std::size_t columns = std::size_t(box.x1 - box.x0 + 1), rows = std::size_t(box.y1 - box.y0 + 1);
+            if (columns * rows > kDepthBandPixels) band = int(std::max<std::size_t>(4, kDepthBandPixels / columns / 4 * 4));
+        }
+    }
+    if (!meshes.depth_test || band >= box.y1 - box.y0 + 1) {
+        if (meshes.depth_test && box.x0 <= box.x1)
+            depth.box = box, depth.depth.assign(std::size_t(box.x1 - box.x0 + 1) * std::size_t(box.y1 - box.y0 + 1), 0);
+        std::size_t triangle = 0;
+        for (const Draw& draw : meshes.draws)
+            for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3) {
+                Fixed p[3];
+                double z[3];
+                const float* vertex[3];
+                bool narrow;
+                if (!triangle_at(meshes, draw, t, p, z, vertex, &narrow)) continue;
+                draw_triangle(draw, ++triangle, p, z, vertex, narrow, 0, height - 1);
+            }
+        return;
+    }
+    // Bands: first each triangle's rows (first -1 for one GL would not draw,
+    // which is not numbered; pixel_box's rows are never negative), then each
+    // band's triangles in order.
+    std::vector<std::pair<int, int>> rows;
+    for (const Draw& draw : meshes.draws)
         for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3) {
             Fixed p[3];
             double z[3];
             const float* vertex[3];
             bool narrow;
-            if (!triangle_at(meshes, draw, t, p, z, vertex, &narrow)) continue;
-            ++triangle;
-            if (narrow)
-                rasterize_triangle<std::int64_t, kRows, kPixels>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);
-            else
-                rasterize_triangle<Wide, kRows, kPixels>(meshes, draw, triangle, p, z, vertex, depth, on_fragment, on_row);
+            if (!triangle_at(meshes, draw, t, p, z, vertex, &narrow)) {
+                rows.push_back({-1, -1});
+                continue;
+            }
+            const PixelBox b = pixel_box(p, width, height);
+            rows.push_back({b.y0, b.y1});
         }
+    for (int band_y0 = box.y0 / 4 * 4; band_y0 <= box.y1; band_y0 += band) {
+        const int band_y1 = std::min(band_y0 + band - 1, box.y1);
+        depth.box = {box.x0, std::max(band_y0, box.y0), box.x1, band_y1};
+        depth.depth.assign(std::size_t(box.x1 - box.x0 + 1) * std::size_t(depth.box.y1 - depth.box.y0 + 1), 0);
+        std::size_t triangle = 0, k = 0;
+        for (const Draw& draw : meshes.draws)
+            for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3, ++k) {
+                if (rows[k].first < 0) continue;
+                ++triangle;
+                if (rows[k].second < band_y0 || rows[k].first > band_y1) continue;
+                Fixed p[3];
+                double z[3];
+                const float* vertex[3];
+                bool narrow;
+                triangle_at(meshes, draw, t, p, z, vertex, &narrow);
+                draw_triangle(draw, triangle, p, z, vertex, narrow, band_y0, band_y1);
+            }
     }
 }
 

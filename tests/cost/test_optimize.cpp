@@ -60,6 +60,31 @@ TEST(TargetPlan, ACopyOutlivesTheOriginal) {
     expect_same_meshes(got, expected);
 }
 
+// plan_target's choices (one per plan weighed, each rasterizing dozens of
+// contestant frames) reserve target_choice_bytes from the run's memory
+// budget before they run: with room for one, eight threads choose one plan
+// at a time, and choose what one thread chooses.
+TEST(TargetPlan, ChoicesReserveFromTheBudgetAndChooseAsWithOneThread) {
+    pipeline::PrepareOptions o;
+    o.threads = 1;
+    const pipeline::PreparedScene prepared = pipeline::prepare_scene(meadow(), o);
+    const CostProfile profile = pipeline::resolve_target("llvmpipe");
+    const pipeline::TargetPlan single = pipeline::plan_target(prepared, o, profile, {});
+    const std::uint64_t one = pipeline::target_choice_bytes(prepared.scene);
+    EXPECT_EQ(one, pipeline::kTargetChoiceFixedBytes + pipeline::kTargetChoiceBytesPerElement * prepared.scene.elements.size());
+    pipeline::MemoryBudget budget(one + one / 2);
+    pipeline::PrepareOptions eight = o;
+    eight.threads = 8;
+    eight.memory = &budget;
+    const pipeline::TargetPlan many = pipeline::plan_target(prepared, eight, profile, {});
+    EXPECT_EQ(budget.peak(), one); // the candidates' analyses reserve less, and before
+    EXPECT_EQ(many.choice.predicted_ms, single.choice.predicted_ms);
+    SceneMeshes a, b;
+    ASSERT_EQ(reconstruct_scene(prepared.scene, single.choice.analysis, single.reconstruct, &a), ReconstructStatus::ok);
+    ASSERT_EQ(reconstruct_scene(prepared.scene, many.choice.analysis, many.reconstruct, &b), ReconstructStatus::ok);
+    expect_same_meshes(b, a);
+}
+
 TEST(Settle, AGivenFilterWinsOverTheScenes) {
     Scene scene;
     scene.filter = Filter::linear;

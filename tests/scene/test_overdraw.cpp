@@ -224,6 +224,63 @@ TEST(AnalyzeOverdraw, AFrameInTheCornerOfAHugeViewportCountsAsInItsOwn) {
     EXPECT_EQ(got.pixels, 16384LL * 16384);
 }
 
+TEST(AnalyzeOverdraw, AFrameTooLargeForOneDepthBufferCountsAsItsStrips) {
+    // A depth-tested frame of more than 2^22 pixels is rasterized in bands
+    // of rows with one band's depth buffer at a time. Each pixel's count
+    // depends only on the fragments at that pixel, in drawing order, so the
+    // frame counts what its strips count, each seen through a viewport of
+    // its own small enough to be rasterized whole. The strips (600 rows, a
+    // multiple of 4 so their 4x4 blocks are the frame's) do not line up
+    // with the bands (696 rows for 6000 columns).
+    std::mt19937 rng(7);
+    SceneMeshes whole;
+    whole.viewport = {-20, 30, 6000, 1400};
+    whole.depth_test = true;
+    // Vertices on the 1/256 px grid the rasterizer snaps to: a tie between
+    // two snapped positions rounds away from zero, so it could snap apart
+    // when a strip's viewport moves the vertex past 0.
+    std::uniform_real_distribution<double> x(-400, 6400), y(-200, 1600), z(0, 1), small(-40, 40);
+    auto on_grid = [](double v) { return float(std::round(v * 256) / 256); };
+    for (int k = 0; k < 6; ++k) {
+        Draw d;
+        d.pass = k < 3 ? Pass::opaque : Pass::blend;
+        // Large triangles across several bands, and small ones on their seams.
+        for (int i = 0; i < 60; ++i) d.vertices.insert(d.vertices.end(), {on_grid(x(rng)), on_grid(y(rng)), float(z(rng)), 0, 0, 1, 1, 1, 1});
+        for (int i = 0; i < 60; ++i) {
+            const double cx = x(rng), cy = 30 + 696 * double(1 + i % 2) + small(rng) / 8;
+            for (int v = 0; v < 3; ++v)
+                d.vertices.insert(d.vertices.end(), {on_grid(cx + small(rng)), on_grid(cy + small(rng)), float(z(rng)), 0, 0, 1, 1, 1, 1});
+        }
+        for (std::uint32_t i = 0; i + 2 < 240; i += 3) d.indices.insert(d.indices.end(), {i, i + 1, i + 2});
+        d.indices.insert(d.indices.end(), {0, 1, 999}); // past the vertices: not drawn
+        whole.draws.push_back(std::move(d));
+    }
+    OverdrawMap map;
+    const OverdrawStats got = analyze_overdraw(whole, nullptr, true), got_map = analyze_overdraw(whole, &map, true);
+    OverdrawStats sum;
+    std::vector<std::uint32_t> counts;
+    for (int row = 0; row < 1400; row += 600) {
+        SceneMeshes strip = whole;
+        strip.viewport = {whole.viewport.x, whole.viewport.y + row, 6000, std::min(600, 1400 - row)};
+        OverdrawMap strip_map;
+        const OverdrawStats s = analyze_overdraw(strip, &strip_map, true);
+        sum.rasterized += s.rasterized, sum.shaded += s.shaded, sum.shaded_opaque += s.shaded_opaque;
+        sum.blocks_opaque += s.blocks_opaque, sum.blocks_blend += s.blocks_blend;
+        counts.insert(counts.end(), strip_map.counts.begin(), strip_map.counts.end());
+    }
+    for (const OverdrawStats& s : {got, got_map}) {
+        EXPECT_EQ(s.rasterized, sum.rasterized);
+        EXPECT_EQ(s.shaded, sum.shaded);
+        EXPECT_EQ(s.shaded_opaque, sum.shaded_opaque);
+        EXPECT_EQ(s.blocks_opaque, sum.blocks_opaque);
+        EXPECT_EQ(s.blocks_blend, sum.blocks_blend);
+    }
+    EXPECT_EQ(map.counts, counts);
+    EXPECT_LT(got.shaded, got.rasterized); // the depth test rejected some
+    EXPECT_GT(got.shaded_opaque, 0);
+    EXPECT_GT(got.rasterized, 6000LL * 1400);
+}
+
 TEST(AnalyzeOverdraw, ViewportOffsetAndClipping) {
     // A 4x4 square at world (10, 20) seen through a viewport at (12, 21):
     // 2 columns x 3 rows remain.
