@@ -9,6 +9,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "depthcull/cost.h"
 #include "depthcull/overdraw.h"
 #include "depthcull/scene.h"
 
@@ -163,5 +164,51 @@ void BM_AnalyzeOverdraw(benchmark::State& state) {
     state.counters["fragments/s"] = benchmark::Counter(double(stats.rasterized), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_AnalyzeOverdraw)->ArgNames({"blocks", "depth"})->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
+
+// --target's chooser (choose_for_target) on a ground of opaque 32x32 tiles
+// under a second layer of the same tiles: side^2 x 2 elements, the whole
+// grid in view. Each top tile hides the one below, so the chooser drops
+// half the scene and its fallback reverts each tile's opaque polygon in
+// turn. Time per element should stay about flat as the grid grows (the
+// fallback once scanned the scene per tile it reverted: quadratic), and
+// the depth buffer of each contestant frame stays within 16 MiB bands
+// (the largest grid is 12800^2 px).
+void BM_ChooseTileGrid(benchmark::State& state) {
+    const int side = int(state.range(0)), tile = 32;
+    Scene scene;
+    scene.images.push_back({"tile", "tile.png", tile, tile});
+    ImageAnalysis a;
+    a.rect = {0, 0, tile, tile};
+    a.boundary = {{{0, 0}, {double(tile), 0}, {double(tile), double(tile)}, {0, double(tile)}}};
+    a.opaque = a.boundary;
+    a.stats.nontransparent_texels = a.stats.opaque_texels = a.stats.opaque_covered_texels = std::int64_t(tile) * tile;
+    for (int layer = 0; layer < 2; ++layer)
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                Element e;
+                e.image = 0;
+                e.rect = a.rect;
+                e.transform = {1, 0, 0, 1, double(x * tile), double(y * tile)};
+                scene.elements.push_back(e);
+            }
+    scene.viewport = {0, 0, side * tile, side * tile};
+    std::vector<TargetCandidates> candidates(1);
+    for (int budget : target_budgets(kMinBoundaryVertices)) {
+        candidates[0].analyses.push_back(&a);
+        candidates[0].max_vertices.push_back(budget);
+    }
+    const std::vector<int> element_key(scene.elements.size(), 0);
+    CostProfile profile;
+    builtin_profile("llvmpipe", &profile);
+    TargetChoice choice;
+    for (auto _ : state) {
+        choice = choose_for_target(scene, candidates, element_key, profile, {});
+        benchmark::DoNotOptimize(choice.predicted_ms);
+    }
+    state.counters["elements"] = double(scene.elements.size());
+    state.counters["dropped"] = double(choice.elements_dropped);
+    state.counters["per_element"] = benchmark::Counter(double(scene.elements.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ChooseTileGrid)->Arg(50)->Arg(100)->Arg(200)->Arg(400)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 
 BENCHMARK_MAIN();
