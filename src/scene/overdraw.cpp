@@ -278,22 +278,28 @@ void rasterize_triangle(const SceneMeshes& meshes, const Draw& draw, std::size_t
     }
 }
 
-// Triangle t of `draw` (its first index): the vertices snapped, their z
-// and attributes, and whether the edge values fit 64 bits; false when GL
-// would not draw it here (an index past the vertices, a vertex beyond
-// kMaxCoordinate).
-[[gnu::always_inline]] inline bool triangle_at(const SceneMeshes& meshes, const Draw& draw, std::size_t t, Fixed p[3], double z[3],
-                                               const float* vertex[3], bool* narrow) {
-    *narrow = true;
+// One triangle as rasterize_triangle takes it: its vertices snapped, their
+// z and attributes, and whether its edge values fit 64 bits.
+struct SnappedTriangle {
+    Fixed p[3];
+    double z[3];
+    const float* vertex[3];
+    bool narrow;
+};
+
+// Triangle t of `draw` (its first index), snapped; false when GL would not
+// draw it here (an index past the vertices, a vertex beyond kMaxCoordinate).
+[[gnu::always_inline]] inline bool triangle_at(const SceneMeshes& meshes, const Draw& draw, std::size_t t, SnappedTriangle* out) {
+    out->narrow = true;
     for (int k = 0; k < 3; ++k) {
         const std::uint32_t i = draw.indices[t + std::size_t(k)];
         if (i >= draw.vertex_count()) return false;
         const float* v = &draw.vertices[std::size_t(i) * kVertexFloats];
         const double x = double(v[0]) - meshes.viewport.x, y = double(v[1]) - meshes.viewport.y;
-        if (!snap(x, y, &p[k])) return false;
-        *narrow = *narrow && std::abs(x) < kNarrowCoordinate && std::abs(y) < kNarrowCoordinate;
-        z[k] = v[2];
-        vertex[k] = v;
+        if (!snap(x, y, &out->p[k])) return false;
+        out->narrow = out->narrow && std::abs(x) < kNarrowCoordinate && std::abs(y) < kNarrowCoordinate;
+        out->z[k] = v[2];
+        out->vertex[k] = v;
     }
     return true;
 }
@@ -334,74 +340,57 @@ constexpr std::size_t kDepthBandPixels = std::size_t(1) << 22;
 template <bool kRows, bool kPixels, class OnFragment, class OnRow>
 void rasterize_meshes(const SceneMeshes& meshes, OnFragment&& on_fragment, OnRow&& on_row) {
     const int width = std::max(meshes.viewport.width, 0), height = std::max(meshes.viewport.height, 0);
-    DepthBuffer depth;
-    // The number-th triangle drawn, within rows band_y0 .. band_y1.
-    auto draw_triangle = [&](const Draw& draw, std::size_t number, Fixed p[3], double z[3], const float* vertex[3], bool narrow, int band_y0,
-                             int band_y1) {
-        if (narrow)
-            rasterize_triangle<std::int64_t, kRows, kPixels>(meshes, draw, number, p, z, vertex, depth, band_y0, band_y1, on_fragment,
-                                                             on_row);
-        else
-            rasterize_triangle<Wide, kRows, kPixels>(meshes, draw, number, p, z, vertex, depth, band_y0, band_y1, on_fragment, on_row);
-    };
-    PixelBox box{0, 0, -1, -1};
-    int band = height; // rows per band
+    // Rows first_row .. last_row, `band` at a time: the box the depth
+    // buffer needs (empty: no triangle covers a centre), else the viewport.
+    int first_row = 0, last_row = height - 1, band = std::max(height, 1);
+    PixelBox box{0, 0, width - 1, height - 1};
     if (meshes.depth_test) {
         box = depth_box_for(meshes, width, height);
-        if (box.x0 > box.x1 || box.y0 > box.y1) box = {0, 0, -1, -1}; // no triangle covers a centre
-        else {
-            const std::size_t columns = std::size_t(box.x1 - box.x0 + 1), rows = std::size_t(box.y1 - box.y0 + 1);
-            if (columns * rows > kDepthBandPixels) band = int(std::max<std::size_t>(4, kDepthBandPixels / columns / 4 * 4));
-        }
+        first_row = box.y0 / 4 * 4; // bands start on block rows
+        last_row = box.x0 <= box.x1 && box.y0 <= box.y1 ? box.y1 : -1;
+        const std::size_t columns = std::size_t(std::max(box.x1 - box.x0 + 1, 1)), span = std::size_t(std::max(last_row - first_row + 1, 1));
+        band = int(span);
+        if (columns * span > kDepthBandPixels) band = int(std::max<std::size_t>(4, kDepthBandPixels / columns / 4 * 4));
     }
-    if (!meshes.depth_test || band >= box.y1 - box.y0 + 1) {
-        if (meshes.depth_test && box.x0 <= box.x1)
-            depth.box = box, depth.depth.assign(std::size_t(box.x1 - box.x0 + 1) * std::size_t(box.y1 - box.y0 + 1), 0);
-        std::size_t triangle = 0;
+    // With several bands, each triangle's rows first (first -1 for one GL
+    // would not draw, which is not numbered; pixel_box's rows are never
+    // negative), so a band passes over the others without snapping them.
+    const bool banded = last_row - first_row + 1 > band;
+    std::vector<std::pair<int, int>> rows;
+    if (banded)
         for (const Draw& draw : meshes.draws)
             for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3) {
-                Fixed p[3];
-                double z[3];
-                const float* vertex[3];
-                bool narrow;
-                if (!triangle_at(meshes, draw, t, p, z, vertex, &narrow)) continue;
-                draw_triangle(draw, ++triangle, p, z, vertex, narrow, 0, height - 1);
+                SnappedTriangle s;
+                const PixelBox b = triangle_at(meshes, draw, t, &s) ? pixel_box(s.p, width, height) : PixelBox{-1, -1, -1, -1};
+                rows.push_back({b.y0, b.y1});
             }
-        return;
-    }
-    // Bands: first each triangle's rows (first -1 for one GL would not draw,
-    // which is not numbered; pixel_box's rows are never negative), then each
-    // band's triangles in order.
-    std::vector<std::pair<int, int>> rows;
-    for (const Draw& draw : meshes.draws)
-        for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3) {
-            Fixed p[3];
-            double z[3];
-            const float* vertex[3];
-            bool narrow;
-            if (!triangle_at(meshes, draw, t, p, z, vertex, &narrow)) {
-                rows.push_back({-1, -1});
-                continue;
-            }
-            const PixelBox b = pixel_box(p, width, height);
-            rows.push_back({b.y0, b.y1});
+    DepthBuffer depth;
+    for (int band_y0 = first_row; band_y0 <= last_row; band_y0 += band) {
+        const int band_y1 = std::min(band_y0 + band - 1, last_row);
+        if (meshes.depth_test) {
+            depth.box = {box.x0, std::max(band_y0, box.y0), box.x1, band_y1};
+            depth.depth.assign(std::size_t(box.x1 - box.x0 + 1) * std::size_t(depth.box.y1 - depth.box.y0 + 1), 0);
         }
-    for (int band_y0 = box.y0 / 4 * 4; band_y0 <= box.y1; band_y0 += band) {
-        const int band_y1 = std::min(band_y0 + band - 1, box.y1);
-        depth.box = {box.x0, std::max(band_y0, box.y0), box.x1, band_y1};
-        depth.depth.assign(std::size_t(box.x1 - box.x0 + 1) * std::size_t(depth.box.y1 - depth.box.y0 + 1), 0);
-        std::size_t triangle = 0, k = 0;
+        std::size_t triangle = 0, k = 0; // triangles drawn, triangles
         for (const Draw& draw : meshes.draws)
             for (std::size_t t = 0; t + 3 <= draw.indices.size(); t += 3, ++k) {
-                if (rows[k].first < 0) continue;
-                ++triangle;
-                if (rows[k].second < band_y0 || rows[k].first > band_y1) continue;
-                Fixed p[3];
-                double z[3];
-                const float* vertex[3];
-                bool narrow;
-                triangle_at(meshes, draw, t, p, z, vertex, &narrow);
-                draw_triangle(draw, triangle, p, z, vertex, narrow, band_y0, band_y1);
+                SnappedTriangle s;
+                if (banded) {
+                    if (rows[k].first < 0) continue;
+                    ++triangle;
+                    if (rows[k].second < band_y0 || rows[k].first > band_y1) continue;
+                    triangle_at(meshes, draw, t, &s);
+                } else if (triangle_at(meshes, draw, t, &s)) {
+                    ++triangle;
+                } else {
+                    continue;
+                }
+                if (s.narrow)
+                    rasterize_triangle<std::int64_t, kRows, kPixels>(meshes, draw, triangle, s.p, s.z, s.vertex, depth, band_y0, band_y1,
+                                                                     on_fragment, on_row);
+                else
+                    rasterize_triangle<Wide, kRows, kPixels>(meshes, draw, triangle, s.p, s.z, s.vertex, depth, band_y0, band_y1, on_fragment,
+                                                             on_row);
             }
     }
 }
