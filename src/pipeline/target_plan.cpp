@@ -149,7 +149,8 @@ TargetPlan plan_target(const PreparedScene& prepared, const PrepareOptions& opti
         if (clip) jobs.push_back({o, true, true, {}, {}});
     }
     // Candidates first (each analysis on threads, through the cache), then
-    // every choice at once: each rasterizes its contestants' frames alone.
+    // the choices side by side, each once its memory is reserved: each
+    // rasterizes its contestants' frames alone.
     for (PlanJob& job : jobs) analyze_candidates(prepared, profile, job);
     MemoryBudget& memory = options.memory ? *options.memory : shared_memory_budget();
     const std::uint64_t choice_bytes = target_choice_bytes(prepared.scene);
