@@ -184,10 +184,11 @@ PixelBox centres_in(double x0, double y0, double x1, double y1, int width, int h
 }
 
 // The depth buffer, cleared to 0, over only the box the frame's triangles
-// reach (every read and write lands in it): the cost model rasterizes every
+// reach (every read and write lands in it), one band of its rows at a time
+// when the box is large (kDepthBandPixels): the cost model rasterizes every
 // contestant frame (optimize --target) in a viewport that may be a whole
 // map of up to 16384^2 px, where a buffer for all of it cost 1 GiB and its
-// clearing each time, though the scene drew in a corner.
+// clearing each time.
 struct DepthBuffer {
     PixelBox box{0, 0, -1, -1};
     std::vector<std::uint32_t> depth;
