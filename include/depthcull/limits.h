@@ -56,6 +56,14 @@ inline constexpr std::size_t kMaxAtlasFrames = 1'000'000;                // one 
 // the result stays correct, only less reordered.
 inline constexpr std::uint64_t kGraphPairBudget = std::uint64_t(1) << 22;
 
+// --target (pipeline::plan_target): the elements its cost model weighs.
+// Each plan's choice reconstructs and rasterizes dozens of contestant frames
+// of the whole scene (about 1.5 KiB per element each, and minutes past a few
+// hundred thousand elements); past this a scene is planned without a target,
+// with a warning (an error with --strict). --viewport with --cull plans one
+// camera's elements.
+inline constexpr std::size_t kMaxTargetElements = std::size_t(1) << 18;
+
 // Worker threads (-j, PrepareOptions::threads): more are clamped to this.
 // Each costs a stack and a task slot; past a few hundred they only add
 // contention.

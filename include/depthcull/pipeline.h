@@ -220,6 +220,10 @@ struct OptimizeOptions {
     // --target auto finds the GL renderer, an edge the pipeline does not
     // reach); then `target` is only named in messages.
     std::optional<CostProfile> profile;
+    // The most elements planned for a target (limits::kMaxTargetElements;
+    // tests pass less): past it, no plan, a warning through
+    // prepare.load.warning (an Error when prepare.load.strict).
+    std::size_t max_target_elements = limits::kMaxTargetElements;
     // Depth levels reserved at each of the scene's insertion points (object
     // layers, the scene JSON's, LoadOptions::insert_at); 0: none.
     std::int64_t insertion_levels = 0;

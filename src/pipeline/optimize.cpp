@@ -23,7 +23,12 @@ void announce(const OptimizeOptions& options, const char* stage) {
 void plan_and_reconstruct(const std::string& name, const OptimizeOptions& options, const Settled& settled, OptimizeResult& out) {
     PreparedScene& prepared = out.prepared;
     out.reconstruct = options.reconstruct;
-    if (settled.profile) {
+    const std::size_t elements = prepared.scene.elements.size();
+    if (settled.profile && elements > options.max_target_elements)
+        io::report_warnings({name + ": " + std::to_string(elements) + " elements, more than the " + std::to_string(options.max_target_elements) +
+                             " --target weighs (kMaxTargetElements): planned without a target (--viewport with --cull plans one camera's)"},
+                            options.prepare.load);
+    else if (settled.profile) {
         announce(options, "choosing for --target");
         const Stopwatch planning;
         // Sprites at insertion points and animations (element spans) need

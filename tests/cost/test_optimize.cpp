@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "depthcull/analyze.h"
 #include "depthcull/pipeline.h"
@@ -83,6 +84,35 @@ TEST(TargetPlan, ChoicesReserveFromTheBudgetAndChooseAsWithOneThread) {
     ASSERT_EQ(reconstruct_scene(prepared.scene, single.choice.analysis, single.reconstruct, &a), ReconstructStatus::ok);
     ASSERT_EQ(reconstruct_scene(prepared.scene, many.choice.analysis, many.reconstruct, &b), ReconstructStatus::ok);
     expect_same_meshes(b, a);
+}
+
+// Past max_target_elements (kMaxTargetElements) a scene is planned without
+// its target, with one warning naming the limit, and reconstructed as
+// without a target; --strict refuses it.
+TEST(Optimize, PastMaxTargetElementsPlansWithoutATargetAndWarns) {
+    pipeline::OptimizeOptions o;
+    o.prepare.threads = 1;
+    o.target = "llvmpipe";
+    o.max_target_elements = 3;
+    std::vector<std::string> warnings;
+    o.prepare.load.warning = [&](const std::string& w) { warnings.push_back(w); };
+    const pipeline::OptimizeResult r = pipeline::optimize(meadow(), o);
+    ASSERT_EQ(r.status, ReconstructStatus::ok);
+    EXPECT_FALSE(r.plan);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_TRUE(has(warnings[0], "meadow.json: 459 elements, more than the 3 --target weighs (kMaxTargetElements)")) << warnings[0];
+    pipeline::OptimizeOptions plain;
+    plain.prepare.threads = 1;
+    const pipeline::OptimizeResult expected = pipeline::optimize(meadow(), plain);
+    ASSERT_EQ(expected.status, ReconstructStatus::ok);
+    expect_same_meshes(r.meshes, expected.meshes);
+    o.max_target_elements = 459; // at the limit: planned
+    EXPECT_TRUE(pipeline::optimize(meadow(), o).plan);
+    o.max_target_elements = 3;
+    o.prepare.load.strict = true;
+    const std::string e = io_error([&] { pipeline::optimize(meadow(), o); });
+    EXPECT_TRUE(has(e, "(kMaxTargetElements)")) << e;
+    EXPECT_TRUE(has(e, "(--strict)")) << e;
 }
 
 TEST(Settle, AGivenFilterWinsOverTheScenes) {
