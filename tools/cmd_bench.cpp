@@ -366,10 +366,13 @@ std::string bench_text(const std::vector<SceneResult>& results, const std::strin
                     "# offedge: of those, pixels farther than 1/64 px from every triangle edge and texel edge (rounding cannot explain them).\n";
         } else {
             text = header + runtime_table(results);
-            if (!args.input.target.empty()) {
+            // Only scenes planned for the target have predictions (past
+            // kMaxTargetElements a scene is planned without it).
+            const auto planned = std::find_if(results.begin(), results.end(), [](const SceneResult& r) { return !r.target.empty(); });
+            if (!args.input.target.empty() && planned != results.end()) {
                 char line[256];
                 std::snprintf(line, sizeof line, "# --target %s: pred ms is the cost model's prediction (docs/cost-model.md); error against cpu ms; median |error| %.1f%%\n",
-                              results.empty() ? "" : results.front().target.c_str(), 100 * median_prediction_error(results));
+                              planned->target.c_str(), 100 * median_prediction_error(results));
                 text += line;
             }
             text += "# Obj: draw calls; Tri: triangles; raster: fragments rasterized with the depth test off / viewport pixels;\n"

@@ -739,6 +739,11 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
         for (const std::string& n : builtin_profile_names()) names += (names.empty() ? "" : ", ") + n;
         return fail("target: '" + std::string(target) + "' is not a built-in profile (" + names + "; or pass a profile from depthcull calibrate)");
     }
+    // What optimize plans without its target, with a warning (limits.h);
+    // here, where no warning reaches the caller, an error before the work.
+    if (targeted && scene.elements.size() > limits::kMaxTargetElements)
+        return fail("target: " + std::to_string(scene.elements.size()) + " elements, more than the " + std::to_string(limits::kMaxTargetElements) +
+                    " a target weighs (kMaxTargetElements); reconstruct without a target, or only the elements in view");
     // Distinct analyses in first-use order, as pipeline::prepare_scene's:
     // per (decoded image, rect), and per animation for animated elements.
     std::map<std::tuple<int, std::string, int, int, int, int>, int> key_of;

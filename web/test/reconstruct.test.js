@@ -83,6 +83,11 @@ const bad = [
   ['viewport', (s) => (s.viewport.width = 0), 'viewport.width: Value 0 not in range 1 to 2147483647'],
   ['target', (s, o) => (o.target = 'gameboy'), "target: 'gameboy' is not a built-in profile (llvmpipe, ipad1; or pass a profile from depthcull calibrate)"],
   ['option', (s, o) => (o.maxVertices = 2), 'maxVertices: Value 2 not in range 4 to 1000'],
+  [
+    'more elements than a target weighs',
+    (s, o) => ((s.elements = new Array(262145).fill({ image: 0 })), (o.target = 'llvmpipe')),
+    'target: 262145 elements, more than the 262144 a target weighs (kMaxTargetElements); reconstruct without a target, or only the elements in view',
+  ],
 ];
 for (const [label, change, message] of bad) {
   test(`reconstructScene, bad input: ${label}`, () => {
