@@ -190,9 +190,8 @@ struct Chooser {
     std::vector<std::uint8_t> whole_rect;
     bool opaque_pass = false;
     // 3.
-    std::vector<std::int64_t> hider; // the element whose opaque polygon hides it
-    // The elements each one hides, hider inverted (CSR: hides[hides_begin[j] ..
-    // hides_begin[j + 1]]), so that reverting one element's opaque polygons
+    // The elements each one's opaque polygon hides (CSR: hides[hides_begin[j]
+    // .. hides_begin[j + 1]]), so that reverting one element's opaque polygons
     // costs what it hid, not a pass over the scene: fall_back reverts every
     // element of a key, and a scan per element was quadratic (500,000 tiles
     // of one key took minutes).
@@ -442,7 +441,7 @@ void Chooser::choose_opaque() {
 void Chooser::drop_hidden() {
     // 3. Elements hidden by one opaque polygon in front.
     const std::vector<std::vector<std::uint32_t>> front = graph.in_front();
-    hider.assign(n, -1);
+    std::vector<std::int64_t> hider(n, -1); // the element whose opaque polygon hides it
     if (opaque_pass)
         for (std::size_t i = 0; i < n; ++i) {
             if (!choosable[i] || drawn[i].empty()) continue;
