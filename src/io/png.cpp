@@ -139,11 +139,36 @@ const char* png_decode(const unsigned char* data, std::size_t size, PngError& er
     return nullptr;
 }
 
+// libpng allocates a chunk's declared length before it reads the chunk,
+// so a 40-byte file whose text chunk says 2 GiB took 2 GiB (and -j N
+// files N times that) before "file ends early". Every chunk libpng reads
+// before the image data must fit in the bytes left; past the first IDAT,
+// libpng reads only the image data (no png_read_end).
+void check_chunk_lengths(const unsigned char* bytes, std::size_t size, const std::string& name) {
+    std::size_t at = 8;
+    while (size - at >= 8) {
+        const std::uint32_t length = std::uint32_t(bytes[at]) << 24 | std::uint32_t(bytes[at + 1]) << 16 |
+                                     std::uint32_t(bytes[at + 2]) << 8 | std::uint32_t(bytes[at + 3]);
+        const std::string type(reinterpret_cast<const char*>(bytes + at + 4), 4);
+        if (type == "IDAT") return;
+        if (length > size - at - 8) {
+            bool printable = true;
+            for (char c : type) printable = printable && ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'));
+            throw Error(name + ": corrupt PNG (chunk " + (printable ? "'" + type + "' " : std::string()) + "at byte " + std::to_string(at) +
+                        " says " + std::to_string(length) + " bytes, but the file ends " + std::to_string(size - at - 8) + " bytes later)");
+        }
+        at += 8 + std::size_t(length);
+        if (size - at < 4) return; // the CRC or the file ends: libpng says which
+        at += 4;
+    }
+}
+
 } // namespace
 
 Image decode_png(const void* data, std::size_t size, const std::string& name) {
     const auto* bytes = static_cast<const unsigned char*>(data);
     if (size < 8 || png_sig_cmp(bytes, 0, 8) != 0) throw Error(name + ": not a readable PNG (not a PNG signature)");
+    check_chunk_lengths(bytes, size, name);
     PngError err{};
     Image image;
     std::vector<png_bytep> rows;

@@ -131,3 +131,27 @@ TEST(AtomicWrite, StreamedPiecesOrAFailingProducerLeaveNoHalfFile) {
     for (auto& e : std::filesystem::directory_iterator(dir)) (void)e, ++files;
     EXPECT_EQ(files, 1);
 }
+
+// libpng allocates a chunk's declared length before reading it: a 51-byte
+// file whose text chunk said 2 GiB took 2 GiB (and 12 s) before "file ends
+// early". Chunks before the image data must fit in the file; what follows
+// it (no png_read_end) is not read, so a broken trailing chunk still loads.
+TEST(Png, ChunkLongerThanTheFileIsRefusedBeforeLibpngAllocatesIt) {
+    Image img = test::ascii_image({"##", "#."});
+    const std::string good = io::encode_png(img.view());
+    auto chunk_header = [](std::uint32_t length, const char* type) {
+        std::string h{char(length >> 24), char(length >> 16), char(length >> 8), char(length)};
+        return h + type;
+    };
+    std::string bytes = good.substr(0, 33) + chunk_header(0x7fffffffu, "tEXt") + "0123456789" + good.substr(33);
+    try {
+        io::decode_png(bytes.data(), bytes.size(), "text.png");
+        FAIL();
+    } catch (const depthcull::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("text.png: corrupt PNG (chunk 'tEXt' at byte 33 says 2147483647 bytes"), std::string::npos)
+            << e.what();
+    }
+    const std::size_t iend = good.size() - 12;
+    std::string trailing = good.substr(0, iend) + chunk_header(0x7fffffffu, "tEXt") + "abc";
+    EXPECT_EQ(io::decode_png(trailing.data(), trailing.size(), "trailing.png").rgba, img.rgba);
+}
