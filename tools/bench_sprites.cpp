@@ -75,7 +75,7 @@ render::SpriteMeasurement measure_scene(const std::string& path, const RenderInp
     scene_input.target.clear();
     const pipeline::OptimizeResult result = optimize_for_render(path, scene_input, true);
     const pipeline::PreparedScene& prepared = result.prepared;
-    outputs.add_inputs(scene_inputs(path, prepared.scene));
+    outputs.add_inputs(scene_inputs(path, prepared.scene, prepared.documents));
     progress.stage(path + ": drawing sprites");
     try {
         return render::measure_sprites(host, prepared.scene, image_views(prepared), prepared.analysis, options);
@@ -120,6 +120,7 @@ void run_sprite_bench(const SpriteBenchArgs& args) {
     const render::SpriteBenchOptions options = sprite_options(args, &profile);
     const std::string target = options.target ? profile.name : std::string();
     RunOutputs outputs(args.scenes);
+    outputs.add_inputs(target_inputs(args.input->target));
     outputs.add(args.output);
     auto host = open_host(input.platform);
     std::string text;

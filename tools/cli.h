@@ -89,8 +89,9 @@ CLI::Validator finite_number();
 // output (io::same_file): `import m.tmx -o m.tmx` overwrote the map; or
 // when an output is never written (a directory). See RunOutputs (outputs.h).
 void check_distinct_files(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
-// A scene's files: the scene and its images.
-std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene);
+// A scene's files: the scene, its images and the other files its load read
+// (`documents`: external tilesets, templates, atlases; io::LoadOptions).
+std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene, const std::vector<std::string>& documents = {});
 
 // The analysis cache, one rule for every command: --cache DIR and
 // --no-cache, and the directory they select ("" for none).

@@ -409,6 +409,7 @@ void run_analyze(const AnalyzeArgs& args) {
     // committed together once every image is analyzed (`analyze . --preview
     // .` would have replaced the images with their previews).
     RunOutputs outputs(input_paths(inputs));
+    outputs.add_inputs(target_inputs(args.target));
     const bool json_output = !args.summary || !args.output.empty();
     if (json_output) outputs.add(args.output.empty() ? "-" : args.output);
     const std::vector<std::string> previews = declare_previews(args, inputs, outputs);

@@ -299,7 +299,7 @@ SceneResult bench_scene(const std::string& path, BenchArgs& args, const std::vec
     // The options section of the report says whether the (last) choice drew the opaque pass.
     args.input.opaque = result.reconstruct.opaque_polygons;
     check_frame_fits(path, prepared, args.input);
-    outputs.add_inputs(scene_inputs(path, prepared.scene));
+    outputs.add_inputs(scene_inputs(path, prepared.scene, prepared.documents));
     progress.stage(path + ": drawing");
     render::MeasureOptions options;
     options.modes = modes;
@@ -398,6 +398,7 @@ void run_bench(BenchArgs& args) {
 
     // Checked first, committed together at the end: a failure writes none.
     RunOutputs outputs(args.scenes);
+    outputs.add_inputs(target_inputs(args.input.target));
     outputs.add(args.output);
     outputs.add(args.report);
     args.opaque_given = args.input.opaque;

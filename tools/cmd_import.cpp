@@ -17,8 +17,11 @@ struct ImportArgs {
 
 void run_import(const ImportArgs& args) {
     check_distinct_files({args.input}, {args.output});
-    Scene scene = io::read_scene(args.input, args.load);
-    check_distinct_files(scene_inputs(args.input, scene), {args.output});
+    io::LoadOptions load = args.load;
+    std::vector<std::string> documents;
+    load.documents = &documents;
+    Scene scene = io::read_scene(args.input, load);
+    check_distinct_files(scene_inputs(args.input, scene, documents), {args.output});
     write_output(args.output, io::scene_to_json_text(scene, args.output));
     const Viewport& v = scene.viewport;
     std::fprintf(stderr, "%s: %zu elements, %zu images, viewport %g,%g,%d,%d\n", args.input.c_str(), scene.elements.size(),

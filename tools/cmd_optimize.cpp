@@ -197,9 +197,10 @@ void print_figures(const OptimizeArgs& args, const MeshOutputs& where, const pip
 void run_optimize(OptimizeArgs& args) {
     const pipeline::OptimizeOptions o = options_from_args(args);
     RunOutputs outputs({args.scene});
+    outputs.add_inputs(target_inputs(args.target));
     const MeshOutputs where = declare_outputs(args, outputs);
     pipeline::OptimizeResult result = optimize_with_progress(args, o);
-    outputs.add_inputs(scene_inputs(args.scene, result.prepared.scene));
+    outputs.add_inputs(scene_inputs(args.scene, result.prepared.scene, result.prepared.documents));
     check_reconstruction(args, o.insertion_levels, result);
 
     // The analysis figure counts the target's extra budgets too.

@@ -69,12 +69,13 @@ void run_render(RenderArgs& args) {
     // Checked first, committed together once all is drawn: a failure
     // (no GL context, a frame too large) writes neither file.
     RunOutputs outputs({args.scene});
+    outputs.add_inputs(target_inputs(args.input.target));
     outputs.add(args.output);
     outputs.add(args.heatmap);
     const pipeline::OptimizeResult result = optimize_for_render(args.scene, args.input, false);
     const pipeline::PreparedScene& prepared = result.prepared;
     check_frame_fits(args.scene, prepared, args.input);
-    outputs.add_inputs(scene_inputs(args.scene, prepared.scene));
+    outputs.add_inputs(scene_inputs(args.scene, prepared.scene, prepared.documents));
     const SceneMeshes meshes = meshes_for(args.mode, result, args);
     if (!args.heatmap.empty()) write_heatmap(result, meshes, args, outputs);
     if (args.output.empty() && !args.compare) return outputs.commit();

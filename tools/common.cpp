@@ -41,9 +41,10 @@ void check_distinct_files(const std::vector<std::string>& inputs, const std::vec
     for (const std::string& out : outputs) plan.add(out);
 }
 
-std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene) {
+std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene, const std::vector<std::string>& documents) {
     std::vector<std::string> inputs{scene_path};
     for (const SceneImage& image : scene.images) inputs.push_back(image.path);
+    inputs.insert(inputs.end(), documents.begin(), documents.end());
     return inputs;
 }
 

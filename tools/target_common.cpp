@@ -55,6 +55,12 @@ void add_target_option(CLI::App& cmd, std::string& target) {
         ->type_name("PROFILE");
 }
 
+std::vector<std::string> target_inputs(const std::string& target) {
+    CostProfile builtin;
+    if (target.empty() || target == "auto" || builtin_profile(target, &builtin)) return {};
+    return {target};
+}
+
 void add_target_stage_options(CLI::App& cmd, pipeline::PrepareOptions& prepare) {
     cmd.add_flag("!--no-clip-hidden", prepare.clip_hidden,
                  "With --target: do not clip hidden parts away at the opaque polygons in front (docs/ideal-frame.md)");

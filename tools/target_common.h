@@ -19,6 +19,9 @@ CostProfile resolve_cli_target(const std::string& target, bool quiet);
 
 // --target NAME|FILE.json
 void add_target_option(CLI::App& command, std::string& target);
+// The profile file --target reads, as an input no output may replace; none
+// for a built-in profile, auto or no target.
+std::vector<std::string> target_inputs(const std::string& target);
 // --no-clip-hidden, --no-merge-opaque: issue 25's stages of --target off
 // (PrepareOptions::clip_hidden, merge_opaque), to measure each alone.
 void add_target_stage_options(CLI::App& command, pipeline::PrepareOptions& prepare);

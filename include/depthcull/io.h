@@ -179,6 +179,10 @@ struct LoadOptions {
     // after the layer's elements, as each object layer's does); in other
     // scenes, element indices. One that names nothing is an Error.
     std::vector<std::string> insert_at;
+    // When given, every file the load read besides the images is appended
+    // (the scene, external tilesets, object templates, atlases): the CLI
+    // refuses an output over any of them, as over the images.
+    std::vector<std::string>* documents = nullptr;
 };
 Scene read_scene(const std::string& path, const LoadOptions& options = {});
 // Warning lines (a reader's or decode_image's) as LoadOptions asks: each

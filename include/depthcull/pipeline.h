@@ -152,6 +152,8 @@ struct PreparedScene {
     }
     SceneAnalysis analysis;    // per distinct (image file, rect), and per element
     int analyzed = 0, cache_hits = 0;
+    // Every file the load read besides the images (io::LoadOptions::documents).
+    std::vector<std::string> documents;
 };
 
 // Loads a scene (any io::read_scene format) and its images, settles its

@@ -86,6 +86,7 @@ Scene load(const std::string& path, const LoadOptions& options, Bytes&& bytes) {
 } // namespace
 
 Scene read_scene(const std::string& path, const LoadOptions& options) {
+    if (options.documents) options.documents->push_back(path);
     return load(path, options, [&] { return read_file(path); });
 }
 

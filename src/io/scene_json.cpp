@@ -190,7 +190,9 @@ void parse_images(const json& images, const std::string& path, const fs::path& b
         if (!ids.emplace(img.id, int(i)).second) c.fail("duplicate image id \"" + img.id + "\"");
         if (v.contains("atlas")) {
             entries[i].is_atlas = true;
-            entries[i].atlas = read_atlas(resolve(base, string_field(c, v, "atlas")));
+            const std::string atlas = resolve(base, string_field(c, v, "atlas"));
+            if (options.documents) options.documents->push_back(atlas);
+            entries[i].atlas = read_atlas(atlas);
             img.path = entries[i].atlas.image_path;
         } else if (v.contains("fill")) {
             img.has_fill = true;

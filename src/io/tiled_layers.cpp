@@ -324,6 +324,7 @@ struct Template {
 namespace {
 
 void load_template(const std::string& path, Emitter& out, const std::string& where, Template& t) {
+    if (out.options && out.options->documents) out.options->documents->push_back(path);
     std::string text = read_maybe_gzipped(path);
     // Templates stay parsed while the map is read: their estimates add to
     // the map's (a JSON template's, for the document made from it).

@@ -149,6 +149,9 @@ Scene tiled_map_from_bytes(std::string_view bytes, const std::string& path, cons
     scene.filter = Filter::nearest;
     tiled::ImageTable images(scene.images, options.image_files);
     std::vector<tiled::Tileset> tilesets = tiled::read_tilesets(map, path, images);
+    if (options.documents)
+        for (const tiled::Tileset& ts : tilesets)
+            if (!ts.source.empty()) options.documents->push_back(ts.source);
 
     Viewport viewport;
     bool known = true;

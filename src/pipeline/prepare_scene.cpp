@@ -282,6 +282,7 @@ PreparedScene prepare_settled(const std::string& path, const OptimizeOptions& se
     io::ImageFiles files;
     io::LoadOptions load = options.load;
     load.image_files = &files;
+    load.documents = &out.documents;
     out.scene = io::read_scene(path, load);
     Scene& scene = out.scene;
 

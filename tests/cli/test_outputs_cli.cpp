@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <string>
 
@@ -153,6 +154,36 @@ TEST(OutputsCli, PreviewsNeverReplaceTheInputs) {
     EXPECT_NE(r.err.find("refusing to overwrite an input"), std::string::npos) << r.err;
     EXPECT_EQ(read(dir / "sheet.png"), page);
     EXPECT_FALSE(fs::exists(dir / "out.json"));
+}
+
+// Files read through the scene (an external tileset, an object template, a
+// scene's atlas) and the --target profile are inputs too: each was
+// replaced by an output that named it, with exit status 0.
+TEST(OutputsCli, FilesReadThroughTheSceneAndTheProfileAreInputs) {
+    const fs::path dir = scratch("documents");
+    const fs::path data = fs::path(DEPTHCULL_SOURCE_DIR) / "tests/data/tiled";
+    for (const char* name : {"template.tmx", "tile.tx", "tiles.tsx", "tiles.png"}) fs::copy_file(data / name, dir / name);
+    write_test_png(dir / "sheet.png", 30);
+    write_atlas(dir / "sheet.json", "sheet.png", {"x.png"});
+    std::ofstream(dir / "s.json") << R"({"viewport": {"x": 0, "y": 0, "width": 8, "height": 8},
+        "images": [{"id": "a", "atlas": "sheet.json"}], "elements": [{"image": "a", "frame": "x.png"}]})";
+    fs::copy_file(fs::path(DEPTHCULL_SOURCE_DIR) / "bench/results/ideal-frame/profile-fit-xeon.json", dir / "p.json");
+    const std::set<std::string> before = files_in(dir);
+    std::map<std::string, std::string> bytes;
+    for (const std::string& name : before) bytes[name] = read(dir / name);
+    const std::string map = shq(dir / "template.tmx");
+    for (const std::string& command :
+         {"import " + map + " -o " + shq(dir / "tiles.tsx"), "import " + map + " -o " + shq(dir / "tile.tx"),
+          "optimize " + map + " --no-cache -q -o " + shq(dir / "tile.tx"), "optimize " + shq(dir / "s.json") + " --no-cache -q -o " + shq(dir / "sheet.json"),
+          "optimize " + shq(dir / "s.json") + " --no-cache -q --target " + shq(dir / "p.json") + " -o " + shq(dir / "p.json"),
+          "optimize " + shq(dir / "s.json") + " --no-cache -q --target " + shq(dir / "p.json") + " -o - --binary " + shq(dir / "p.json"),
+          "analyze " + shq(dir / "sheet.png") + " --no-cache -q --target " + shq(dir / "p.json") + " -o " + shq(dir / "p.json")}) {
+        auto r = run_cli(command);
+        EXPECT_EQ(r.status, 1) << command;
+        EXPECT_NE(r.err.find("refusing to overwrite an input"), std::string::npos) << command << ": " << r.err;
+    }
+    EXPECT_EQ(files_in(dir), before);
+    for (const std::string& name : before) EXPECT_EQ(read(dir / name), bytes[name]) << name;
 }
 
 TEST(OutputsCli, PreviewNamesAreDistinct) {
