@@ -254,7 +254,10 @@ std::optional<ImageAnalysis> parse_analysis(const std::string& bytes, const Cach
 std::optional<ImageAnalysis> cache_load(const std::string& dir, const CacheKey& key, Rect rect) {
     std::string path = cache_entry_path(dir, key);
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+    // Entries are files this code wrote: a link (which could point at any
+    // file), a FIFO (which would block the read) or anything else is a miss,
+    // and cache_store replaces it.
+    if (!std::filesystem::is_regular_file(std::filesystem::symlink_status(path, ec))) return std::nullopt;
     try {
         return parse_analysis(io::read_file(path), key, rect);
     } catch (const depthcull::Error&) {
@@ -267,6 +270,14 @@ bool cache_store(const std::string& dir, const CacheKey& key, const ImageAnalysi
     std::error_code ec;
     std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
     if (ec) return false;
+    // write_file_atomic writes an output through a link and into a FIFO in
+    // place, as a user asking for one means; an entry is never a link or a
+    // FIFO of the user's, so one there is removed (the link, not what it
+    // points at): a link planted in the cache replaced its target, the scene
+    // itself included, and a FIFO blocked the run.
+    const std::filesystem::file_status st = std::filesystem::symlink_status(path, ec);
+    if (std::filesystem::is_directory(st)) return false;
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) && !std::filesystem::remove(path, ec)) return false;
     try {
         io::write_file_atomic(path, serialize_analysis(key, analysis));
         return true;

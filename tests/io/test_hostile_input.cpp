@@ -362,6 +362,37 @@ TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
     corrupt([](ImageAnalysis& a) { a.opaque.push_back({}); });
 }
 
+// A link planted where an entry belongs made the store replace its target
+// (the scene itself here), on every run; a FIFO there blocked the run. Both
+// are misses now, and the store puts a regular entry in their place.
+TEST(HostileCache, LinksAndFifosWhereAnEntryBelongsAreReplacedNotFollowed) {
+    SceneDir dir("hostile_cache_links");
+    dir.standard_art();
+    const std::string scene = dir.write("s.json", R"({"images": [{"id": "b", "path": "art/blob.png"}], "elements": [{"image": "b"}]})");
+    const std::string scene_text = io::read_file(scene);
+    pipeline::PrepareOptions o;
+    o.cache_dir = dir.path("cache");
+    pipeline::PreparedScene first = pipeline::prepare_scene(scene, o);
+    const pipeline::CacheKey key = pipeline::analysis_key(first.view(0), first.analysis.images[0].rect, o.analyze);
+    const std::string entry = pipeline::cache_entry_path(o.cache_dir, key);
+    auto regular_entry = [&] {
+        struct stat st;
+        return ::lstat(entry.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+    };
+    std::filesystem::remove(entry);
+    std::filesystem::create_symlink(scene, entry);
+    pipeline::PreparedScene linked = pipeline::prepare_scene(scene, o);
+    EXPECT_EQ(linked.analyzed, 1);
+    EXPECT_EQ(io::read_file(scene), scene_text);
+    EXPECT_TRUE(regular_entry());
+    EXPECT_EQ(pipeline::prepare_scene(scene, o).cache_hits, 1);
+
+    std::filesystem::remove(entry);
+    ASSERT_EQ(::mkfifo(entry.c_str(), 0600), 0);
+    EXPECT_EQ(pipeline::prepare_scene(scene, o).analyzed, 1); // returns: neither read nor written in place
+    EXPECT_TRUE(regular_entry());
+}
+
 TEST(HostileCache, CountsBeyondTheBytesLeftAreRefusedBeforeAllocating) {
     ImageAnalysis a;
     a.rect = {0, 0, 4, 4};
