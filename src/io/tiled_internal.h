@@ -107,6 +107,10 @@ struct Tileset {
         // Animated tiles by local id: every frame's tile and duration (ms);
         // the tile itself (in `named`) is its first frame.
         std::map<std::uint32_t, std::vector<std::pair<Tile, int>>> animations;
+        // Animated tiles whose frames name tiles the tileset lacks, by local
+        // id: why. Those frames are left out (a tile left with none stays
+        // still); a map that shows the tile warns, --strict refuses.
+        std::map<std::uint32_t, std::string> broken_animations;
     };
     // Shared by every <tileset> naming the same file: it is parsed once
     // and held once, however many firstgids name it.

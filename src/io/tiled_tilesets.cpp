@@ -146,12 +146,21 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
                 throw Error(here + ": more than " + std::to_string(limits::kMaxAnimationFrames) + " frames (kMaxAnimationFrames)");
             int tile_id = int_attr(frame, "tileid", -1, here);
             Tile still = tile_id < 0 ? Tile{} : ts.tile(std::uint32_t(tile_id));
-            if (still.image < 0) throw Error(here + ": frame names no tile (" + std::to_string(tile_id) + ")");
             int duration = int_attr(frame, "duration", 0, here);
             if (duration < 0) throw Error(here + ": negative frame duration");
+            // The Mana World's water tileset animates two tiles through ids
+            // past its image, and nine of its maps (none showing those
+            // tiles) load in Tiled and the game: refused only where shown.
+            if (still.image < 0) {
+                std::string& why = tables->broken_animations[std::uint32_t(id)];
+                why += (why.empty() ? "frame names no tile (" : ", ") + std::to_string(tile_id);
+                continue;
+            }
             frames.emplace_back(still, duration);
         }
-        animated.emplace_back(std::uint32_t(id), std::move(frames));
+        if (auto it = tables->broken_animations.find(std::uint32_t(id)); it != tables->broken_animations.end())
+            it->second += "; the tileset has " + std::to_string(ts.tile_count()) + " tiles)";
+        if (!frames.empty()) animated.emplace_back(std::uint32_t(id), std::move(frames));
     }
     for (auto& [id, frames] : animated) {
         tables->named[id] = frames.front().first;

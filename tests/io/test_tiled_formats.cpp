@@ -172,6 +172,43 @@ TEST(TiledLayers, UnsupportedFeaturesWarnOnceOrFailWithStrict) {
     EXPECT_EQ(error_of([&] { io::read_scene(map, options); }), map + ": object layer 'labels': text objects are not drawn (--strict)");
 }
 
+// The Mana World's water tileset animates two tiles through ids past its
+// image; nine maps that never show them load in Tiled and the game. Such
+// frames are left out, with a warning only where the tile is shown.
+TEST(TiledAnimation, FramesNamingNoTileAreLeftOutAndWarnedOnlyWhereShown) {
+    TempDir t;
+    const std::string tiles = "<tile id=\"1\"><animation><frame tileid=\"0\" duration=\"100\"/><frame tileid=\"190\" duration=\"100\"/>"
+                              "<frame tileid=\"191\" duration=\"100\"/></animation></tile>"
+                              "<tile id=\"2\"><animation><frame tileid=\"500\" duration=\"100\"/></animation></tile>";
+    auto layer = [](const std::string& cells) {
+        return "<layer name=\"g\" width=\"3\" height=\"2\"><data encoding=\"csv\">" + cells + "</data></layer>";
+    };
+    io::LoadOptions options;
+    std::vector<std::string> warnings;
+    options.warning = [&](const std::string& line) { warnings.push_back(line); };
+    const std::string unused = t.write("unused.tmx", map_xml(layer("1,1,4,0,0,0"), "", tiles));
+    Scene s = io::read_scene(unused, options);
+    EXPECT_EQ(s.elements.size(), 3u);
+    EXPECT_TRUE(s.animations.empty());
+    EXPECT_TRUE(warnings.empty());
+
+    const std::string shown = t.write("shown.tmx", map_xml(layer("2,2,3,0,0,0"), "", tiles));
+    s = io::read_scene(shown, options);
+    ASSERT_EQ(s.elements.size(), 3u);
+    ASSERT_EQ(s.animations.size(), 1u); // tile 1: its one frame that names a tile
+    ASSERT_EQ(s.animations[0].frames.size(), 1u);
+    EXPECT_EQ(s.elements[0].animation, 0);
+    EXPECT_EQ(s.elements[2].animation, -1); // tile 2: no frame left, drawn still
+    ASSERT_EQ(warnings.size(), 2u);
+    EXPECT_EQ(warnings[0].rfind(shown + ": layer 'g': animated tile 1 of tileset 'tiles': frame names no tile (190, 191; the tileset has ", 0), 0u)
+        << warnings[0];
+    EXPECT_NE(warnings[0].find(" tiles): those frames are left out"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[1].find("animated tile 2 of tileset 'tiles': frame names no tile (500; the tileset has "), std::string::npos) << warnings[1];
+    options.strict = true;
+    EXPECT_NE(error_of([&] { io::read_scene(shown, options); }).find("those frames are left out (--strict)"), std::string::npos);
+    EXPECT_NO_THROW(io::read_scene(unused, options));
+}
+
 // ---- images by content
 
 TEST(ImageFormats, WebpLosslessEqualsThePng) {
