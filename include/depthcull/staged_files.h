@@ -61,7 +61,9 @@ public:
     // error passes on. A failed write: Error "PATH: write failed (...)".
     void stage(const std::string& path, const std::function<void(const WriteBytes&)>& produce);
     void stage(const std::string& path, std::string_view bytes);
-    // Renames and copies, in the order staged; Error on a failure.
+    // Copies into the streams (stdout, devices, FIFOs), then renames the
+    // files, each in the order staged; Error on a failure (a stream that
+    // fails leaves no file renamed).
     void commit();
 
 private:

@@ -233,13 +233,14 @@ void StagedFiles::stage(const std::string& path, const std::function<void(const 
 
 void StagedFiles::commit() {
     std::lock_guard<std::mutex> lock(mutex_);
+    // Streams first (stdout, devices, FIFOs), then the renames: a write
+    // that fails (stdout on a full disk or a closed pipe) then leaves no
+    // file renamed into place, where renaming first left the run's files
+    // behind a run that failed. A rename rarely fails once its temporary
+    // is written beside it.
     for (Staged& s : staged_) {
         const OutputTarget& t = s.target;
-        if (t.kind == OutputTarget::file) {
-            if (std::rename(s.temp.c_str(), t.target.c_str()) != 0) fail(t.path, std::string("cannot replace (") + std::strerror(errno) + ")");
-            s.temp.clear();
-            continue;
-        }
+        if (t.kind == OutputTarget::file) continue;
         int fd = t.fd;
         if (t.kind == OutputTarget::in_place) {
             // No O_CREAT, no O_TRUNC: a device or FIFO is written as it is.
@@ -253,6 +254,12 @@ void StagedFiles::commit() {
         std::fclose(s.spool);
         s.spool = nullptr;
         if (error) fail(t.path, std::string("write failed (") + std::strerror(error) + ")");
+    }
+    for (Staged& s : staged_) {
+        const OutputTarget& t = s.target;
+        if (t.kind != OutputTarget::file) continue;
+        if (std::rename(s.temp.c_str(), t.target.c_str()) != 0) fail(t.path, std::string("cannot replace (") + std::strerror(errno) + ")");
+        s.temp.clear();
     }
     staged_.clear();
 }

@@ -133,6 +133,19 @@ TEST(OutputsCli, AFailedWriteToStdoutIsAnError) {
     EXPECT_NE(r.err.find("stdout: write failed (No space left on device)"), std::string::npos) << r.err;
 }
 
+// Files were renamed into place before stdout was written: a run whose
+// stdout failed (a full disk, a closed pipe) left them behind.
+TEST(OutputsCli, AFailedStreamLeavesNoFileOfTheRun) {
+    const fs::path dir = scratch("failed_stream");
+    auto r = run_cli("optimize " + scene() + " --no-cache -q -o - --binary " + shq(dir / "m.bin") + " > /dev/full");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("stdout: write failed"), std::string::npos) << r.err;
+    write_test_png(dir / "a.png", 10);
+    r = run_cli("analyze " + shq(dir / "a.png") + " --no-cache -q --preview " + shq(dir / "pv") + " > /dev/full");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"a.png"}));
+}
+
 TEST(OutputsCli, PreviewsNeverReplaceTheInputs) {
     const fs::path dir = scratch("preview_inputs");
     write_test_png(dir / "a.png", 10);
