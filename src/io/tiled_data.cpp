@@ -95,7 +95,7 @@ std::vector<std::uint32_t> decode_cells(pugi::xml_node node, const std::string& 
         gids.reserve(count);
         for (pugi::xml_node tile : node.children("tile")) {
             if (gids.size() == count) throw Error(where + ": more than the expected " + std::to_string(count) + " <tile> cells");
-            gids.push_back(tile.attribute("gid").as_uint(0));
+            gids.push_back(gid_attr(tile, "gid", where));
         }
         if (gids.size() != count)
             throw Error(where + ": " + std::to_string(gids.size()) + " <tile> cells, expected " + std::to_string(count));
@@ -137,16 +137,42 @@ std::size_t checked_cells(int width, int height, const std::string& where) {
 
 } // namespace
 
-int int_attr(pugi::xml_node node, const char* name, int fallback, const std::string& where) {
-    pugi::xml_attribute a = node.attribute(name);
-    if (!a) return fallback;
+namespace {
+
+// The whole value as a T, else an Error naming the attribute.
+template <typename T>
+T parse_attr(pugi::xml_attribute a, const char* name, const std::string& where, const char* what) {
     std::string_view text = a.value();
-    int value = 0;
+    T value{};
     auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size())
-        throw Error(where + ": attribute " + name + "=\"" + std::string(text) + "\" is not an integer");
+    if (ec != std::errc() || end != text.data() + text.size() || text.empty())
+        throw Error(where + ": attribute " + name + "=\"" + std::string(text.substr(0, 64)) + "\" is not " + what);
     return value;
 }
+
+} // namespace
+
+int int_attr(pugi::xml_node node, const char* name, int fallback, const std::string& where) {
+    pugi::xml_attribute a = node.attribute(name);
+    return a ? parse_attr<int>(a, name, where, "an integer") : fallback;
+}
+
+long long llong_attr(pugi::xml_node node, const char* name, long long fallback, const std::string& where) {
+    pugi::xml_attribute a = node.attribute(name);
+    return a ? parse_attr<long long>(a, name, where, "an integer") : fallback;
+}
+
+std::uint32_t gid_attr(pugi::xml_node node, const char* name, const std::string& where) {
+    pugi::xml_attribute a = node.attribute(name);
+    return a ? parse_attr<std::uint32_t>(a, name, where, "a tile gid (0..4294967295)") : 0;
+}
+
+double double_attr(pugi::xml_node node, const char* name, double fallback, const std::string& where) {
+    pugi::xml_attribute a = node.attribute(name);
+    return a ? parse_attr<double>(a, name, where, "a number") : fallback;
+}
+
+bool visible_attr(pugi::xml_node node, const std::string& where) { return int_attr(node, "visible", 1, where) != 0; }
 
 std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where) {
     z_stream z;

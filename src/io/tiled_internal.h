@@ -41,6 +41,15 @@ inline constexpr std::uint32_t kGidMask = 0x0fffffffu;
 
 // An integer attribute; absent gives `fallback`, junk is an error.
 int int_attr(pugi::xml_node node, const char* name, int fallback, const std::string& where);
+// The same for wider integers (firstgid, map sizes checked by the caller),
+// gids (32 bits, flip flags included) and numbers. pugixml's as_int,
+// as_uint and as_double read the leading digits and give 0 for junk: a
+// Tiled JSON "width": 1e300 became 1 and opacity="x" hid the layer.
+long long llong_attr(pugi::xml_node node, const char* name, long long fallback, const std::string& where);
+std::uint32_t gid_attr(pugi::xml_node node, const char* name, const std::string& where);
+double double_attr(pugi::xml_node node, const char* name, double fallback, const std::string& where);
+// visible="0" hides; absent or any other integer shows.
+bool visible_attr(pugi::xml_node node, const std::string& where);
 
 // The file's bytes, gunzipped when it starts with the gzip magic (so
 // .tmx.gz and .tsx.gz need no special naming).

@@ -22,7 +22,14 @@ std::string scalar_text(const json& v) {
     if (v.is_boolean()) return v.get<bool>() ? "1" : "0";
     if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
     if (v.is_number_unsigned()) return std::to_string(v.get<std::uint64_t>());
-    if (v.is_number_float()) return v.dump();
+    if (v.is_number_float()) {
+        // A whole number written as 2.0 is the integer Tiled's reader takes
+        // it for (QJsonValue::toInt); 2.5 or 1e300 stay as written, and an
+        // integer attribute refuses them (int_attr).
+        const double d = v.get<double>();
+        if (std::fabs(d) < 0x1p53 && d == std::trunc(d)) return std::to_string(std::int64_t(d));
+        return v.dump();
+    }
     return {};
 }
 

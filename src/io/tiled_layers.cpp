@@ -137,13 +137,13 @@ namespace {
 // Offsets, opacity and tint of `layer` on top of its parents'.
 LayerState child_state(pugi::xml_node layer, const LayerState& parent, const std::string& where) {
     LayerState s = parent;
-    s.offset_x += layer.attribute("offsetx").as_double(0);
-    s.offset_y += layer.attribute("offsety").as_double(0);
-    double opacity = layer.attribute("opacity").as_double(1);
+    s.offset_x += double_attr(layer, "offsetx", 0, where);
+    s.offset_y += double_attr(layer, "offsety", 0, where);
+    double opacity = double_attr(layer, "opacity", 1, where);
     if (!(std::fabs(s.offset_x) <= limits::kMaxCoordinate && std::fabs(s.offset_y) <= limits::kMaxCoordinate) || !std::isfinite(opacity))
         throw Error(where + ": offset or opacity is not a finite number within +-1e9 (kMaxCoordinate)");
     s.opacity *= clamp01(opacity);
-    double px = layer.attribute("parallaxx").as_double(1), py = layer.attribute("parallaxy").as_double(1);
+    double px = double_attr(layer, "parallaxx", 1, where), py = double_attr(layer, "parallaxy", 1, where);
     if (!(std::fabs(px) <= limits::kMaxCoordinate && std::fabs(py) <= limits::kMaxCoordinate))
         throw Error(where + ": parallaxx / parallaxy is not a finite number within +-1e9 (kMaxCoordinate)");
     s.parallax_x *= px;
@@ -161,8 +161,6 @@ std::array<float, 4> element_color(const LayerState& s) {
     double a = s.tint[3];
     return {float(1 - a + a * s.tint[0]), float(1 - a + a * s.tint[1]), float(1 - a + a * s.tint[2]), float(s.opacity)};
 }
-
-bool visible(pugi::xml_node node) { return node.attribute("visible").as_int(1) != 0; }
 
 void push(Emitter& out, const Element& e, const std::string& where) {
     if (out.cull) {
@@ -229,7 +227,7 @@ void emit_cell(Emitter& out, std::uint32_t raw, int col, int row, const LayerSta
 
 void emit_tile_layer(pugi::xml_node layer, const LayerState& s, Emitter& out, const std::string& where) {
     const MapInfo& m = out.info;
-    CellGrid grid = read_layer_data(layer, layer.attribute("width").as_int(m.width), layer.attribute("height").as_int(m.height),
+    CellGrid grid = read_layer_data(layer, int_attr(layer, "width", m.width, where), int_attr(layer, "height", m.height, where),
                                     m.infinite, where);
     out.cells += std::int64_t(grid.gids.size());
     if (out.cells > limits::kMaxMapCells)
@@ -342,12 +340,12 @@ void load_template(const std::string& path, Emitter& out, const std::string& whe
     }
     t.object = t.doc.child("template").child("object");
     if (!t.object) throw Error(path + ": no <template><object> element");
-    std::uint32_t raw = t.object.attribute("gid").as_uint(0);
+    std::uint32_t raw = gid_attr(t.object, "gid", path);
     if ((raw & kGidMask) == 0) return;
     pugi::xml_node ts = t.doc.child("template").child("tileset");
     if (!ts || !ts.attribute("source")) throw Error(path + ": template's tile object needs an external tileset");
     std::string tsx = resolve_tsx(std::filesystem::path(path).parent_path().string(), ts.attribute("source").as_string());
-    std::uint32_t first = ts.attribute("firstgid").as_uint(1);
+    const long long first = llong_attr(ts, "firstgid", 1, path);
     for (const Tileset& m : out.tilesets)
         if (!m.source.empty() && std::filesystem::path(m.source) == std::filesystem::path(tsx) && (raw & kGidMask) >= first) {
             // Wider arithmetic: a large local id plus the map's firstgid
@@ -389,11 +387,10 @@ void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, 
             base = t.object;
             template_gid = t.gid;
         }
-        auto attr = [&](const char* name) { return node.attribute(name) ? node.attribute(name) : base.attribute(name); };
-        if (attr("visible").as_int(1) == 0) continue;
+        if (!visible_attr(node.attribute("visible") ? node : base, here)) continue;
         TileObject o;
         o.where = here;
-        o.gid = node.attribute("gid") ? node.attribute("gid").as_uint(0) : template_gid;
+        o.gid = node.attribute("gid") ? gid_attr(node, "gid", here) : template_gid;
         if ((o.gid & kGidMask) == 0) {
             // Shapes and points are editor geometry engines do not draw as
             // images; text is drawn by Tiled, not by us.
@@ -402,11 +399,12 @@ void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, 
         }
         if (o.gid & kRotateHex120) throw Error(here + ": the hexagonal 120-degree rotation flag is not supported");
         TileRef ref = find_tile(out.tilesets, o.gid & kGidMask, here);
-        o.x = node.attribute("x").as_double(0);
-        o.y = node.attribute("y").as_double(0);
-        o.width = attr("width").as_double(ref.tile.rect.w);
-        o.height = attr("height").as_double(ref.tile.rect.h);
-        o.rotation = attr("rotation").as_double(0);
+        auto number = [&](const char* name, double fallback) { return double_attr(node.attribute(name) ? node : base, name, fallback, here); };
+        o.x = double_attr(node, "x", 0, here);
+        o.y = double_attr(node, "y", 0, here);
+        o.width = number("width", ref.tile.rect.w);
+        o.height = number("height", ref.tile.rect.h);
+        o.rotation = number("rotation", 0);
         auto in_range = [](double v) { return std::fabs(v) <= limits::kMaxCoordinate; }; // false for nan
         if (!in_range(o.x) || !in_range(o.y) || !in_range(o.width) || !in_range(o.height) || !std::isfinite(o.rotation))
             throw Error(here + ": position, size or rotation is not a finite number within +-1e9 (kMaxCoordinate)");
@@ -503,7 +501,7 @@ void emit_layers(pugi::xml_node parent, const LayerState& state, Emitter& out, i
         const bool named = out.options && std::find(out.options->insert_at.begin(), out.options->insert_at.end(), name) != out.options->insert_at.end();
         if (named) out.insert_at_found.insert(name);
         auto emit_layer = [&] {
-            if (!visible(layer)) return;
+            if (!visible_attr(layer, where)) return;
             LayerState s = child_state(layer, state, where);
             if (s.opacity == 0) return; // draws nothing
             // Tiled 1.11's layer blend modes: drawn as normal (alpha) blending.

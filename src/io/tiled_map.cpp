@@ -28,7 +28,7 @@ constexpr int kDefaultViewportMax = 4096;
 constexpr int kMaxMapSide = limits::kMaxMapSide;
 
 int positive_attr(pugi::xml_node node, const char* name, const std::string& where, int max) {
-    long long v = node.attribute(name).as_llong(0);
+    long long v = tiled::llong_attr(node, name, 0, where);
     if (v <= 0 || v > max)
         throw Error(where + ": map attribute " + name + " missing or outside 1.." + std::to_string(max));
     return int(v);
@@ -49,7 +49,7 @@ tiled::MapInfo read_map_info(pugi::xml_node map, const std::string& path) {
             throw Error(path + ": unknown staggeraxis '" + axis + "' or staggerindex '" + index + "'");
         info.stagger_x = axis == "x";
         info.stagger_even = index == "even";
-        info.hex_side = orientation == "hexagonal" ? map.attribute("hexsidelength").as_int(0) : 0;
+        info.hex_side = orientation == "hexagonal" ? tiled::int_attr(map, "hexsidelength", 0, path) : 0;
         info.hex_rotation = orientation == "hexagonal";
         if (info.hex_side < 0 || info.hex_side > kMaxImageSide) throw Error(path + ": hexsidelength out of range");
     }
@@ -60,15 +60,15 @@ tiled::MapInfo read_map_info(pugi::xml_node map, const std::string& path) {
     else if (order == "left-up") info.render_order = tiled::RenderOrder::left_up;
     else throw Error(path + ": unknown renderorder '" + order + "'");
     info.infinite = map.attribute("infinite").as_int(0) != 0;
-    info.parallax_origin_x = map.attribute("parallaxoriginx").as_double(0);
-    info.parallax_origin_y = map.attribute("parallaxoriginy").as_double(0);
+    info.parallax_origin_x = tiled::double_attr(map, "parallaxoriginx", 0, path);
+    info.parallax_origin_y = tiled::double_attr(map, "parallaxoriginy", 0, path);
     if (!(std::fabs(info.parallax_origin_x) <= limits::kMaxCoordinate && std::fabs(info.parallax_origin_y) <= limits::kMaxCoordinate))
         throw Error(path + ": parallaxoriginx / parallaxoriginy is not a finite number within +-1e9 (kMaxCoordinate)");
     info.tile_width = positive_attr(map, "tilewidth", path, kMaxImageSide);
     info.tile_height = positive_attr(map, "tileheight", path, kMaxImageSide);
     if (info.infinite) {
-        info.width = std::max(0, map.attribute("width").as_int(0));
-        info.height = std::max(0, map.attribute("height").as_int(0));
+        info.width = std::max(0, tiled::int_attr(map, "width", 0, path));
+        info.height = std::max(0, tiled::int_attr(map, "height", 0, path));
     } else {
         info.width = positive_attr(map, "width", path, kMaxMapSide);
         info.height = positive_attr(map, "height", path, kMaxMapSide);

@@ -103,8 +103,8 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
     ts.render_grid_size = render_size == "grid";
     ts.preserve_aspect = ts.render_grid_size && fill == "preserve-aspect-fit";
     if (pugi::xml_node offset = node.child("tileoffset")) {
-        ts.offset_x = offset.attribute("x").as_double(0);
-        ts.offset_y = offset.attribute("y").as_double(0);
+        ts.offset_x = double_attr(offset, "x", 0, where);
+        ts.offset_y = double_attr(offset, "y", 0, where);
         if (!(std::fabs(ts.offset_x) <= limits::kMaxCoordinate && std::fabs(ts.offset_y) <= limits::kMaxCoordinate))
             throw Error(where + ": tileoffset is not a finite number within +-1e9 (kMaxCoordinate)");
     }
@@ -247,7 +247,7 @@ std::vector<Tileset> read_tilesets(pugi::xml_node map, const std::string& map_pa
             throw Error(map_path + ": more than " + std::to_string(kMaxTilesets) + " tilesets (kMaxTilesets)");
         std::string where = map_path + ": tileset " + std::to_string(tilesets.size());
         if (node.attribute("name")) where = map_path + ": tileset '" + node.attribute("name").as_string() + "'";
-        long long firstgid = node.attribute("firstgid").as_llong(0);
+        long long firstgid = llong_attr(node, "firstgid", 0, where);
         if (firstgid < 1 || firstgid > kGidMask) throw Error(where + ": firstgid missing or out of range");
         if (pugi::xml_attribute source = node.attribute("source")) {
             std::string tsx = resolve_tsx(dir_of(map_path), source.as_string());

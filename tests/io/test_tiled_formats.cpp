@@ -62,6 +62,31 @@ TEST(TiledJson, ZstdLayerData) {
     expect_flips_map(io::read_scene(data("zstd.tmj")));  // re-compressed by Tiled 1.8.2
 }
 
+// pugixml's as_int / as_double read the leading digits and give 0 for
+// junk: "width": 1e300 became 1 (a tile dropped), opacity="x" hid the
+// layer, gid="abc" emptied the cell. Numbers are read whole now; a whole
+// number written 2.0 is still the integer Tiled's reader takes it for.
+TEST(TiledJson, NumbersAreReadWholeOrRefused) {
+    TempDir t;
+    auto tmj = [&](const std::string& name, const std::string& width) {
+        return t.write(name, R"({"width":)" + width + R"(,"height":1,"tilewidth":3,"tileheight":5,"orientation":"orthogonal",
+            "tilesets":[{"firstgid":1,"name":"c","tilewidth":3,"tileheight":5,"tiles":[{"id":0,"image":")" + data("a.png") + R"("}]}],
+            "layers":[{"type":"tilelayer","name":"l","width":)" + width + R"(,"height":1,"data":[1)" + (width == "1" ? "" : ",1") + "]}]}");
+    };
+    EXPECT_EQ(io::read_scene(tmj("two.tmj", "2.0")).elements.size(), 2u);
+    const std::string huge = tmj("huge.tmj", "1e300");
+    EXPECT_EQ(error_of([&] { io::read_scene(huge); }), huge + ": attribute width=\"1e+300\" is not an integer");
+    const std::string half = tmj("half.tmj", "2.5");
+    EXPECT_EQ(error_of([&] { io::read_scene(half); }), half + ": attribute width=\"2.5\" is not an integer");
+
+    const std::string opacity = t.write("opacity.tmx", map_xml("<layer name=\"g\" width=\"3\" height=\"2\" opacity=\"x\"><data encoding=\"csv\">1,0,0,0,0,0</data></layer>"));
+    EXPECT_EQ(error_of([&] { io::read_scene(opacity); }), opacity + ": layer 'g': attribute opacity=\"x\" is not a number");
+    const std::string cell = t.write("cell.tmx", map_xml("<layer name=\"g\" width=\"3\" height=\"2\"><data><tile gid=\"abc\"/></data></layer>"));
+    EXPECT_EQ(error_of([&] { io::read_scene(cell); }), cell + ": layer 'g': attribute gid=\"abc\" is not a tile gid (0..4294967295)");
+    const std::string object = t.write("object.tmx", map_xml("<objectgroup name=\"o\"><object id=\"1\" gid=\"1\" x=\"12abc\" y=\"4\"/></objectgroup>"));
+    EXPECT_NE(error_of([&] { io::read_scene(object); }).find("attribute x=\"12abc\" is not a number"), std::string::npos);
+}
+
 TEST(TiledJson, OldTilesObjectAndBadJson) {
     TempDir t;
     // Tiled before 1.2 wrote "tiles" as an object keyed by id.
