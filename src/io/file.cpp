@@ -19,7 +19,21 @@ namespace depthcull::io {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The system reads a name up to its first NUL: "blob.png\0.txt" (a JSON
+// "\u0000") opened blob.png under another name.
+void check_name(const std::string& path) {
+    if (path.find('\0') == std::string::npos) return;
+    std::string shown;
+    for (char c : path) shown += c ? std::string(1, c) : std::string("\\0");
+    throw Error(shown + ": a file name cannot hold a NUL character");
+}
+
+} // namespace
+
 void check_input_file(const std::string& path) {
+    check_name(path);
     struct stat st;
     if (::stat(path.c_str(), &st) != 0) throw Error(path + ": cannot open (" + std::strerror(errno) + ")");
     if (S_ISDIR(st.st_mode)) throw Error(path + ": is a directory, expected a file");
@@ -30,6 +44,7 @@ void check_input_file(const std::string& path) {
 }
 
 std::string read_image_head(const std::string& path, std::size_t size) {
+    check_name(path);
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error("cannot open image " + path + " (" + std::strerror(ENOENT) + ")");
     check_input_file(path); // before opening: a FIFO would block

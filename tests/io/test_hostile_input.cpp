@@ -326,6 +326,19 @@ TEST(HostileErrors, MeshJsonHugeNumbersAndDeepNestingAreOurErrors) {
     EXPECT_TRUE(has(e, "deep.json")) << e;
 }
 
+// The system reads a file name up to its first NUL: "blob.png\u0000.txt"
+// was optimized as blob.png, under the other name.
+TEST(HostileErrors, ANulInAFileNameIsRefused) {
+    SceneDir dir("hostile_nul");
+    dir.standard_art();
+    const std::string scene = dir.write("s.json", R"({"images": [{"id": "b", "path": "art/blob.png\u0000.txt"}], "elements": [{"image": "b"}]})");
+    pipeline::PrepareOptions o;
+    o.cache_dir = "";
+    const std::string e = io_error([&] { pipeline::prepare_scene(scene, o); });
+    EXPECT_TRUE(has(e, "blob.png\\0.txt: a file name cannot hold a NUL character")) << e;
+    EXPECT_EQ(e.find('\0'), std::string::npos);
+}
+
 // ---- 4. Caches heal
 
 TEST(HostileCache, EntriesThatFailStructuralChecksAreMissesAndRewritten) {
