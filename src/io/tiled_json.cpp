@@ -190,6 +190,9 @@ json parse(std::string_view text, const std::string& path) {
 } // namespace
 
 bool looks_like_json(std::string_view text) {
+    // A UTF-8 byte order mark, as some editors save JSON (the parser skips
+    // it too): such a .tmj was read as XML and refused as "XML error".
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
     for (char c : text) {
         if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
         return c == '{';

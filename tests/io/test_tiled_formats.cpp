@@ -87,6 +87,15 @@ TEST(TiledJson, NumbersAreReadWholeOrRefused) {
     EXPECT_NE(error_of([&] { io::read_scene(object); }).find("attribute x=\"12abc\" is not a number"), std::string::npos);
 }
 
+// Some editors save JSON with a UTF-8 byte order mark: such a map was told
+// from XML by its first byte and refused as an "XML error".
+TEST(TiledJson, AByteOrderMarkIsSkipped) {
+    TempDir t;
+    const std::string text = io::read_file(data("csv.tmj"));
+    std::filesystem::copy_file(data("tiles.png"), t.dir / "tiles.png");
+    expect_flips_map(io::read_scene(t.write("bom.tmj", "\xEF\xBB\xBF" + text)));
+}
+
 TEST(TiledJson, OldTilesObjectAndBadJson) {
     TempDir t;
     // Tiled before 1.2 wrote "tiles" as an object keyed by id.
