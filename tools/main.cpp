@@ -36,9 +36,16 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         // --help and --version exit 0; every other CLI11 error is a usage
-        // error, exit 2 (CLI11's own codes run 105-109).
-        int status = app.exit(e);
-        return status == 0 ? 0 : 2;
+        // error, exit 2 (CLI11's own codes run 105-109), on one line as
+        // every other error is (CLI11 prints two, without our prefix).
+        if (e.get_exit_code() == 0) return app.exit(e);
+        std::string what = e.what();
+        for (char& c : what)
+            if (c == '\n') c = ' ';
+        const std::vector<CLI::App*> commands = app.get_subcommands();
+        const std::string command = commands.empty() ? "depthcull" : "depthcull " + commands.front()->get_name();
+        std::fprintf(stderr, "depthcull: error: %s (%s --help lists the options)\n", what.c_str(), command.c_str());
+        return 2;
     } catch (const depthcull::cli::UsageError& e) {
         std::fprintf(stderr, "depthcull: error: %s\n", e.what());
         return 2;

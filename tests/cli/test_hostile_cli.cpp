@@ -30,6 +30,14 @@ TEST(HostileCli, UsageErrorsExitTwo) {
     EXPECT_EQ(run_cli("optimize x.json --max-vertices 2").status, 2);   // out of range
     EXPECT_EQ(run_cli("optimize x.json --opaque nope").status, 2);      // not a choice
     EXPECT_EQ(run_cli("optimize x.json --max-opaque x").status, 2);     // not a number
+    // One line, worded as every other error (CLI11 printed two, unprefixed).
+    for (const char* args : {"", "optimize", "optimize x.json --bogus", "render x.json --viewport 0,0,64"}) {
+        auto r = run_cli(args);
+        EXPECT_TRUE(one_line(r.err)) << args << ": " << r.err;
+        EXPECT_EQ(r.err.rfind("depthcull: error: ", 0), 0u) << args << ": " << r.err;
+    }
+    EXPECT_EQ(run_cli("optimize x.json --bogus").err,
+              "depthcull: error: The following argument was not expected: --bogus (depthcull optimize --help lists the options)\n");
     EXPECT_EQ(run_cli("--help").status, 0);
     EXPECT_NE(run_cli("--help").out.find("Exit status"), std::string::npos);
     EXPECT_EQ(run_cli("--version").status, 0);
