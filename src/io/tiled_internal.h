@@ -116,10 +116,12 @@ struct Tileset {
         // Animated tiles by local id: every frame's tile and duration (ms);
         // the tile itself (in `named`) is its first frame.
         std::map<std::uint32_t, std::vector<std::pair<Tile, int>>> animations;
-        // Animated tiles whose frames name tiles the tileset lacks, by local
-        // id: why. Those frames are left out (a tile left with none stays
-        // still); a map that shows the tile warns, --strict refuses.
-        std::map<std::uint32_t, std::string> broken_animations;
+        // Animated tiles drawn otherwise than their file says, by local id:
+        // what was done (frames naming tiles the tileset lacks are left
+        // out; a tile left with none, or animated by The Mana World's
+        // animation-frameN properties, stays still). A map that shows the
+        // tile warns, --strict refuses.
+        std::map<std::uint32_t, std::string> animation_warnings;
     };
     // Shared by every <tileset> naming the same file: it is parsed once
     // and held once, however many firstgids name it.

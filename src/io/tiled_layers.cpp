@@ -105,9 +105,8 @@ void warn(Emitter& out, const std::string& line) {
 }
 
 int animation_of(Emitter& out, const Tileset& tileset, std::uint32_t local, const std::string& where) {
-    if (auto broken = tileset.tables->broken_animations.find(local); broken != tileset.tables->broken_animations.end())
-        warn(out, where + ": animated tile " + std::to_string(local) + " of tileset '" + tileset.name + "': " + broken->second +
-                      ": those frames are left out");
+    if (auto w = tileset.tables->animation_warnings.find(local); w != tileset.tables->animation_warnings.end())
+        warn(out, where + ": animated tile " + std::to_string(local) + " of tileset '" + tileset.name + "': " + w->second);
     auto it = tileset.tables->animations.find(local);
     if (it == tileset.tables->animations.end()) return -1;
     auto [slot, fresh] = out.animation_index.try_emplace({&tileset, local}, -1);

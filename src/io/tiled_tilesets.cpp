@@ -137,6 +137,11 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
     // up among the still tiles, before any animation is resolved).
     std::vector<std::pair<std::uint32_t, std::vector<std::pair<Tile, int>>>> animated;
     for (pugi::xml_node tile : node.children("tile")) {
+        // The Mana World's own form (its client reads it; 11 of its
+        // tilesets use it): not read here, so the tile is drawn still.
+        if (!tile.child("animation") && tile.child("properties").find_child_by_attribute("property", "name", "animation-frame0"))
+            tables->animation_warnings[std::uint32_t(int_attr(tile, "id", 0, where))] =
+                "animation-frameN / animation-delayN properties (The Mana World's form) are not read: drawn as its still tile";
         if (!tile.child("animation").child("frame")) continue;
         std::string here = where + ": tile " + tile.attribute("id").as_string() + ": animation";
         int id = int_attr(tile, "id", -1, here);
@@ -152,14 +157,14 @@ Tileset parse_tileset(pugi::xml_node node, std::uint32_t firstgid, const std::st
             // past its image, and nine of its maps (none showing those
             // tiles) load in Tiled and the game: refused only where shown.
             if (still.image < 0) {
-                std::string& why = tables->broken_animations[std::uint32_t(id)];
+                std::string& why = tables->animation_warnings[std::uint32_t(id)];
                 why += (why.empty() ? "frame names no tile (" : ", ") + std::to_string(tile_id);
                 continue;
             }
             frames.emplace_back(still, duration);
         }
-        if (auto it = tables->broken_animations.find(std::uint32_t(id)); it != tables->broken_animations.end())
-            it->second += "; the tileset has " + std::to_string(ts.tile_count()) + " tiles)";
+        if (auto it = tables->animation_warnings.find(std::uint32_t(id)); it != tables->animation_warnings.end())
+            it->second += "; the tileset has " + std::to_string(ts.tile_count()) + " tiles): those frames are left out";
         if (!frames.empty()) animated.emplace_back(std::uint32_t(id), std::move(frames));
     }
     for (auto& [id, frames] : animated) {

@@ -241,6 +241,19 @@ TEST(TiledAnimation, FramesNamingNoTileAreLeftOutAndWarnedOnlyWhereShown) {
     options.strict = true;
     EXPECT_NE(error_of([&] { io::read_scene(shown, options); }).find("those frames are left out (--strict)"), std::string::npos);
     EXPECT_NO_THROW(io::read_scene(unused, options));
+
+    // The Mana World's animation-frameN properties: not read, warned where shown.
+    options.strict = false;
+    warnings.clear();
+    const std::string mana = t.write("mana.tmx", map_xml(layer("4,1,0,0,0,0"), "",
+                                                         "<tile id=\"3\"><properties><property name=\"animation-frame0\" value=\"1\"/>"
+                                                         "<property name=\"animation-delay0\" value=\"10\"/></properties></tile>"));
+    s = io::read_scene(mana, options);
+    EXPECT_EQ(s.elements.size(), 2u);
+    EXPECT_TRUE(s.animations.empty());
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], mana + ": layer 'g': animated tile 3 of tileset 'tiles': animation-frameN / animation-delayN properties (The Mana "
+                                  "World's form) are not read: drawn as its still tile");
 }
 
 // ---- images by content
