@@ -18,7 +18,8 @@ bool builtin_profile_for_renderer(const std::string& renderer, CostProfile* out)
 }
 
 std::string default_profile_cache_dir() {
-    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (std::filesystem::path(xdg) / "depthcull" / "profiles").string();
+    // A relative XDG_CACHE_HOME is ignored, as in default_cache_dir.
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/') return (std::filesystem::path(xdg) / "depthcull" / "profiles").string();
     if (const char* home = std::getenv("HOME"); home && *home)
         return (std::filesystem::path(home) / ".cache" / "depthcull" / "profiles").string();
     return {};

@@ -103,6 +103,14 @@ TEST(HostileCli, NoCacheWritesNoCache) {
     cmd = env + "'" + DEPTHCULL_CLI_PATH + "' optimize " + shq(example("meadow.json")) + " -o " + shq(dir / "c.json") + " 2>/dev/null";
     ASSERT_EQ(std::system(cmd.c_str()), 0);
     EXPECT_TRUE(fs::exists(home / ".cache" / "depthcull" / "analysis"));
+    // A relative XDG_CACHE_HOME is ignored (the XDG spec): it made a cache
+    // under the directory the run was in.
+    fs::remove_all(home / ".cache");
+    cmd = "cd " + shq(dir) + " && env HOME=" + shq(home) + " XDG_CACHE_HOME=relative '" + DEPTHCULL_CLI_PATH + "' optimize " +
+          shq(example("meadow.json")) + " -o " + shq(dir / "r.json") + " 2>/dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    EXPECT_FALSE(fs::exists(dir / "relative"));
+    EXPECT_TRUE(fs::exists(home / ".cache" / "depthcull" / "analysis"));
     fs::remove_all(dir);
 }
 
