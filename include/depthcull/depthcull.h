@@ -292,7 +292,9 @@ DC_API dc_status dc_meshes_read_file(const char* path, dc_meshes** out);
  * or "": kept as written). */
 DC_API dc_status dc_meshes_read_memory(const void* data, size_t size, const char* base_dir, dc_meshes** out);
 /* Atomic (a temporary file renamed over `path`); image paths are written
- * relative to the file's directory. */
+ * relative to the file's directory. "" and "-" are DC_ERROR_INVALID_ARGUMENT
+ * (they name no file; the CLI's standard output is not the library's):
+ * write "./-" for a file named "-", dc_meshes_write_memory for bytes. */
 DC_API dc_status dc_meshes_write_file(const dc_meshes* meshes, const char* path, dc_format format, unsigned flags);
 /* `*data` (release with dc_free) gets `*size` bytes; image paths as held. */
 DC_API dc_status dc_meshes_write_memory(const dc_meshes* meshes, dc_format format, unsigned flags, void** data, size_t* size);
@@ -313,8 +315,8 @@ typedef struct dc_sprite {
     uint32_t image;       /* dc_assembler_add_image id (ignored with an animation) */
     int32_t animation;    /* dc_assembler_add_animation id, or -1 */
     int32_t frame;        /* the animation's frame (modulo its count) */
-    double transform[6];  /* as dc_element */
-    float color[4];
+    double transform[6];  /* as dc_element: each finite and within +-1e9 */
+    float color[4];       /* as dc_element: each in 0..1 */
     int blend;            /* dc_blend */
 } dc_sprite;
 
@@ -328,15 +330,25 @@ DC_API void dc_sprite_default(dc_sprite* sprite);
 DC_API dc_status dc_assembler_create(dc_assembler** out);
 DC_API void dc_assembler_destroy(dc_assembler* assembler);
 /* A picture: `rect` of texture `texture` (the renderer's texture index, a
- * draw's image) of the given size, analysed by `analysis` (copied). */
+ * draw's image) of the given size, analysed by `analysis` (copied), which
+ * must be the analysis of that same rect (DC_ERROR_INVALID_ARGUMENT
+ * otherwise, as dc_scene_add_element). */
 DC_API dc_status dc_assembler_add_image(dc_assembler* assembler, uint32_t texture, int texture_width, int texture_height,
                                         dc_rect rect, const dc_analysis* analysis, uint32_t* id);
+/* An animation of `count` (at least 1) dc_assembler_add_image ids, shown
+ * in turn. */
 DC_API dc_status dc_assembler_add_animation(dc_assembler* assembler, const uint32_t* images, size_t count, uint32_t* id);
+/* Grows the assembler's and `frame`'s buffers for frames of up to
+ * `sprites` sprites, so that such frames allocate nothing. More than a
+ * frame holds (2^21 - 1, one depth level each) is DC_ERROR_INVALID_ARGUMENT,
+ * checked before anything is allocated. */
 DC_API dc_status dc_assembler_reserve(dc_assembler* assembler, size_t sprites, dc_frame* frame);
 DC_API dc_status dc_frame_create(dc_frame** out);
 DC_API void dc_frame_destroy(dc_frame* frame);
 /* A fully dynamic frame: `bounds` is the part of the world the overlap
- * test's grid covers (the camera's view). */
+ * test's grid covers (the camera's view). A sprite with an unknown picture
+ * or animation, or a transform or colour value out of range (dc_sprite), is
+ * DC_ERROR_INVALID_ARGUMENT, dc_last_error naming the sprite and field. */
 DC_API dc_status dc_assemble(dc_assembler* assembler, const dc_sprite* sprites, size_t count, dc_viewport bounds, dc_frame* frame);
 DC_API dc_status dc_frame_stats_get(const dc_frame* frame, dc_frame_stats* out);
 /* The frame's vertices (9 floats each, as dc_draw) and indices, valid

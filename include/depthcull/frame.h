@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <memory>
 #include <new>
+#include <optional>
 #include <utility>
 #include <span>
 #include <vector>
@@ -46,18 +47,35 @@ struct Sprite {
     int animation = -1; // FrameAssembler::add_animation id, or -1
     int frame = 0;      // animation frame (taken modulo its frame count)
     // As Element::transform: screen = (a*u + c*v + e, b*u + d*v + f), (u, v)
-    // texels of the rect with its top-left at the origin.
+    // texels of the rect with its top-left at the origin. Each value finite
+    // and within +-limits::kMaxCoordinate, as an element's.
     std::array<double, 6> transform{1, 0, 0, 1, 0, 0};
-    std::array<float, 4> color{1, 1, 1, 1};
+    std::array<float, 4> color{1, 1, 1, 1}; // each in 0..1, as an element's
     Blend blend = Blend::alpha;
 };
 
 enum class FrameStatus {
     ok,
-    bad_image,        // add_image: empty rect, rect outside the texture, no analysis, negative texture
-    bad_sprite,       // a sprite names an unknown image or animation, or has a non-finite transform or colour
+    bad_image,        // add_image: empty rect, rect outside the texture, no analysis or one of another rect, negative
+                      // texture; add_animation: no frames, or a frame that is no add_image id
+    bad_sprite,       // a sprite names an unknown image or animation, or a transform value or colour is out of range
     too_many_sprites, // more sprites than depth levels (kMaxDepthLevels, or an insertion point's reserved levels)
     bad_meshes,       // assemble_at: static meshes without insertion points, or fewer than the sprite lists
+};
+
+// What a FrameAssembler call that did not return ok was refused for,
+// beyond its status, for a front end's message ("sprite 3: transform[4]
+// 1e+300 is not a finite number within +-1e9"): the status alone cannot
+// say which of a frame's sprites, or which of its fields. Static text, so
+// a refused frame allocates nothing either.
+struct FrameProblem {
+    std::int64_t point = -1;     // assemble_at: the sprite list (insertion point) at fault; -1 otherwise
+    std::int64_t item = -1;      // the sprite within its list, or add_animation's frame; -1 when no one item is
+    const char* field = "";      // "transform", "color", "image", "animation", "blend", "rect", "analysis", ...; "" none
+    int component = -1;          // transform[component] or color[component]; -1 otherwise
+    bool has_value = false;      // whether `value` is the value at fault:
+    double value = 0;            // the component's value, the id or the count (frames, sprites) at fault
+    const char* reason = "";     // why, e.g. "is not a finite number within +-1e9 (kMaxCoordinate)"
 };
 
 // A draw of an assembled frame: `index_count` indices from `first_index`
@@ -161,8 +179,10 @@ public:
     FrameStatus add_animation(std::span<const int> images, int* id);
 
     // Grows every buffer (the assembler's and `out`'s) for frames of up to
-    // `sprites` sprites, so that such frames allocate nothing.
-    void reserve(std::size_t sprites, AssembledFrame* out);
+    // `sprites` sprites, so that such frames allocate nothing. More than
+    // kMaxDepthLevels (one level per sprite: no frame holds more) is
+    // too_many_sprites, and nothing is reserved.
+    FrameStatus reserve(std::size_t sprites, AssembledFrame* out);
 
     // A fully dynamic frame: sprites in painter's order (sprites[0] farthest
     // back), bounds the part of the world the overlap grid covers (the
@@ -179,6 +199,10 @@ public:
                             const Viewport& bounds, AssembledFrame* out);
 
     std::size_t image_count() const { return images_.size(); }
+
+    // Why the latest call that did not return ok was refused (left as it
+    // was by calls that succeed).
+    const FrameProblem& problem() const { return problem_; }
 
 private:
     struct Template {
@@ -221,9 +245,13 @@ private:
     struct SpriteShape; // plan_sprite's answer
 
     FrameStatus plan_sprite(const Sprite& s, SpriteShape& p) const;
+    FrameProblem sprite_problem(const Sprite& s) const; // the slow path of a refused sprite
+    FrameStatus refuse(FrameStatus status, const char* field, const char* reason, std::int64_t item = -1,
+                       std::optional<double> value = std::nullopt);
     FrameStatus run(const Viewport& bounds, AssembledFrame* out);
 
     AssemblerOptions options_;
+    FrameProblem problem_;
     std::vector<Template> templates_;
     std::vector<Picture> images_;
     std::vector<std::vector<int>> animations_;

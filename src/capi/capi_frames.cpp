@@ -1,7 +1,10 @@
 // depthcull.h: moving sprites (depthcull/frame.h) through the C API. Pure:
 // no GL; dc_renderer_draw_frame (capi_runtime.cpp) draws the frames.
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <string>
+#include <string_view>
 
 #include "capi/capi_internal.h"
 
@@ -11,13 +14,40 @@ using depthcull::capi::guard;
 
 namespace {
 
-dc_status frame_status(const char* function, FrameStatus status) {
+// A value as a message shows it: whole numbers (ids, counts) in full,
+// others as %g (1e+300).
+std::string value_text(double v) {
+    if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 9007199254740992.0) return std::to_string(std::int64_t(v));
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
+// The assembler's FrameProblem as a message: "sprite 3: transform[4]
+// 1e+300 is not a finite number within +-1e9 (kMaxCoordinate)". `item`
+// names what FrameProblem::item counts ("sprite", "frame").
+std::string problem_text(const FrameProblem& p, const char* item) {
+    std::string text;
+    if (p.point >= 0) text += "point " + std::to_string(p.point) + (p.item >= 0 ? ", " : ": ");
+    if (p.item >= 0) text += std::string(item) + " " + std::to_string(p.item) + ": ";
+    text += p.field;
+    if (p.component >= 0) text += "[" + std::to_string(p.component) + "]";
+    if (p.has_value) text += " " + value_text(p.value);
+    return text + " " + p.reason;
+}
+
+std::string rect_text(const Rect& r) {
+    return std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.w) + "x" + std::to_string(r.h);
+}
+
+dc_status frame_status(const char* function, FrameStatus status, const FrameAssembler& assembler, const char* item = "sprite") {
+    const std::string problem = std::string(function) + ": " + problem_text(assembler.problem(), item);
     switch (status) {
     case FrameStatus::ok: return DC_OK;
-    case FrameStatus::bad_image: return fail(DC_ERROR_INVALID_ARGUMENT, function, "bad picture: empty rect, rect outside its texture, or no analysis");
-    case FrameStatus::bad_sprite: return fail(DC_ERROR_INVALID_ARGUMENT, function, "a sprite names an unknown picture or animation, or has a non-finite transform or colour");
-    case FrameStatus::too_many_sprites: return fail(DC_ERROR_TOO_MANY_DEPTH_LEVELS, function, "more sprites than depth levels");
-    case FrameStatus::bad_meshes: return fail(DC_ERROR_INVALID_ARGUMENT, function, "static meshes without the insertion points asked for");
+    case FrameStatus::bad_image:
+    case FrameStatus::bad_sprite:
+    case FrameStatus::bad_meshes: return fail(DC_ERROR_INVALID_ARGUMENT, problem);
+    case FrameStatus::too_many_sprites: return fail(DC_ERROR_TOO_MANY_DEPTH_LEVELS, problem);
     }
     return fail(DC_ERROR_INTERNAL, function, "unknown frame status");
 }
@@ -64,8 +94,14 @@ dc_status dc_assembler_add_image(dc_assembler* assembler, uint32_t texture, int 
         if (!assembler || !analysis || !id || texture > uint32_t(INT32_MAX))
             return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assembler_add_image: assembler, analysis and id must not be NULL");
         int picture = -1;
-        const SpriteImage image{int(texture), texture_width, texture_height, Rect{rect.x, rect.y, rect.w, rect.h}, analysis->analysis.get()};
-        if (dc_status s = frame_status("dc_assembler_add_image", assembler->assembler.add_image(image, &picture))) return s;
+        const Rect r{rect.x, rect.y, rect.w, rect.h};
+        const SpriteImage image{int(texture), texture_width, texture_height, r, analysis->analysis.get()};
+        const FrameStatus status = assembler->assembler.add_image(image, &picture);
+        if (const Rect& of = analysis->analysis->rect; status == FrameStatus::bad_image && !(of == r) &&
+                                                       std::string_view(assembler->assembler.problem().field) == "analysis")
+            return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assembler_add_image: the analysis is of another rect (" + rect_text(of) + ") than the picture's (" +
+                                                       rect_text(r) + ")");
+        if (dc_status s = frame_status("dc_assembler_add_image", status, assembler->assembler)) return s;
         *id = uint32_t(picture);
         return DC_OK;
     });
@@ -74,10 +110,16 @@ dc_status dc_assembler_add_image(dc_assembler* assembler, uint32_t texture, int 
 dc_status dc_assembler_add_animation(dc_assembler* assembler, const uint32_t* images, size_t count, uint32_t* id) {
     return guard("dc_assembler_add_animation", [&] {
         if (!assembler || !images || !id) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assembler_add_animation: arguments must not be NULL");
-        std::vector<int> frames;
-        for (size_t i = 0; i < count; ++i) frames.push_back(images[i] > uint32_t(INT32_MAX) ? -1 : int(images[i]));
+        if (count == 0) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assembler_add_animation: count is 0: an animation shows at least one picture");
+        const std::size_t pictures = assembler->assembler.image_count();
+        for (size_t i = 0; i < count; ++i)
+            if (images[i] >= pictures) // before the copy: a bad count is no reason to allocate
+                return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assembler_add_animation: frame " + std::to_string(i) + ": image " + std::to_string(images[i]) +
+                                                           " is not a dc_assembler_add_image id (the assembler has " + std::to_string(pictures) + ")");
+        std::vector<int> frames(images, images + count);
         int animation = -1;
-        if (dc_status s = frame_status("dc_assembler_add_animation", assembler->assembler.add_animation(frames, &animation))) return s;
+        if (dc_status s = frame_status("dc_assembler_add_animation", assembler->assembler.add_animation(frames, &animation), assembler->assembler, "frame"))
+            return s;
         *id = uint32_t(animation);
         return DC_OK;
     });
@@ -86,7 +128,11 @@ dc_status dc_assembler_add_animation(dc_assembler* assembler, const uint32_t* im
 dc_status dc_assembler_reserve(dc_assembler* assembler, size_t sprites, dc_frame* frame) {
     return guard("dc_assembler_reserve", [&] {
         if (!assembler || !frame) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assembler_reserve: assembler and frame must not be NULL");
-        assembler->assembler.reserve(sprites, &frame->frame);
+        // Checked before anything is allocated (the assembler checks too).
+        if (sprites > std::size_t(kMaxDepthLevels))
+            return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assembler_reserve: " + std::to_string(sprites) + " sprites are more than a frame holds (" +
+                                                       std::to_string(kMaxDepthLevels) + ", one depth level each: kMaxDepthLevels)");
+        if (dc_status s = frame_status("dc_assembler_reserve", assembler->assembler.reserve(sprites, &frame->frame), assembler->assembler)) return s;
         frame->sprites.reserve(sprites);
         return DC_OK;
     });
@@ -109,8 +155,9 @@ dc_status dc_assemble(dc_assembler* assembler, const dc_sprite* sprites, size_t 
         for (size_t i = 0; i < count; ++i)
             if (!convert(sprites[i], frame->sprites[i]))
                 return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble: a sprite's blend is not a dc_blend");
-        return frame_status("dc_assemble", assembler->assembler.assemble(frame->sprites, Viewport{bounds.x, bounds.y, bounds.width, bounds.height},
-                                                                         &frame->frame));
+        return frame_status("dc_assemble",
+                            assembler->assembler.assemble(frame->sprites, Viewport{bounds.x, bounds.y, bounds.width, bounds.height}, &frame->frame),
+                            assembler->assembler);
     });
 }
 
@@ -169,7 +216,9 @@ dc_status dc_assemble_at(dc_assembler* assembler, const dc_meshes* static_meshes
         for (size_t k = 0; k < points; ++k) {
             if (counts[k] && !sprites[k]) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_assemble_at: a sprite list must not be NULL");
             if (std::int64_t(counts[k]) > static_meshes->document.meshes.insertion_points[k].levels || counts[k] > std::size_t(kMaxDepthLevels))
-                return frame_status("dc_assemble_at", FrameStatus::too_many_sprites);
+                return fail(DC_ERROR_TOO_MANY_DEPTH_LEVELS, "dc_assemble_at: point " + std::to_string(k) + ": " + std::to_string(counts[k]) +
+                                                                " sprites are more than the point's reserved levels (" +
+                                                                std::to_string(static_meshes->document.meshes.insertion_points[k].levels) + ")");
             total += counts[k];
         }
         // One array for all points (kept at capacity), then the spans.
@@ -183,9 +232,10 @@ dc_status dc_assemble_at(dc_assembler* assembler, const dc_meshes* static_meshes
             frame->lists.emplace_back(frame->sprites.data() + at, counts[k]);
             at += counts[k];
         }
-        return frame_status("dc_assemble_at", assembler->assembler.assemble_at(static_meshes->document.meshes, frame->lists,
-                                                                               Viewport{bounds.x, bounds.y, bounds.width, bounds.height},
-                                                                               &frame->frame));
+        return frame_status("dc_assemble_at",
+                            assembler->assembler.assemble_at(static_meshes->document.meshes, frame->lists,
+                                                             Viewport{bounds.x, bounds.y, bounds.width, bounds.height}, &frame->frame),
+                            assembler->assembler);
     });
 }
 

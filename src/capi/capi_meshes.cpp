@@ -1,6 +1,8 @@
 // depthcull.h: meshes, their draws and the mesh files (docs/mesh-format.md).
 #include <cstdlib>
 #include <cstring>
+#include <string>
+#include <string_view>
 
 #include "capi/capi_internal.h"
 
@@ -119,6 +121,14 @@ dc_status dc_meshes_write_file(const dc_meshes* meshes, const char* path, dc_for
     return guard("dc_meshes_write_file", [&] {
         if (!meshes || !path) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_write_file: meshes and path must not be NULL");
         if (format != DC_FORMAT_JSON && format != DC_FORMAT_BINARY) return fail(DC_ERROR_INVALID_ARGUMENT, "dc_meshes_write_file: unknown format");
+        // The io writers take "" and "-" for standard output (the CLI's
+        // meaning): from a library that would write into the host's stdout
+        // and report a file written. A file named "-" is "./-".
+        const std::string_view p(path);
+        if (p.empty() || p == "-")
+            return fail(DC_ERROR_INVALID_ARGUMENT, std::string("dc_meshes_write_file: path \"") + path +
+                                                       "\" names no file (for a file named \"-\", pass \"./-\"; for bytes in memory, "
+                                                       "dc_meshes_write_memory)");
         // Streamed into the file: a large scene's meshes are never one string.
         (void)flags; // DC_WRITE_NO_TIMING: what every write does now
         format == DC_FORMAT_BINARY ? io::write_meshes_binary(path, meshes->document) : io::write_meshes_json(path, meshes->document);

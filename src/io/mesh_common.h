@@ -128,7 +128,9 @@ inline void check_depth_levels(const SceneMeshes& m, const std::string& name) {
 // FrameAssembler::assemble_at and Renderer::draw_frame get points whose
 // reserved levels lie inside the depth mapping, overlap neither another
 // point's nor any static draw's depth, and whose blend draws go inside the
-// static blend pass.
+// static blend pass. Points 0..k-1 must have passed already (the readers
+// check in order and stop at the first problem): the blend pass check
+// leans on it.
 inline std::string insertion_point_problem(const SceneMeshes& m, std::size_t k, const char** field) {
     const InsertionPoint& p = m.insertion_points[k];
     const InsertionPoint* prev = k ? &m.insertion_points[k - 1] : nullptr;
@@ -148,6 +150,11 @@ inline std::string insertion_point_problem(const SceneMeshes& m, std::size_t k, 
     *field = "blend_draw";
     if (p.blend_draw > m.draws.size()) return "blend_draw " + std::to_string(p.blend_draw) + " is past the " + std::to_string(m.draws.size()) + " draws";
     if (prev && p.blend_draw < prev->blend_draw) return "blend_draw " + std::to_string(p.blend_draw) + " is before the previous point's";
+    // The previous point passed, so draws from its blend_draw on, which
+    // hold this point's, are all blend draws: only the first point walks
+    // them. Walking per point cost points x draws (65,536 points and
+    // 131,072 draws, a 4 MB file, took 10 s).
+    if (prev) return {};
     for (std::size_t d = p.blend_draw; d < m.draws.size(); ++d)
         if (m.draws[d].pass != Pass::blend)
             return "blend_draw " + std::to_string(p.blend_draw) + " is not in the blend pass (draw " + std::to_string(d) + " is opaque)";

@@ -24,6 +24,7 @@
 #include <map>
 
 #include "depthcull/frame.h"
+#include "depthcull/limits.h"
 #include "scene/internal.h"
 #include "scene/placement.h"
 
@@ -50,22 +51,56 @@ using namespace detail;
 
 namespace {
 
-// v - v is 0 for a finite v, NaN otherwise: one test, no branch per number.
-bool finite_sprite(const Sprite& s) {
+// A sprite's values in an element's ranges (the scene JSON,
+// dc_scene_add_element): transform values within +-kMaxCoordinate keep
+// every vertex a finite float (texels of at most kMaxImageSide, so
+// |x| <= 3.3e13; 1e39 made Infinity), and colours in 0..1, since they go
+// into the vertices as they are. NaN fails every comparison; bitwise &,
+// so no branch per number.
+constexpr double kMaxTransformValue = limits::kMaxCoordinate;
+constexpr const char* kTransformRange = "is not a finite number within +-1e9 (kMaxCoordinate)";
+constexpr const char* kColorRange = "is not in 0..1";
+
+bool transform_value_ok(double v) { return std::abs(v) <= kMaxTransformValue; }
+bool color_value_ok(float v) { return (v >= 0.0f) & (v <= 1.0f); }
+
+bool sprite_in_range(const Sprite& s) {
     const auto& m = s.transform;
     const auto& c = s.color;
-    const double t = ((m[0] - m[0]) + (m[1] - m[1])) + ((m[2] - m[2]) + (m[3] - m[3])) + ((m[4] - m[4]) + (m[5] - m[5]));
-    const float f = ((c[0] - c[0]) + (c[1] - c[1])) + ((c[2] - c[2]) + (c[3] - c[3]));
-    return t == 0 && f == 0;
+    // As ints: clang's -Wbitwise-instead-of-logical refuses & between bools.
+    const int t = int(transform_value_ok(m[0])) & int(transform_value_ok(m[1])) & int(transform_value_ok(m[2])) &
+                  int(transform_value_ok(m[3])) & int(transform_value_ok(m[4])) & int(transform_value_ok(m[5]));
+    const int f = int(color_value_ok(c[0])) & int(color_value_ok(c[1])) & int(color_value_ok(c[2])) & int(color_value_ok(c[3]));
+    return (t & f) != 0;
 }
 
 } // namespace
 
+FrameStatus FrameAssembler::refuse(FrameStatus status, const char* field, const char* reason, std::int64_t item,
+                                   std::optional<double> value) {
+    problem_ = FrameProblem{};
+    problem_.item = item;
+    problem_.field = field;
+    problem_.has_value = value.has_value();
+    problem_.value = value.value_or(0);
+    problem_.reason = reason;
+    return status;
+}
+
 FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
     const ImageAnalysis* a = image.analysis;
-    if (!id || !a || image.texture < 0 || image.rect.empty() || image.texture_width <= 0 || image.texture_height <= 0 ||
-        !ImageView{nullptr, image.texture_width, image.texture_height, 0}.contains(image.rect))
-        return FrameStatus::bad_image;
+    constexpr FrameStatus bad = FrameStatus::bad_image;
+    if (!id) return refuse(bad, "id", "is null");
+    if (!a) return refuse(bad, "analysis", "is missing");
+    if (image.texture < 0) return refuse(bad, "texture", "is negative", -1, double(image.texture));
+    if (image.texture_width <= 0 || image.texture_height <= 0) return refuse(bad, "texture size", "is not positive");
+    if (image.rect.empty()) return refuse(bad, "rect", "is empty");
+    if (!ImageView{nullptr, image.texture_width, image.texture_height, 0}.contains(image.rect))
+        return refuse(bad, "rect", "is outside the texture");
+    // Its polygons are in texels of the texture: another rect's would be
+    // drawn at that rect's place (a transparent rect's none at all), as
+    // dc_scene_add_element refuses for an element.
+    if (!(a->rect == image.rect)) return refuse(bad, "analysis", "is of another rect than the picture's");
     // A one-element scene for MeshBuilder, capturing texel-space polygons.
     Scene scene;
     scene.images.push_back({"", "", image.texture_width, image.texture_height});
@@ -203,15 +238,23 @@ FrameStatus FrameAssembler::add_image(const SpriteImage& image, int* id) {
 }
 
 FrameStatus FrameAssembler::add_animation(std::span<const int> images, int* id) {
-    if (!id || images.empty()) return FrameStatus::bad_image;
-    for (int i : images)
-        if (i < 0 || std::size_t(i) >= images_.size()) return FrameStatus::bad_image;
+    if (!id) return refuse(FrameStatus::bad_image, "id", "is null");
+    if (images.empty()) return refuse(FrameStatus::bad_image, "frames", "are none: an animation shows at least one picture");
+    for (std::size_t k = 0; k < images.size(); ++k)
+        if (images[k] < 0 || std::size_t(images[k]) >= images_.size())
+            return refuse(FrameStatus::bad_image, "image", "is not an add_image id", std::int64_t(k), double(images[k]));
     *id = int(animations_.size());
     animations_.emplace_back(images.begin(), images.end());
     return FrameStatus::ok;
 }
 
-void FrameAssembler::reserve(std::size_t sprites, AssembledFrame* out) {
+FrameStatus FrameAssembler::reserve(std::size_t sprites, AssembledFrame* out) {
+    // Checked before any allocation: a count past every frame's size would
+    // otherwise overflow the products below (a length_error) or ask for
+    // terabytes.
+    if (sprites > std::size_t(kMaxDepthLevels))
+        return refuse(FrameStatus::too_many_sprites, "sprites", "is more than a frame holds (one depth level each, kMaxDepthLevels)", -1,
+                      double(sprites));
     plan_.reserve(sprites);
     batch_key_.reserve(sprites);
     batch_count_.reserve(sprites);
@@ -229,6 +272,7 @@ void FrameAssembler::reserve(std::size_t sprites, AssembledFrame* out) {
         out->draws.reserve(2 * sprites + 1);
         out->points.reserve(16);
     }
+    return FrameStatus::ok;
 }
 
 struct FrameAssembler::SpriteShape {
@@ -248,7 +292,7 @@ inline FrameStatus FrameAssembler::plan_sprite(const Sprite& s, SpriteShape& p) 
         const int n = int(frames.size());
         picture = frames[std::size_t(((s.frame % n) + n) % n)];
     }
-    if (picture < 0 || std::size_t(picture) >= images_.size() || !finite_sprite(s) || int(s.blend) < 0 || int(s.blend) > 3)
+    if (picture < 0 || std::size_t(picture) >= images_.size() || !sprite_in_range(s) || int(s.blend) < 0 || int(s.blend) > 3)
         return FrameStatus::bad_sprite;
     const Picture& pic = images_[std::size_t(picture)];
     p.picture = &pic;
@@ -289,6 +333,28 @@ inline FrameStatus FrameAssembler::plan_sprite(const Sprite& s, SpriteShape& p) 
     if (p.opaque == 1 && options_.filter == Filter::nearest && pic.opaque_covers_all && p.boundary == 1 && p.margin == 0)
         p.blended = false;
     return FrameStatus::ok;
+}
+
+// plan_sprite's checks again, one by one, for the field to name.
+FrameProblem FrameAssembler::sprite_problem(const Sprite& s) const {
+    FrameProblem p;
+    auto set = [&](const char* field, const char* reason, int component, double value) {
+        p.field = field, p.reason = reason, p.component = component, p.has_value = true, p.value = value;
+        return p;
+    };
+    int picture = s.image;
+    if (s.animation >= 0) {
+        if (std::size_t(s.animation) >= animations_.size()) return set("animation", "is not an add_animation id", -1, s.animation);
+        const std::vector<int>& frames = animations_[std::size_t(s.animation)];
+        const int n = int(frames.size());
+        picture = frames[std::size_t(((s.frame % n) + n) % n)];
+    }
+    if (picture < 0 || std::size_t(picture) >= images_.size()) return set("image", "is not an add_image id", -1, picture);
+    for (int k = 0; k < 6; ++k)
+        if (!transform_value_ok(s.transform[std::size_t(k)])) return set("transform", kTransformRange, k, s.transform[std::size_t(k)]);
+    for (int k = 0; k < 4; ++k)
+        if (!color_value_ok(s.color[std::size_t(k)])) return set("color", kColorRange, k, s.color[std::size_t(k)]);
+    return set("blend", "is not a Blend", -1, int(s.blend));
 }
 
 namespace {
@@ -476,7 +542,12 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
             const Sprite& s = range.sprites[i - range.first];
             const std::int64_t level = range.first_level + std::int64_t(i - range.first);
             SpriteShape p;
-            if (FrameStatus st = plan_sprite(s, p); st != FrameStatus::ok) return fail(st);
+            if (FrameStatus st = plan_sprite(s, p); st != FrameStatus::ok) {
+                problem_ = sprite_problem(s);
+                problem_.point = std::int64_t(&range - ranges_.data()); // assemble() makes it -1
+                problem_.item = std::int64_t(i - range.first);
+                return fail(st);
+            }
             const Picture& pic = *p.picture;
             Plan& q = plan_[i];
             q.base = std::uint32_t(vertex_end);
@@ -592,7 +663,7 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
 #endif
     vertices.resize(vertex_end * kVertexFloats);
     if (opaque_indices + blend_indices > std::size_t(INT32_MAX)) // draws count indices in 32 bits
-        return fail(FrameStatus::too_many_sprites);
+        return fail(refuse(FrameStatus::too_many_sprites, "sprites", "draw more than 2^31 - 1 indices", -1, double(n)));
     out->indices.resize(opaque_indices + blend_indices);
     std::uint32_t* indices = out->indices.data();
     auto place = [&](const Template& t, std::uint32_t base, std::int32_t& cursor) {
@@ -659,23 +730,32 @@ FrameStatus FrameAssembler::run(const Viewport& bounds, AssembledFrame* out) {
 }
 
 FrameStatus FrameAssembler::assemble(std::span<const Sprite> sprites, const Viewport& bounds, AssembledFrame* out) {
-    if (!out) return FrameStatus::bad_sprite;
-    if (std::int64_t(sprites.size()) > kMaxDepthLevels) return FrameStatus::too_many_sprites;
+    if (!out) return refuse(FrameStatus::bad_sprite, "out", "is null");
+    if (sprites.size() > std::size_t(kMaxDepthLevels))
+        return refuse(FrameStatus::too_many_sprites, "sprites", "are more than the depth levels (kMaxDepthLevels)", -1, double(sprites.size()));
     denominator_ = depth_denominator(std::int64_t(sprites.size()));
     ranges_.clear();
     ranges_.push_back({0, 0, std::uint32_t(sprites.size()), sprites.data(), 0});
-    return run(bounds, out);
+    const FrameStatus st = run(bounds, out);
+    if (st != FrameStatus::ok) problem_.point = -1; // one list, no insertion points
+    return st;
 }
 
 FrameStatus FrameAssembler::assemble_at(const SceneMeshes& static_meshes, std::span<const std::span<const Sprite>> sprites,
                                         const Viewport& bounds, AssembledFrame* out) {
-    if (!out || sprites.size() > static_meshes.insertion_points.size() || static_meshes.depth_denominator < 2)
-        return FrameStatus::bad_meshes;
+    if (!out) return refuse(FrameStatus::bad_meshes, "out", "is null");
+    if (sprites.size() > static_meshes.insertion_points.size())
+        return refuse(FrameStatus::bad_meshes, "sprite lists", "are more than the static meshes' insertion points", -1, double(sprites.size()));
+    if (static_meshes.depth_denominator < 2) return refuse(FrameStatus::bad_meshes, "static meshes", "have no depth values");
     ranges_.clear();
     std::uint32_t at = 0;
     for (std::size_t k = 0; k < sprites.size(); ++k) {
         const InsertionPoint& point = static_meshes.insertion_points[k];
-        if (std::int64_t(sprites[k].size()) > point.levels) return FrameStatus::too_many_sprites;
+        if (std::int64_t(sprites[k].size()) > point.levels) {
+            refuse(FrameStatus::too_many_sprites, "sprites", "are more than the point's reserved levels", -1, double(sprites[k].size()));
+            problem_.point = std::int64_t(k);
+            return FrameStatus::too_many_sprites;
+        }
         ranges_.push_back({point.blend_draw, at, at + std::uint32_t(sprites[k].size()), sprites[k].data(), point.first_level});
         at += std::uint32_t(sprites[k].size());
     }

@@ -241,17 +241,95 @@ TEST(FrameAssembler, BadInputGetsAStatus) {
     EXPECT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite);
 }
 
-// A finite transform whose products overflow (inf - inf: a NaN screen
-// box) overlaps every cell, as it may draw anywhere: it once cast NaN to
-// int and read the grid far out of bounds.
+// The largest transform a sprite may have (kMaxCoordinate) overlaps
+// every cell, as it may draw anywhere. (Before sprites took an element's
+// ranges, 1e308 made an inf - inf screen box, once cast to int from NaN.)
 TEST(FrameAssembler, HugeTransformsOverlapTheWholeGrid) {
     Pictures p;
     AssembledFrame frame;
     std::vector<Sprite> sprites{at(p.ball_id, 10, 10), at(p.block_id, 0, 0), at(p.ball_id, 600, 400)};
-    sprites[1].transform = {1e308, 1e308, -1e308, 1e308, 1e308, -1e308};
+    sprites[1].transform = {1e9, 1e9, -1e9, 1e9, 1e9, -1e9};
     ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 640, 480}, &frame), FrameStatus::ok);
     // The far ball may not join the first one's draw across it.
     EXPECT_EQ(frame.stats.blend_batches, 3);
+    for (float v : frame.vertices) EXPECT_TRUE(std::isfinite(v));
+}
+
+// Sprites take an element's ranges (scene JSON, dc_scene_add_element):
+// transform values within +-1e9, colours in 0..1. Beyond them a vertex
+// was Infinity (1e300, or a scale of 1e39 made a float), or a colour went
+// into the vertices as it was (5, -1). problem() names sprite and field.
+TEST(FrameAssembler, OutOfRangeSpritesAreRefusedByField) {
+    Pictures p;
+    AssembledFrame frame;
+    struct Case {
+        int transform = -1, color = -1;
+        double value;
+    };
+    for (const Case c : {Case{4, -1, 1e300}, Case{0, -1, 1e39}, Case{5, -1, -1.5e9}, Case{1, -1, NAN}, Case{-1, 0, 5}, Case{-1, 3, -1},
+                         Case{-1, 2, INFINITY}}) {
+        std::vector<Sprite> sprites{at(p.ball_id, 0, 0), at(p.ball_id, 4, 4), at(p.block_id, 8, 8)};
+        Sprite& bad = sprites[1];
+        if (c.transform >= 0) bad.transform[std::size_t(c.transform)] = c.value;
+        else bad.color[std::size_t(c.color)] = float(c.value);
+        ASSERT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite) << c.value;
+        const FrameProblem& problem = p.assembler.problem();
+        EXPECT_EQ(problem.point, -1);
+        EXPECT_EQ(problem.item, 1);
+        EXPECT_STREQ(problem.field, c.transform >= 0 ? "transform" : "color");
+        EXPECT_EQ(problem.component, c.transform >= 0 ? c.transform : c.color);
+        EXPECT_TRUE(problem.has_value);
+        if (!std::isnan(c.value)) {
+            EXPECT_EQ(problem.value, c.transform >= 0 ? c.value : double(float(c.value)));
+        }
+        EXPECT_TRUE(frame.vertices.empty());
+    }
+    // The edges of the ranges are accepted.
+    std::vector<Sprite> edge{at(p.ball_id, 1e9, -1e9)};
+    edge[0].transform[0] = -1e9;
+    edge[0].color = {0, 1, 0, 1};
+    EXPECT_EQ(p.assembler.assemble(edge, {0, 0, 64, 64}, &frame), FrameStatus::ok);
+}
+
+TEST(FrameAssembler, RefusalsSayWhy) {
+    Pictures p;
+    int id = -1;
+    // An analysis of another rect: its polygons would be drawn at that rect's place.
+    ImageAnalysis other = p.ball;
+    other.rect = {0, 0, 8, 8};
+    EXPECT_EQ(p.assembler.add_image({0, 16, 16, {0, 0, 16, 16}, &other}, &id), FrameStatus::bad_image);
+    EXPECT_STREQ(p.assembler.problem().field, "analysis");
+    EXPECT_EQ(p.assembler.add_image({0, 16, 16, {0, 0, 0, 16}, &p.ball}, &id), FrameStatus::bad_image);
+    EXPECT_STREQ(p.assembler.problem().field, "rect");
+    EXPECT_EQ(p.assembler.image_count(), 2u);
+    // Animations: no frames, or a frame that is no picture.
+    EXPECT_EQ(p.assembler.add_animation({}, &id), FrameStatus::bad_image);
+    EXPECT_STREQ(p.assembler.problem().field, "frames");
+    const int frames[] = {p.ball_id, 7};
+    EXPECT_EQ(p.assembler.add_animation(frames, &id), FrameStatus::bad_image);
+    EXPECT_STREQ(p.assembler.problem().field, "image");
+    EXPECT_EQ(p.assembler.problem().item, 1);
+    EXPECT_EQ(p.assembler.problem().value, 7);
+    // Reserving past a frame's most sprites allocates nothing.
+    AssembledFrame frame;
+    EXPECT_EQ(p.assembler.reserve(SIZE_MAX, &frame), FrameStatus::too_many_sprites);
+    EXPECT_EQ(p.assembler.reserve(std::size_t(1) << 40, &frame), FrameStatus::too_many_sprites);
+    EXPECT_STREQ(p.assembler.problem().field, "sprites");
+    EXPECT_EQ(frame.vertices.capacity(), 0u);
+    EXPECT_EQ(p.assembler.reserve(16, &frame), FrameStatus::ok);
+    // A sprite's unknown picture, animation and blend.
+    std::vector<Sprite> sprites{at(p.ball_id, 0, 0), at(9, 0, 0)};
+    EXPECT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite);
+    EXPECT_STREQ(p.assembler.problem().field, "image");
+    EXPECT_EQ(p.assembler.problem().item, 1);
+    sprites[1] = at(p.ball_id, 0, 0);
+    sprites[1].animation = 3;
+    EXPECT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite);
+    EXPECT_STREQ(p.assembler.problem().field, "animation");
+    sprites[1].animation = -1;
+    sprites[1].blend = Blend(9);
+    EXPECT_EQ(p.assembler.assemble(sprites, {0, 0, 64, 64}, &frame), FrameStatus::bad_sprite);
+    EXPECT_STREQ(p.assembler.problem().field, "blend");
 }
 
 // A static scene with an insertion point: elements before it keep levels
@@ -301,6 +379,15 @@ TEST(InsertionPoints, ReserveARangeBetweenTheLayers) {
     std::vector<Sprite> many(6, at(p.ball_id, 0, 0));
     lists = {many};
     EXPECT_EQ(p.assembler.assemble_at(m, lists, {0, 0, 256, 256}, &frame), FrameStatus::too_many_sprites);
+    EXPECT_EQ(p.assembler.problem().point, 0);
+    // A sprite out of range at a point: named by point and place in its list.
+    sprites[1].color[1] = 2;
+    lists = {sprites};
+    EXPECT_EQ(p.assembler.assemble_at(m, lists, {0, 0, 256, 256}, &frame), FrameStatus::bad_sprite);
+    EXPECT_EQ(p.assembler.problem().point, 0);
+    EXPECT_EQ(p.assembler.problem().item, 1);
+    EXPECT_STREQ(p.assembler.problem().field, "color");
+    EXPECT_EQ(p.assembler.problem().component, 1);
     options.insertion_points = {{7, 1}};
     EXPECT_EQ(reconstruct_scene(b.scene, b.analyses, options, &m), ReconstructStatus::invalid_scene);
 }
