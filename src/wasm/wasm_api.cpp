@@ -31,6 +31,7 @@
 #include "depthcull/frame.h"
 #include "depthcull/scene.h"
 #include "depthcull/image.h"
+#include "depthcull/limits.h"
 
 #define DCW_EXPORT(name) __attribute__((export_name(#name)))
 
@@ -169,15 +170,40 @@ struct Frames {
     explicit Frames(const AssemblerOptions& o) : assembler(o) {}
 };
 
-std::vector<std::unique_ptr<Frames>> g_frames;
+// Live objects by handle (index + 1). A freed slot is reused: a table that
+// only grew would keep a slot per call for good (a page making and freeing
+// an assembler per frame, or failing reconstructions, would grow the
+// instance's memory without bound).
+template <class T> struct Handles {
+    std::vector<std::unique_ptr<T>> slots;
+    std::vector<std::size_t> unused; // indices of freed slots
+
+    std::size_t add(std::unique_ptr<T> object) {
+        if (unused.empty()) {
+            slots.push_back(std::move(object));
+            return slots.size();
+        }
+        const std::size_t i = unused.back();
+        unused.pop_back();
+        slots[i] = std::move(object);
+        return i + 1;
+    }
+    T* get(double handle) const {
+        if (!(handle >= 1 && handle <= double(slots.size())) || handle != std::floor(handle)) return nullptr;
+        return slots[std::size_t(handle) - 1].get();
+    }
+    void free(double handle) {
+        if (!get(handle)) return;
+        slots[std::size_t(handle) - 1].reset();
+        unused.push_back(std::size_t(handle) - 1);
+    }
+};
+
+Handles<Frames> g_frames;
 
 Frames* frames_of(double handle) {
-    if (!(handle >= 1 && handle <= double(g_frames.size())) || handle != std::floor(handle)) {
-        fail("frame assembler: handle " + number_text(handle) + " is not a live assembler");
-        return nullptr;
-    }
-    Frames* f = g_frames[std::size_t(handle) - 1].get();
-    if (!f) fail("frame assembler: handle " + number_text(handle) + " was freed");
+    Frames* f = g_frames.get(handle);
+    if (!f) fail("frame assembler: handle " + number_text(handle) + " is not a live assembler");
     return f;
 }
 
@@ -214,16 +240,18 @@ struct SceneBuild {
     // Per image, what the pipeline decodes once: the file (path) and its
     // colour key, or the fill colour. Images with equal keys share analyses.
     std::vector<std::string> decode_key;
+    // The pixels' bytes so far, against limits::kMaxDecodedBytes.
+    std::uint64_t decoded_bytes = 0;
 };
 
-std::vector<std::unique_ptr<SceneBuild>> g_scenes;
+std::string mib_text(std::uint64_t bytes) { return std::to_string((bytes + (std::uint64_t(1) << 20) - 1) >> 20) + " MiB"; }
+
+Handles<SceneBuild> g_scenes;
 
 SceneBuild* scene_of(double handle) {
-    if (!(handle >= 1 && handle <= double(g_scenes.size())) || handle != std::floor(handle) || !g_scenes[std::size_t(handle) - 1]) {
-        fail("scene: handle " + number_text(handle) + " is not a live scene");
-        return nullptr;
-    }
-    return g_scenes[std::size_t(handle) - 1].get();
+    SceneBuild* s = g_scenes.get(handle);
+    if (!s) fail("scene: handle " + number_text(handle) + " is not a live scene");
+    return s;
 }
 
 void append_meshes(const SceneMeshes& m) {
@@ -310,14 +338,11 @@ DCW_EXPORT(dcw_frame_new) int dcw_frame_new(double opaque_pass, double filter) {
     AssemblerOptions o;
     o.opaque_pass = pass != 0;
     o.filter = filt ? Filter::linear : Filter::nearest;
-    g_frames.push_back(std::make_unique<Frames>(o));
-    g_result.push_back(double(g_frames.size()));
+    g_result.push_back(double(g_frames.add(std::make_unique<Frames>(o))));
     return DCW_OK;
 }
 
-DCW_EXPORT(dcw_frame_free) void dcw_frame_free(double handle) {
-    if (handle >= 1 && handle <= double(g_frames.size()) && handle == std::floor(handle)) g_frames[std::size_t(handle) - 1].reset();
-}
+DCW_EXPORT(dcw_frame_free) void dcw_frame_free(double handle) { g_frames.free(handle); }
 
 // A picture sprites show: `rect` of the RGBA8 texture at `rgba` (its whole
 // width x height), analysed with dcw_analyze's options; `texture` is what
@@ -380,9 +405,11 @@ int dcw_frame_set_points(double handle, const double* points, double count, doub
         !int_option("depthTest", depth_test, 0, 1, &test, &error))
         return fail("setInsertionPoints: " + error);
     if (n > 0 && bits < 2) return fail("setInsertionPoints: insertion points need depth values (depthBits " + std::to_string(bits) + ")");
-    f->points.insertion_points.clear();
-    f->points.depth_denominator = bits >= 2 ? std::int64_t(1) << (bits - 2) : 0;
-    f->points.depth_test = test != 0;
+    // Every point checked before the assembler's are replaced: a refused
+    // call leaves the points (and the frames they give) as they were.
+    const std::int64_t denominator = bits >= 2 ? std::int64_t(1) << (bits - 2) : 0;
+    std::vector<InsertionPoint> checked;
+    checked.reserve(std::size_t(n));
     for (int k = 0; k < n; ++k) {
         InsertionPoint p;
         int levels = 0, first = 0, blend_draw = 0;
@@ -391,13 +418,16 @@ int dcw_frame_set_points(double handle, const double* points, double count, doub
             !int_option("firstLevel", points[3 * k + 1], 0, int(kMaxDepthLevels), &first, &error) ||
             !int_option("blendDraw", points[3 * k + 2], 0, INT32_MAX, &blend_draw, &error))
             return fail(at + error);
-        if (std::int64_t(first) + levels > f->points.depth_denominator / 2)
+        if (std::int64_t(first) + levels > denominator / 2)
             return fail(at + "levels " + std::to_string(first) + " + " + std::to_string(levels) + " are past the depth mapping");
         p.levels = levels;
         p.first_level = first;
         p.blend_draw = std::uint32_t(blend_draw);
-        f->points.insertion_points.push_back(p);
+        checked.push_back(p);
     }
+    f->points.insertion_points = std::move(checked);
+    f->points.depth_denominator = denominator;
+    f->points.depth_test = test != 0;
     f->has_points = n > 0;
     return DCW_OK;
 }
@@ -506,14 +536,11 @@ DCW_EXPORT(dcw_frame_info) const std::uint32_t* dcw_frame_info(double handle) {
 
 DCW_EXPORT(dcw_scene_new) int dcw_scene_new() {
     g_result.clear();
-    g_scenes.push_back(std::make_unique<SceneBuild>());
-    g_result.push_back(double(g_scenes.size()));
+    g_result.push_back(double(g_scenes.add(std::make_unique<SceneBuild>())));
     return DCW_OK;
 }
 
-DCW_EXPORT(dcw_scene_free) void dcw_scene_free(double handle) {
-    if (handle >= 1 && handle <= double(g_scenes.size()) && handle == std::floor(handle)) g_scenes[std::size_t(handle) - 1].reset();
-}
+DCW_EXPORT(dcw_scene_free) void dcw_scene_free(double handle) { g_scenes.free(handle); }
 
 // An image of the scene: width x height RGBA8 texels at `rgba` (copied),
 // `name` its id in messages, `path` the file it came from (UTF-8, may be
@@ -541,6 +568,13 @@ int dcw_scene_add_image(double handle, const std::uint8_t* rgba, double width, d
         return fail(who + ": " + std::to_string(w) + "x" + std::to_string(h) + " image exceeds " + std::to_string(kMaxImageTexels) + " texels");
     if (!rgba && colour < 0) return fail(who + ": no pixels");
     if (s->scene.images.size() >= kMaxSceneImagesWasm) return fail(who + ": more than " + std::to_string(kMaxSceneImagesWasm) + " images");
+    // The CLI's bound on decoded images (pipeline::prepare_scene, summed
+    // from the headers before any decode), checked before the copy: each
+    // image here holds its own copy, so each counts.
+    const std::uint64_t bytes = std::uint64_t(w) * std::uint64_t(h) * 4;
+    if (s->decoded_bytes + bytes > limits::kMaxDecodedBytes)
+        return fail(who + ": " + std::to_string(w) + "x" + std::to_string(h) + " brings the decoded images to " + mib_text(s->decoded_bytes + bytes) +
+                    ", over the limit of " + mib_text(limits::kMaxDecodedBytes) + " (kMaxDecodedBytes)");
     SceneImage img;
     img.id = who;
     img.path = path && *path ? std::string(path) : who;
@@ -579,6 +613,7 @@ int dcw_scene_add_image(double handle, const std::uint8_t* rgba, double width, d
     }
     s->scene.images.push_back(img);
     s->pixels.push_back(std::move(pixels));
+    s->decoded_bytes += bytes;
     g_result.push_back(double(s->scene.images.size() - 1));
     return DCW_OK;
 }
@@ -651,6 +686,9 @@ int dcw_scene_add_element(double handle, double image, double rx, double ry, dou
     const double t[6] = {a, b, c, d, e, f};
     for (int k = 0; k < 6; ++k) {
         if (!std::isfinite(t[k])) return fail(at + "transform value " + std::to_string(k) + " is not a finite number");
+        // The scene JSON reader's bound: products of vertices stay finite and exact enough.
+        if (std::fabs(t[k]) > limits::kMaxCoordinate)
+            return fail(at + "transform value " + std::to_string(k) + " is outside +-1e9 (kMaxCoordinate)");
         el.transform[std::size_t(k)] = t[k];
     }
     const double col[4] = {r, g, bl, al};
@@ -698,9 +736,15 @@ int dcw_scene_reconstruct(double handle, double vx, double vy, double vw, double
     std::string error;
     Scene& scene = s->scene;
     int filt = 0, opaque_flag = 1;
-    if (!std::isfinite(vx) || !std::isfinite(vy)) return fail("viewport: x and y must be finite");
-    if (!int_option("viewport.width", vw, 1, INT32_MAX, &scene.viewport.width, &error) ||
-        !int_option("viewport.height", vh, 1, INT32_MAX, &scene.viewport.height, &error) || !int_option("filter", filter, 0, 1, &filt, &error) ||
+    // The scene JSON reader's and --viewport's bounds (kMaxCoordinate,
+    // kMaxImageSide): a target's cost model rasterizes frames of the
+    // viewport's size, so a larger one would take minutes or trap.
+    if (!(std::fabs(vx) <= limits::kMaxCoordinate) || !(std::fabs(vy) <= limits::kMaxCoordinate))
+        return fail("viewport: x and y must be within +-1e9 (kMaxCoordinate)");
+    if (!int_option("viewport.width", vw, 1, kMaxImageSide, &scene.viewport.width, &error) ||
+        !int_option("viewport.height", vh, 1, kMaxImageSide, &scene.viewport.height, &error))
+        return fail(error + " (kMaxImageSide)");
+    if (!int_option("filter", filter, 0, 1, &filt, &error) ||
         !int_option("opaquePolygons", opaque_polygons, 0, 1, &opaque_flag, &error))
         return fail(error);
     scene.viewport.x = vx;

@@ -13,6 +13,12 @@
 import { DepthcullError } from './index.js';
 
 const SPRITE_DOUBLES = 14; // image, animation, frame, a b c d e f, r g b a, blend
+// The wasm's limits (src/wasm/wasm_api.cpp), checked before it allocates.
+const MAX_SPRITES = 2 ** 21 - 1; // kMaxDepthLevels: sprites of one frame, all lists together
+const MAX_POINTS = 2 ** 16; // insertion points
+const MAX_ANIMATION_FRAMES = 2 ** 16;
+// The scene elements' bounds (src/io/scene_json.cpp: kMaxCoordinate; colours 0..1).
+const MAX_COORDINATE = 1e9;
 const BLENDS = { alpha: 0, add: 1, multiply: 2, opaque: 3 };
 const BLEND_NAMES = ['alpha', 'add', 'multiply', 'opaque'];
 const FILTERS = { nearest: 0, linear: 1 };
@@ -32,9 +38,13 @@ export class FrameAssembler {
   #inputCap = -1;
   #frame = null;
   #views = {};
+  #staging = new Float64Array(0); // a frame's input, read here before any wasm call
+  #generation = 0; // core.generation() when made: the instance its handle lives in
+  #busy = false; // reading assemble()'s sprites (their getters may call back)
 
   constructor(core, { opaquePass = true, filter = 'nearest' } = {}) {
     this.#core = core;
+    this.#generation = core.generation();
     if (!Object.hasOwn(FILTERS, filter)) throw new DepthcullError(`filter: '${filter}' is not one of nearest, linear`);
     const ex = core.exports();
     if (ex.dcw_frame_new(opaquePass ? 1 : 0, FILTERS[filter]) !== 0) throw core.error();
@@ -47,6 +57,13 @@ export class FrameAssembler {
 
   #ex() {
     if (!this.#handle) throw new DepthcullError('FrameAssembler: freed');
+    if (this.#busy) throw new DepthcullError("FrameAssembler: called from a sprite's getter while assemble() reads the sprites");
+    // After a trap the instance is a fresh one, where this handle is nothing
+    // (or another assembler's).
+    if (this.#core.generation() !== this.#generation) {
+      this.#handle = 0;
+      throw new DepthcullError('FrameAssembler: made before a WebAssembly error replaced the instance; make a new one (createFrameAssembler)');
+    }
     return this.#core.exports();
   }
 
@@ -93,13 +110,18 @@ export class FrameAssembler {
   /** An animation: the picture ids it shows in turn. Returns its id. */
   addAnimation(ids) {
     if (!Array.isArray(ids)) throw new DepthcullError('addAnimation: expected an array of image ids');
+    // The count before anything is allocated for it (a sparse array of any
+    // length is a few bytes); the ids read before memory is touched.
+    if (ids.length < 1 || ids.length > MAX_ANIMATION_FRAMES)
+      throw new DepthcullError(`addAnimation: frames: Value ${ids.length} not in range 1 to ${MAX_ANIMATION_FRAMES}`);
+    this.#ex();
+    const values = Float64Array.from(ids, num);
     const ex = this.#ex();
     return this.#call('addAnimation', () => {
-      const ptr = ex.dcw_alloc(Math.max(1, ids.length) * 8);
+      const ptr = ex.dcw_alloc(values.length * 8);
       try {
-        const view = new Float64Array(ex.memory.buffer, ptr, ids.length);
-        ids.forEach((id, k) => (view[k] = typeof id === 'number' ? id : NaN));
-        if (ex.dcw_frame_add_animation(this.#handle, ptr, ids.length) !== 0) throw this.#core.error();
+        new Float64Array(ex.memory.buffer, ptr, values.length).set(values);
+        if (ex.dcw_frame_add_animation(this.#handle, ptr, values.length) !== 0) throw this.#core.error();
         return new Float64Array(ex.memory.buffer, ex.dcw_result(), 1)[0];
       } finally {
         ex.dcw_free(ptr);
@@ -116,30 +138,46 @@ export class FrameAssembler {
    * again (sprite i at depth level i, no static meshes).
    */
   setStaticMeshes(meshes) {
+    // Everything checked and read before the wasm call, and this object
+    // changed only after it succeeded: a refused call changes nothing.
+    // Each value read once (what was checked is what the wasm gets).
     let points = meshes?.insertionPoints ?? [];
-    this.#onTop = false;
-    if (meshes && points.length === 0) {
-      const bits = meshes.stats?.depthBits ?? 0;
+    if (!Array.isArray(points)) throw new DepthcullError('setStaticMeshes: insertionPoints must be an array');
+    const bits = meshes?.stats?.depthBits ?? 0;
+    let n = points.length;
+    let onTop = false;
+    if (meshes && n === 0) {
       const top = bits >= 2 && bits <= 62 ? 2 ** (bits - 3) : 0; // D / 2 levels
       const first = meshes.stats?.depthLevels ?? 0;
-      if (top - first < 1) throw new DepthcullError('setStaticMeshes: the meshes leave no depth level above them for sprites (stats depth_levels, depth_bits)');
-      points = [{ levels: Math.min(top - first, 2 ** 21 - 1), firstLevel: first, blendDraw: meshes.draws.length }];
-      this.#onTop = true;
+      if (!(top - first >= 1)) throw new DepthcullError('setStaticMeshes: the meshes leave no depth level above them for sprites (stats depth_levels, depth_bits)');
+      points = [{ levels: Math.min(top - first, 2 ** 21 - 1), firstLevel: first, blendDraw: meshes.draws?.length }];
+      n = 1;
+      onTop = true;
     }
+    if (n > MAX_POINTS) throw new DepthcullError(`setInsertionPoints: insertionPoints.length: Value ${n} not in range 0 to ${MAX_POINTS}`);
+    const values = new Float64Array(n * 3);
+    for (let k = 0; k < n; ++k) {
+      const p = points[k];
+      values[3 * k] = num(p?.levels);
+      values[3 * k + 1] = num(p?.firstLevel);
+      values[3 * k + 2] = num(p?.blendDraw);
+    }
+    const depthBits = num(bits);
+    const depthTest = meshes?.depthTest === false ? 0 : 1;
     const ex = this.#ex();
     this.#call('setStaticMeshes', () => {
-      const ptr = ex.dcw_alloc(Math.max(1, points.length) * 24);
+      const ptr = ex.dcw_alloc(Math.max(1, values.length) * 8);
       try {
-        const view = new Float64Array(ex.memory.buffer, ptr, points.length * 3);
-        points.forEach((p, k) => view.set([p.levels, p.firstLevel, p.blendDraw], 3 * k));
-        const status = ex.dcw_frame_set_points(this.#handle, ptr, points.length, meshes?.stats?.depthBits ?? 0, meshes?.depthTest === false ? 0 : 1);
+        new Float64Array(ex.memory.buffer, ptr, values.length).set(values);
+        const status = ex.dcw_frame_set_points(this.#handle, ptr, n, depthBits, depthTest);
         if (status !== 0) throw this.#core.error();
       } finally {
         ex.dcw_free(ptr);
       }
     });
-    this.#points = points.length > 0;
-    this.#lists = this.#points ? points.length : 1;
+    this.#onTop = onTop;
+    this.#points = n > 0;
+    this.#lists = this.#points ? n : 1;
     this.#inputCap = -1; // dcw_frame_input's room is for a list count
   }
 
@@ -161,19 +199,58 @@ export class FrameAssembler {
    * end draw: the point's blend draws go before that static draw), stats.
    */
   assemble(sprites, bounds) {
-    const lists = this.#points && !this.#onTop ? sprites : [sprites];
-    if (!Array.isArray(lists) || !lists.every(Array.isArray))
-      throw spriteError(this.#points && !this.#onTop ? 'expected an array of sprite lists, one per insertion point' : 'expected an array of sprites');
-    if (lists.length > this.#lists) throw spriteError(`${lists.length} sprite lists but the meshes have ${this.#lists} insertion points`);
-    const b = bounds ?? {};
-    const ex = this.#ex();
-    return this.#call('assemble', () => {
+    this.#ex();
+    // Every sprite is read (getters and Proxies run) into #staging before
+    // the wasm is called or its memory viewed: a getter that grows memory
+    // would detach a view, one that calls back into this assembler would
+    // reuse its buffers, so such calls are refused while reading.
+    this.#busy = true;
+    let nl, need, b;
+    try {
+      // Lists, their lengths and sprites read once each (a Proxy may answer
+      // differently the second time).
+      const withPoints = this.#points && !this.#onTop;
+      const lists = withPoints ? sprites : [sprites];
+      const listError = () => spriteError(withPoints ? 'expected an array of sprite lists, one per insertion point' : 'expected an array of sprites');
+      if (!Array.isArray(lists)) throw listError();
+      nl = lists.length;
+      if (nl > this.#lists) throw spriteError(`${nl} sprite lists but the meshes have ${this.#lists} insertion points`);
+      const arrays = [];
       let total = 0;
-      for (const l of lists) total += l.length;
-      const need = lists.length + total * SPRITE_DOUBLES;
+      for (let k = 0; k < nl; ++k) {
+        const list = lists[k];
+        if (!Array.isArray(list)) throw listError();
+        const n = list.length;
+        arrays.push([list, n]);
+        total += n;
+      }
+      // The documented limit, whatever the assembler did before (and
+      // before anything is allocated for them).
+      if (total > MAX_SPRITES) throw spriteError(`${total} sprites, more than the ${MAX_SPRITES} depth levels a frame has (kMaxDepthLevels)`);
+      need = nl + total * SPRITE_DOUBLES;
+      // Doubling, so frames that grow a little reallocate rarely.
+      if (need > this.#staging.length)
+        this.#staging = new Float64Array(Math.max(need, Math.min(2 * this.#staging.length, this.#lists + MAX_SPRITES * SPRITE_DOUBLES)));
+      const input = this.#staging;
+      let at = nl;
+      let index = 0;
+      for (let k = 0; k < nl; ++k) {
+        const [list, n] = arrays[k];
+        input[k] = n;
+        for (let j = 0; j < n; ++j, ++index, at += SPRITE_DOUBLES) readSprite(input, at, list[j], index);
+      }
+      const bb = bounds ?? {};
+      b = [num(bb.x ?? 0), num(bb.y ?? 0), num(bb.width), num(bb.height)];
+    } finally {
+      this.#busy = false;
+    }
+    const ex = this.#ex(); // a getter's call may have replaced the instance
+    return this.#call('assemble', () => {
       if (need > this.#inputCap) {
-        // Room to spare, so a frame of a few more sprites moves nothing.
-        const room = Math.max(total * 2, 16);
+        // Room to spare, so a frame of a few more sprites moves nothing
+        // (at most the limit: the room never decides what is accepted).
+        const total = (need - nl) / SPRITE_DOUBLES;
+        const room = Math.min(Math.max(total * 2, 16), MAX_SPRITES);
         this.#inputPtr = ex.dcw_frame_input(this.#handle, this.#lists, room);
         if (!this.#inputPtr) throw this.#core.error();
         this.#inputCap = this.#lists + room * SPRITE_DOUBLES;
@@ -181,16 +258,8 @@ export class FrameAssembler {
       }
       // Memory growth detaches views: made again then.
       if (!this.#input || this.#input.buffer !== ex.memory.buffer) this.#input = new Float64Array(ex.memory.buffer, this.#inputPtr, this.#inputCap);
-      const input = this.#input;
-      let at = lists.length;
-      for (let k = 0; k < lists.length; ++k) {
-        input[k] = lists[k].length;
-        for (const s of lists[k]) {
-          writeSprite(input, at, s);
-          at += SPRITE_DOUBLES;
-        }
-      }
-      const status = ex.dcw_frame_assemble(this.#handle, lists.length, num(b.x ?? 0), num(b.y ?? 0), num(b.width), num(b.height));
+      this.#input.set(this.#staging.subarray(0, need));
+      const status = ex.dcw_frame_assemble(this.#handle, nl, ...b);
       if (status !== 0) throw this.#core.error();
       return this.#read(ex);
     });
@@ -226,8 +295,11 @@ export class FrameAssembler {
 
   /** Frees the wasm side; the assembler cannot be used after. */
   free() {
-    if (this.#handle) this.#core.exports().dcw_frame_free(this.#handle);
+    if (this.#busy) throw new DepthcullError("FrameAssembler: called from a sprite's getter while assemble() reads the sprites");
+    // A handle of an earlier instance is not freed in the new one.
+    if (this.#handle && this.#core.generation() === this.#generation) this.#core.exports().dcw_frame_free(this.#handle);
     this.#handle = 0;
+    this.#staging = new Float64Array(0);
   }
 }
 
@@ -235,28 +307,42 @@ function num(v) {
   return typeof v === 'number' ? v : NaN; // the wasm words the error
 }
 
-function writeSprite(out, at, s) {
-  if (s === null || typeof s !== 'object') throw spriteError('a sprite must be an object');
+// Sprite `index` (all lists counted) into out[at ..]: each value read once
+// and checked where the wasm would not word it: the transform and colour
+// as scene elements' (src/io/scene_json.cpp: values within +-1e9,
+// kMaxCoordinate; colours 0..1), so no vertex is Infinity.
+function readSprite(out, at, s, index) {
+  if (s === null || typeof s !== 'object') throw spriteError(`sprite ${index}: a sprite must be an object`);
   const animation = s.animation ?? -1;
   out[at] = animation >= 0 ? 0 : num(s.image);
   out[at + 1] = num(animation);
   out[at + 2] = num(s.frame ?? 0);
   const t = s.transform;
   if (t) {
-    for (let k = 0; k < 6; ++k) out[at + 3 + k] = num(t[k]);
+    for (let k = 0; k < 6; ++k) out[at + 3 + k] = coordinate(index, `transform[${k}]`, t[k]);
   } else {
     out[at + 3] = 1;
     out[at + 4] = 0;
     out[at + 5] = 0;
     out[at + 6] = 1;
-    out[at + 7] = num(s.x ?? 0);
-    out[at + 8] = num(s.y ?? 0);
+    out[at + 7] = coordinate(index, 'x', s.x ?? 0);
+    out[at + 8] = coordinate(index, 'y', s.y ?? 0);
   }
   const c = s.color;
-  for (let k = 0; k < 4; ++k) out[at + 9 + k] = c ? num(c[k]) : 1;
+  for (let k = 0; k < 4; ++k) {
+    const v = c ? c[k] : 1;
+    if (!(typeof v === 'number' && v >= 0 && v <= 1)) throw spriteError(`sprite ${index}: color[${k}]: ${String(v)} is not in 0..1`);
+    out[at + 9 + k] = v;
+  }
   const blend = s.blend ?? 'alpha';
-  if (!Object.hasOwn(BLENDS, blend)) throw spriteError(`blend '${blend}' is not one of alpha, add, multiply, opaque`);
+  if (!Object.hasOwn(BLENDS, blend)) throw spriteError(`sprite ${index}: blend '${blend}' is not one of alpha, add, multiply, opaque`);
   out[at + 13] = BLENDS[blend];
+}
+
+function coordinate(index, field, v) {
+  if (!(typeof v === 'number' && Math.abs(v) <= MAX_COORDINATE))
+    throw spriteError(`sprite ${index}: ${field}: ${String(v)} is not a finite number within +-1e9 (kMaxCoordinate)`);
+  return v;
 }
 
 export { BLEND_NAMES };

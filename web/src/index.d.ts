@@ -94,8 +94,8 @@ export interface SceneInput {
   filter?: 'nearest' | 'linear';
   images: SceneImageInput[];
   /** `image`: an image id or index; `animation`: an index into `animations` (the element shows its frame 0). */
-  elements: { image: string | number; rect?: [number, number, number, number]; transform?: number[]; color?: number[]; blend?: 'alpha' | 'add' | 'multiply' | 'opaque'; animation?: number }[];
-  animations?: { frames: { image: string | number; rect: [number, number, number, number]; duration?: number }[] }[];
+  elements: { image: string | number; rect?: [number, number, number, number] | Rect; transform?: [number, number, number, number, number, number]; color?: [number, number, number, number]; blend?: 'alpha' | 'add' | 'multiply' | 'opaque'; animation?: number }[];
+  animations?: { frames: { image: string | number; rect: [number, number, number, number] | Rect; duration?: number }[] }[];
   /** Element indices where moving sprites go (levels from ReconstructOptions.insertionLevels). */
   insertion_points?: number[];
   /** The insertion points outright (instead of insertion_points). */

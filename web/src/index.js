@@ -72,31 +72,101 @@ function targetProfile(target) {
   if (doc.depthcull_profile !== 1) throw new DepthcullError(`${name}: "depthcull_profile": expected 1 (the profile format version)`);
   for (const k of ['name', 'renderer', 'source'])
     if (k in doc && typeof doc[k] !== 'string') throw new DepthcullError(`${name}: "${k}": expected a string`);
-  for (const k of PROFILE_TERMS) {
+  // Each term read once: what was checked is what the wasm gets.
+  const terms = PROFILE_TERMS.map((k) => {
     if (!(k in doc)) throw new DepthcullError(`${name}: "${k}" missing (every term of the model is required)`);
-    if (typeof doc[k] !== 'number') throw new DepthcullError(`${name}: "${k}": expected a number`);
-    if (!Number.isFinite(doc[k]) || doc[k] < 0) throw new DepthcullError(`${name}: "${k}": ${JSON.stringify(doc[k])} is not a finite number >= 0`);
-  }
+    const v = doc[k];
+    if (typeof v !== 'number') throw new DepthcullError(`${name}: "${k}": expected a number`);
+    if (!Number.isFinite(v) || v < 0) throw new DepthcullError(`${name}: "${k}": ${JSON.stringify(v)} is not a finite number >= 0`);
+    return v;
+  });
   const knownKeys = new Set(['depthcull_profile', 'name', 'renderer', 'source', 'wall', 'min_opaque_area', ...PROFILE_TERMS]);
   for (const k of Object.keys(doc)) if (!knownKeys.has(k)) throw new DepthcullError(`${name}: "${k}": unknown key`);
-  return { targetName: doc.name || 'profile', profile: doc };
+  return { targetName: doc.name || 'profile', profile: terms };
 }
 
 // The insertion points to reserve: `scene.insertionPoints` outright, else
 // optimize's: the scene's insertion_points and options.insertAt (sorted,
 // once each), `insertionLevels` levels each (default 1024 with insertAt,
 // else 0: none).
+// Returned as a Float64Array of (element, levels) pairs: every value read
+// (getters run) and the count checked before the wasm allocates for them.
 function insertionPoints(scene, o) {
+  const fieldOf = (p, key) => (typeof p?.[key] === 'number' ? p[key] : NaN); // the wasm words the error
   if (scene.insertionPoints !== undefined) {
-    if (!Array.isArray(scene.insertionPoints)) throw new DepthcullError('insertionPoints: must be an array of {element, levels}');
-    return scene.insertionPoints;
+    const points = scene.insertionPoints;
+    if (!Array.isArray(points)) throw new DepthcullError('insertionPoints: must be an array of {element, levels}');
+    if (points.length > MAX_INSERTION_POINTS)
+      throw new DepthcullError(`insertionPoints.length: Value ${points.length} not in range 0 to ${MAX_INSERTION_POINTS}`);
+    const out = new Float64Array(points.length * 2);
+    for (let k = 0; k < points.length; ++k) {
+      const p = points[k];
+      out[2 * k] = fieldOf(p, 'element');
+      out[2 * k + 1] = fieldOf(p, 'levels');
+    }
+    return out;
   }
-  const at = [...(scene.insertion_points ?? []), ...(o.insertAt ?? [])];
-  if (!Array.isArray(scene.insertion_points ?? []) || !Array.isArray(o.insertAt ?? []) || at.some((v) => !Number.isInteger(v) || v < 0))
+  const listed = scene.insertion_points ?? [];
+  const insertAt = o.insertAt ?? [];
+  if (!Array.isArray(listed) || !Array.isArray(insertAt))
     throw new DepthcullError('insertion_points, insertAt: must be arrays of element indices');
-  const levels = o.insertionLevels ?? (o.insertAt?.length ? 1024 : 0);
-  if (levels === 0) return [];
-  return [...new Set(at)].sort((a, b) => a - b).map((element) => ({ element, levels }));
+  if (listed.length + insertAt.length > MAX_INSERTION_POINTS)
+    throw new DepthcullError(`insertion_points, insertAt: ${listed.length + insertAt.length} points, more than ${MAX_INSERTION_POINTS}`);
+  const at = [...listed, ...insertAt];
+  if (at.some((v) => !Number.isInteger(v) || v < 0)) throw new DepthcullError('insertion_points, insertAt: must be arrays of element indices');
+  const levels = o.insertionLevels ?? (insertAt.length ? 1024 : 0);
+  if (levels === 0) return new Float64Array(0);
+  const sorted = [...new Set(at)].sort((a, b) => a - b);
+  const out = new Float64Array(sorted.length * 2);
+  sorted.forEach((element, k) => out.set([element, typeof levels === 'number' ? levels : NaN], 2 * k));
+  return out;
+}
+
+// The wasm's limits (src/wasm/wasm_api.cpp; include/depthcull/limits.h,
+// image.h), checked here before anything is allocated for the input.
+const MAX_IMAGE_SIDE = 16384; // kMaxImageSide
+const MAX_IMAGE_TEXELS = 2 ** 28; // kMaxImageTexels
+const MAX_DECODED_BYTES = 2 ** 31; // kMaxDecodedBytes
+const MAX_SCENE_IMAGES = 2 ** 16; // kMaxSceneImages
+const MAX_SCENE_ELEMENTS = 2 ** 22; // kMaxSceneElementsWasm (also animations)
+const MAX_ANIMATION_FRAMES = 2 ** 16; // kMaxAnimationFrames
+const MAX_INSERTION_POINTS = 2 ** 16;
+
+// dcw_scene_add_image's (and dcw_analyze's) size checks, worded as the wasm
+// words them, made before any pixel is copied: null, or the problem.
+function sizeProblem(width, height) {
+  for (const [key, v] of [['width', width], ['height', height]]) {
+    if (typeof v !== 'number') return `${key}: Value ${String(v)} is not a number`;
+    if (!Number.isInteger(v)) return `${key}: Value ${v} is not an integer`;
+    if (v < 1 || v > MAX_IMAGE_SIDE) return `${key}: Value ${v} not in range 1 to ${MAX_IMAGE_SIDE}`;
+  }
+  if (width * height > MAX_IMAGE_TEXELS) return `${width}x${height} image exceeds ${MAX_IMAGE_TEXELS} texels`;
+  return null;
+}
+
+function mib(bytes) {
+  return `${Math.ceil(bytes / 2 ** 20)} MiB`;
+}
+
+// An element's or a frame's numbers: `v` an array of exactly `keys.length`
+// numbers (or undefined: `fallback`); `objectForm` also takes {x, y, width,
+// height} as analyzeImage's rect. Every value read once, here.
+function numbers(where, field, v, keys, fallback, objectForm = false) {
+  if (v === undefined) return fallback;
+  const shape = objectForm ? `[${keys.join(', ')}] or {${keys.join(', ')}}` : `[${keys.join(', ')}]`;
+  let values;
+  if (Array.isArray(v)) {
+    if (v.length !== keys.length) throw new DepthcullError(`${where}: ${field} must be ${shape}: ${keys.length} numbers, not ${v.length}`);
+    values = keys.map((_, k) => [`${field}[${k}]`, v[k]]);
+  } else if (objectForm && v !== null && typeof v === 'object') {
+    values = keys.map((key) => [`${field}.${key}`, v[key]]);
+  } else {
+    throw new DepthcullError(`${where}: ${field} must be ${shape}`);
+  }
+  return values.map(([name, x]) => {
+    if (typeof x !== 'number') throw new DepthcullError(`${where}: ${name}: Value ${String(x)} is not a number`);
+    return x;
+  });
 }
 
 const isNode = typeof process !== 'undefined' && !!process.versions?.node;
@@ -152,6 +222,9 @@ export class Depthcull {
   #module;
   #instance;
   #log;
+  // Counts the instances #trapped made: a FrameAssembler keeps the one it
+  // was made in, as its handle and addresses mean nothing in a later one.
+  #generation = 0;
 
   constructor(module, instance, log) {
     this.#module = module;
@@ -175,7 +248,9 @@ export class Depthcull {
   #withString(text, fn) {
     const bytes = new TextEncoder().encode(text);
     const ptr = this.#exports.dcw_alloc(bytes.length + 1);
-    new Uint8Array(this.#exports.memory.buffer, ptr, bytes.length + 1).set([...bytes, 0]);
+    const view = new Uint8Array(this.#exports.memory.buffer, ptr, bytes.length + 1);
+    view.set(bytes);
+    view[bytes.length] = 0;
     try {
       return fn(ptr);
     } finally {
@@ -189,6 +264,7 @@ export class Depthcull {
   // object stays unusable and says so (loadDepthcull makes a new one).
   #trapped(name, error) {
     const log = this.#log;
+    ++this.#generation;
     try {
       let instance;
       instance = new WebAssembly.Instance(this.#module, imports(log, () => instance.exports.memory));
@@ -260,6 +336,7 @@ export class Depthcull {
     return new FrameAssembler(
       {
         exports: () => this.#exports,
+        generation: () => this.#generation,
         error: () => new DepthcullError(this.#cString(this.#exports.dcw_last_error())),
         prepare: (image, o) => this.#prepare(image, o),
         withString: (text, fn) => this.#withString(text, fn),
@@ -307,11 +384,22 @@ export class Depthcull {
       throw new DepthcullError('reconstructScene: scene must be {viewport, images, elements}');
     const { targetName, profile } = targetProfile(o.target);
     const points = insertionPoints(scene, o);
+    const sceneImages = scene.images, sceneElements = scene.elements;
+    const animationsIn = scene.animations ?? [];
+    if (!Array.isArray(animationsIn)) throw new DepthcullError('animations: must be an array of {frames}');
+    // Counts before anything is read or allocated for them (a sparse array
+    // is a few bytes of JavaScript for any length).
+    if (sceneImages.length > MAX_SCENE_IMAGES)
+      throw new DepthcullError(`images: ${sceneImages.length} images, more than ${MAX_SCENE_IMAGES} (kMaxSceneImages)`);
+    if (sceneElements.length > MAX_SCENE_ELEMENTS)
+      throw new DepthcullError(`elements: ${sceneElements.length} elements, more than the ${MAX_SCENE_ELEMENTS} the wasm takes`);
+    if (animationsIn.length > MAX_SCENE_ELEMENTS)
+      throw new DepthcullError(`animations: ${animationsIn.length} animations, more than the ${MAX_SCENE_ELEMENTS} the wasm takes`);
     const ids = new Map();
-    scene.images.forEach((img, i) => {
-      const id = img?.id;
+    for (let i = 0; i < sceneImages.length; ++i) {
+      const id = sceneImages[i]?.id;
       if (typeof id === 'string' && !ids.has(id)) ids.set(id, i);
-    });
+    }
     const imageIndex = (v, where) => {
       if (typeof v === 'number') return v;
       if (typeof v === 'string') {
@@ -320,105 +408,136 @@ export class Depthcull {
       }
       return NaN;
     };
+    // Every image checked, in order, before the first is copied: its size
+    // (a 16385x4096 image is refused before its 268 MB are copied), its
+    // bytes, and the decoded images together against kMaxDecodedBytes, as
+    // the CLI sums the headers before it decodes (here each image counts:
+    // each holds its own copy in the wasm).
+    const inputs = [];
+    let decoded = 0;
+    for (let i = 0; i < sceneImages.length; ++i) {
+      const img = sceneImages[i];
+      if (img === null || typeof img !== 'object') throw new DepthcullError(`image ${i}: must be an object`);
+      const name = String(img.id ?? `images[${i}]`);
+      const fill = img.fill === undefined ? -1 : colourKey(`${name}: fill`, img.fill);
+      const trans = img.trans === undefined ? -1 : colourKey(`${name}: trans`, img.trans);
+      const path = fill >= 0 ? '' : String(img.path ?? '');
+      let { width, height, data } = img;
+      if (fill >= 0) {
+        width = height = FILL_IMAGE_SIDE;
+        data = null;
+      } else {
+        if (!(data instanceof Uint8Array || data instanceof Uint8ClampedArray))
+          throw new DepthcullError(`${name}: data must be a Uint8Array or Uint8ClampedArray of RGBA8 texels`);
+        const problem = sizeProblem(width, height);
+        if (problem) throw new DepthcullError(`${name}: ${problem}`);
+        if (data.length !== width * height * 4)
+          throw new DepthcullError(`${name}: data has ${data.length} bytes, a ${width}x${height} RGBA8 image has ${width * height * 4}`);
+      }
+      decoded += width * height * 4;
+      if (decoded > MAX_DECODED_BYTES)
+        throw new DepthcullError(`${name}: ${width}x${height} brings the decoded images to ${mib(decoded)}, over the limit of ${mib(MAX_DECODED_BYTES)} (kMaxDecodedBytes)`);
+      const out = { id: name, path, url: '', width, height };
+      if (trans >= 0) out.trans = img.trans.replace('#', '').toLowerCase();
+      if (fill >= 0) out.fill = img.fill.replace('#', '').toLowerCase();
+      inputs.push({ name, path, width, height, data, trans, fill, out });
+    }
+    // Animations as plain numbers too: no getter runs (and maybe grows or
+    // reuses wasm memory) while a view of it is held.
+    const animations = [];
+    const animationRows = [];
+    for (let i = 0; i < animationsIn.length; ++i) {
+      const a = animationsIn[i];
+      const frames = Array.isArray(a?.frames) ? a.frames : [];
+      if (frames.length > MAX_ANIMATION_FRAMES)
+        throw new DepthcullError(`animation ${i}: frames.length: Value ${frames.length} not in range 1 to ${MAX_ANIMATION_FRAMES}`);
+      const rows = new Float64Array(frames.length * 6);
+      const list = [];
+      for (let k = 0; k < frames.length; ++k) {
+        const f = frames[k];
+        const where = `animation ${i}: frames[${k}]`;
+        const image = imageIndex(f?.image, where);
+        const r = numbers(where, 'rect', f?.rect, ['x', 'y', 'width', 'height'], [NaN, NaN, NaN, NaN], true);
+        const duration = f?.duration ?? 0;
+        rows.set([image, ...r, typeof duration === 'number' ? duration : NaN], 6 * k);
+        list.push({ image, rect: r, duration });
+      }
+      animationRows.push(rows);
+      animations.push({ frames: list });
+    }
+    const vp = scene.viewport ?? {};
+    const viewport = { x: vp.x ?? 0, y: vp.y ?? 0, width: vp.width, height: vp.height };
+    const args = [
+      number('viewport.x', viewport.x), number('viewport.y', viewport.y), number('viewport.width', viewport.width), number('viewport.height', viewport.height),
+      choice('filter', o.filter, FILTERS), number('maxVertices', o.maxVertices), number('split', o.split), choice('opaque', o.opaque, OPAQUE_METHODS),
+      number('maxOpaque', o.maxOpaque), number('minCoverage', o.minCoverage), number('minOpaqueArea', o.minOpaqueArea), number('opaquePolygons', o.opaquePolygons),
+    ];
+
     const ex = this.#exports;
-    if (ex.dcw_scene_new() !== 0) throw new DepthcullError(this.#cString(ex.dcw_last_error()));
-    const handle = new Float64Array(ex.memory.buffer, ex.dcw_result(), 1)[0];
+    const live = () => this.#instance?.exports === ex;
     const fail = () => new DepthcullError(this.#cString(ex.dcw_last_error()));
+    let handle = 0;
+    // Copies `values` into linear memory for `fn(pointer)`, freed after.
+    const withDoubles = (values, fn) => {
+      const ptr = ex.dcw_alloc(Math.max(1, values.length) * 8);
+      try {
+        new Float64Array(ex.memory.buffer, ptr, values.length).set(values);
+        return fn(ptr);
+      } finally {
+        if (live()) ex.dcw_free(ptr);
+      }
+    };
     try {
-      const images = scene.images.map((img, i) => {
-        if (img === null || typeof img !== 'object') throw new DepthcullError(`image ${i}: must be an object`);
-        const name = String(img.id ?? `images[${i}]`);
-        const fill = img.fill === undefined ? -1 : colourKey(`${name}: fill`, img.fill);
-        const trans = img.trans === undefined ? -1 : colourKey(`${name}: trans`, img.trans);
-        const path = fill >= 0 ? '' : String(img.path ?? '');
-        let { width, height, data } = img;
-        if (fill >= 0) {
-          width = height = FILL_IMAGE_SIDE;
-          data = null;
-        } else {
-          if (!(data instanceof Uint8Array || data instanceof Uint8ClampedArray))
-            throw new DepthcullError(`${name}: data must be a Uint8Array or Uint8ClampedArray of RGBA8 texels`);
-          if (Number.isInteger(width) && Number.isInteger(height) && data.length !== width * height * 4)
-            throw new DepthcullError(`${name}: data has ${data.length} bytes, a ${width}x${height} RGBA8 image has ${width * height * 4}`);
-        }
+      if (ex.dcw_scene_new() !== 0) throw fail();
+      handle = new Float64Array(ex.memory.buffer, ex.dcw_result(), 1)[0];
+      for (const { name, path, width, height, data, trans, fill } of inputs) {
         const pixels = data ? ex.dcw_alloc(data.length) : 0;
         try {
           if (data) new Uint8Array(ex.memory.buffer, pixels, data.length).set(data);
           const status = this.#withString(name, (namePtr) =>
-            this.#withString(path, (pathPtr) => ex.dcw_scene_add_image(handle, pixels, number('width', width), number('height', height), namePtr, pathPtr, trans, fill)));
+            this.#withString(path, (pathPtr) => ex.dcw_scene_add_image(handle, pixels, width, height, namePtr, pathPtr, trans, fill)));
           if (status !== 0) throw fail();
         } finally {
-          if (pixels && this.#instance?.exports === ex) ex.dcw_free(pixels);
-        }
-        const out = { id: name, path, url: '', width, height };
-        if (trans >= 0) out.trans = img.trans.replace('#', '').toLowerCase();
-        if (fill >= 0) out.fill = img.fill.replace('#', '').toLowerCase();
-        return out;
-      });
-      const animations = [];
-      const animationsIn = scene.animations ?? [];
-      if (!Array.isArray(animationsIn)) throw new DepthcullError('animations: must be an array of {frames}');
-      animationsIn.forEach((a, i) => {
-        const frames = Array.isArray(a?.frames) ? a.frames : [];
-        const list = frames.map((f, k) => {
-          const where = `animation ${i}: frames[${k}]`;
-          const r = Array.isArray(f?.rect) && f.rect.length === 4 ? f.rect : [NaN, NaN, NaN, NaN];
-          return [imageIndex(f?.image, where), ...r, f?.duration ?? 0].map((v) => (typeof v === 'number' ? v : NaN));
-        });
-        const ptr = ex.dcw_alloc(Math.max(1, list.length) * 48);
-        try {
-          new Float64Array(ex.memory.buffer, ptr, list.length * 6).set(list.flat());
-          if (ex.dcw_scene_add_animation(handle, ptr, list.length) !== 0) throw fail();
-        } finally {
-          if (this.#instance?.exports === ex) ex.dcw_free(ptr);
-        }
-        animations.push({ frames: list.map(([image, x, y, w, h, duration]) => ({ image, rect: [x, y, w, h], duration })) });
-      });
-      const BLEND = { alpha: 0, add: 1, multiply: 2, opaque: 3 };
-      scene.elements.forEach((e, i) => {
-        if (e === null || typeof e !== 'object') throw new DepthcullError(`element ${i}: must be an object`);
-        const image = imageIndex(e.image, `element ${i}`);
-        const img = images[image];
-        const rect = e.rect ?? [0, 0, img?.width ?? 0, img?.height ?? 0];
-        const t = e.transform ?? [1, 0, 0, 1, 0, 0];
-        const c = e.color ?? [1, 1, 1, 1];
-        const blend = e.blend ?? 'alpha';
-        if (!Object.hasOwn(BLEND, blend)) throw new DepthcullError(`element ${i}: blend '${blend}' is not one of alpha, add, multiply, opaque`);
-        const nums = [image, ...rect, ...t, ...c].map((v) => (typeof v === 'number' ? v : NaN));
-        const animation = e.animation ?? -1;
-        if (ex.dcw_scene_add_element(handle, ...nums, BLEND[blend], typeof animation === 'number' ? animation : NaN) !== 0) throw fail();
-      });
-      const vp = scene.viewport ?? {};
-      const args = [
-        number('viewport.x', vp.x ?? 0), number('viewport.y', vp.y ?? 0), number('viewport.width', vp.width), number('viewport.height', vp.height),
-        choice('filter', o.filter, FILTERS), number('maxVertices', o.maxVertices), number('split', o.split), choice('opaque', o.opaque, OPAQUE_METHODS),
-        number('maxOpaque', o.maxOpaque), number('minCoverage', o.minCoverage), number('minOpaqueArea', o.minOpaqueArea), number('opaquePolygons', o.opaquePolygons),
-      ];
-      const pointsPtr = ex.dcw_alloc(Math.max(1, points.length) * 16);
-      const profilePtr = profile ? ex.dcw_alloc(PROFILE_TERMS.length * 8) : 0;
-      let status;
-      try {
-        const view = new Float64Array(ex.memory.buffer, pointsPtr, points.length * 2);
-        points.forEach((p, k) => view.set([typeof p?.element === 'number' ? p.element : NaN, typeof p?.levels === 'number' ? p.levels : NaN], 2 * k));
-        if (profile) new Float64Array(ex.memory.buffer, profilePtr, PROFILE_TERMS.length).set(PROFILE_TERMS.map((k) => profile[k]));
-        status = this.#withString(targetName, (targetPtr) => ex.dcw_scene_reconstruct(handle, ...args, pointsPtr, points.length, targetPtr, profilePtr));
-      } finally {
-        if (this.#instance?.exports === ex) {
-          ex.dcw_free(pointsPtr);
-          if (profilePtr) ex.dcw_free(profilePtr);
+          if (pixels && live()) ex.dcw_free(pixels);
         }
       }
+      for (const rows of animationRows)
+        if (withDoubles(rows, (ptr) => ex.dcw_scene_add_animation(handle, ptr, rows.length / 6)) !== 0) throw fail();
+      // Elements one at a time (a few million would be hundreds of MB as
+      // rows); their numbers are arguments, so no view of memory is held
+      // while an element's getters run.
+      const BLEND = { alpha: 0, add: 1, multiply: 2, opaque: 3 };
+      for (let i = 0; i < sceneElements.length; ++i) {
+        const e = sceneElements[i];
+        if (e === null || typeof e !== 'object') throw new DepthcullError(`element ${i}: must be an object`);
+        const where = `element ${i}`;
+        const image = imageIndex(e.image, where);
+        const img = inputs[image]?.out;
+        const rect = numbers(where, 'rect', e.rect, ['x', 'y', 'width', 'height'], [0, 0, img?.width ?? 0, img?.height ?? 0], true);
+        const t = numbers(where, 'transform', e.transform, ['a', 'b', 'c', 'd', 'e', 'f'], [1, 0, 0, 1, 0, 0]);
+        const c = numbers(where, 'color', e.color, ['r', 'g', 'b', 'a'], [1, 1, 1, 1]);
+        const blend = e.blend ?? 'alpha';
+        if (!Object.hasOwn(BLEND, blend)) throw new DepthcullError(`${where}: blend '${blend}' is not one of alpha, add, multiply, opaque`);
+        const animation = e.animation ?? -1;
+        if (!live()) throw new DepthcullError('reconstructScene: a call made from an element\'s getter stopped the WebAssembly instance');
+        if (ex.dcw_scene_add_element(handle, image, ...rect, ...t, ...c, BLEND[blend], typeof animation === 'number' ? animation : NaN) !== 0)
+          throw fail();
+      }
+      const status = withDoubles(points, (pointsPtr) =>
+        withDoubles(profile ?? [], (profilePtr) =>
+          this.#withString(targetName, (targetPtr) =>
+            ex.dcw_scene_reconstruct(handle, ...args, pointsPtr, points.length / 2, targetPtr, profile ? profilePtr : 0))));
       if (status !== 0) throw fail();
-      return this.#readMeshes(scene, images, animations, o.filter, Boolean(targetName));
+      return this.#readMeshes(viewport, inputs.map((i) => i.out), animations, o.filter, Boolean(targetName));
     } catch (e) {
       if (e instanceof WebAssembly.RuntimeError) throw this.#trapped('reconstructScene', e);
       throw e;
     } finally {
-      if (this.#instance?.exports === ex) ex.dcw_scene_free(handle);
+      if (handle && live()) ex.dcw_scene_free(handle);
     }
   }
 
-  #readMeshes(scene, images, animations, filter, targeted) {
+  #readMeshes(vp, images, animations, filter, targeted) {
     const ex = this.#exports;
     const r = new Float64Array(ex.memory.buffer, ex.dcw_result(), ex.dcw_result_size());
     let i = 0;
@@ -436,9 +555,8 @@ export class Depthcull {
       i += ni;
       draws.push({ image, pass, blend, vertices, indices });
     }
-    const vp = scene.viewport;
     const out = {
-      viewport: { x: vp.x ?? 0, y: vp.y ?? 0, width: vp.width, height: vp.height },
+      viewport: vp,
       depthTest, filter, images, draws, stats, animations: [], animated: [], insertionPoints: [],
     };
     for (let n = r[i++]; n > 0; --n, i += 4) out.insertionPoints.push({ element: r[i], levels: r[i + 1], firstLevel: r[i + 2], blendDraw: r[i + 3] });

@@ -111,8 +111,8 @@ test('frames at an insertion point: the sprites take its reserved levels, their 
 const bad = [
   ['unknown image', [{ image: 7 }], 'assemble: a sprite names an unknown image or animation, or has a non-finite transform or colour'],
   ['fractional image', [{ image: 0.5 }], 'assemble: sprite 0: image: Value 0.5 is not an integer'],
-  ['NaN transform', [{ image: 0, transform: [1, 0, 0, 1, NaN, 0] }], 'assemble: a sprite names an unknown image or animation, or has a non-finite transform or colour'],
-  ['blend', [{ image: 0, blend: 'screen' }], "assemble: blend 'screen' is not one of alpha, add, multiply, opaque"],
+  ['NaN transform', [{ image: 0, transform: [1, 0, 0, 1, NaN, 0] }], 'assemble: sprite 0: transform[4]: NaN is not a finite number within +-1e9 (kMaxCoordinate)'],
+  ['blend', [{ image: 0, blend: 'screen' }], "assemble: sprite 0: blend 'screen' is not one of alpha, add, multiply, opaque"],
   ['not a list', { image: 0 }, 'assemble: expected an array of sprites'],
 ];
 for (const [label, sprites, message] of bad) {

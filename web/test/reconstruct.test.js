@@ -80,7 +80,7 @@ const bad = [
   ['NaN transform', (s) => (s.elements[0].transform = [1, 0, 0, 1, NaN, 0]), 'element 0: transform value 4 is not a finite number'],
   ['colour above 1', (s) => (s.elements[0].color = [1, 2, 1, 1]), 'element 0: colour value 1 is outside 0..1'],
   ['short pixels', (s) => (s.images[0].data = new Uint8Array(15)), 'a.png: data has 15 bytes, a 2x2 RGBA8 image has 16'],
-  ['viewport', (s) => (s.viewport.width = 0), 'viewport.width: Value 0 not in range 1 to 2147483647'],
+  ['viewport', (s) => (s.viewport.width = 0), 'viewport.width: Value 0 not in range 1 to 16384 (kMaxImageSide)'],
   ['target', (s, o) => (o.target = 'gameboy'), "target: 'gameboy' is not a built-in profile (llvmpipe, ipad1; or pass a profile from depthcull calibrate)"],
   ['option', (s, o) => (o.maxVertices = 2), 'maxVertices: Value 2 not in range 4 to 1000'],
   [
