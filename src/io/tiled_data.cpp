@@ -174,7 +174,7 @@ double double_attr(pugi::xml_node node, const char* name, double fallback, const
 
 bool visible_attr(pugi::xml_node node, const std::string& where) { return int_attr(node, "visible", 1, where) != 0; }
 
-std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where) {
+std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where, bool gzip_members) {
     z_stream z;
     std::memset(&z, 0, sizeof z);
     // 15 + 32: accept both zlib and gzip headers, as Tiled's own reader does.
@@ -184,7 +184,17 @@ std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const st
     z.avail_in = uInt(std::min<std::size_t>(data.size(), UINT_MAX));
     char buffer[1 << 16];
     int status = Z_OK;
-    while (status != Z_STREAM_END) {
+    for (;;) {
+        if (status == Z_STREAM_END) {
+            // A gzip file may hold several members, one after the other,
+            // whose contents gunzip joins (`cat a.gz b.gz`); the first was
+            // all that was read, and the map was refused as cut short.
+            if (!gzip_members || z.avail_in < 2 || z.next_in[0] != 0x1f || z.next_in[1] != 0x8b) break;
+            if (inflateReset(&z) != Z_OK) {
+                inflateEnd(&z);
+                throw Error(where + ": zlib reset failed");
+            }
+        }
         z.next_out = reinterpret_cast<Bytef*>(buffer);
         z.avail_out = sizeof buffer;
         status = inflate(&z, Z_NO_FLUSH);
@@ -214,7 +224,7 @@ std::string file_identity(const std::string& path) {
 
 std::string maybe_gunzip(std::string_view bytes, const std::string& path) {
     if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f && static_cast<unsigned char>(bytes[1]) == 0x8b)
-        return inflate_bytes(bytes, kMaxXmlBytes, path);
+        return inflate_bytes(bytes, kMaxXmlBytes, path, true);
     return std::string(bytes);
 }
 

@@ -55,8 +55,10 @@ bool visible_attr(pugi::xml_node node, const std::string& where);
 // .tmx.gz and .tsx.gz need no special naming).
 std::string read_maybe_gzipped(const std::string& path);
 std::string maybe_gunzip(std::string_view bytes, const std::string& path);
-// zlib or gzip stream -> bytes; more than max_bytes is an error.
-std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where);
+// zlib or gzip stream -> bytes; more than max_bytes is an error (all
+// members together). `gzip_members`: gzip members that follow the first are
+// joined, as gunzip joins them (a whole .tmx.gz; layer data is one stream).
+std::string inflate_bytes(std::string_view data, std::size_t max_bytes, const std::string& where, bool gzip_members = false);
 std::vector<std::uint8_t> decode_base64(std::string_view text, const std::string& where);
 // Which file `path` is, whatever its spelling ("./a.tx", "././a.tx", a
 // symlink): "device:inode", or the path itself when it cannot be stat'ed

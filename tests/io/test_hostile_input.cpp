@@ -57,6 +57,21 @@ std::string one_cell(std::uint32_t gid) {
     return R"(<layer name="l" width="2" height="1"><data encoding="csv">)" + std::to_string(gid) + ",0</data></layer>";
 }
 
+// One gzip member of `bytes` (windowBits 31: a gzip header and trailer).
+std::string gzip_member(std::string_view bytes) {
+    z_stream z{};
+    EXPECT_EQ(deflateInit2(&z, 9, Z_DEFLATED, 31, 8, Z_DEFAULT_STRATEGY), Z_OK);
+    std::string out(deflateBound(&z, uLong(bytes.size())), '\0');
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+    z.avail_in = uInt(bytes.size());
+    z.next_out = reinterpret_cast<Bytef*>(out.data());
+    z.avail_out = uInt(out.size());
+    EXPECT_EQ(deflate(&z, Z_FINISH), Z_STREAM_END);
+    out.resize(z.total_out);
+    deflateEnd(&z);
+    return out;
+}
+
 // ---- 1. No crash
 
 TEST(HostileTiled, TwentyThousandNestedGroupsAreRefusedNotAStackOverflow) {
@@ -337,6 +352,23 @@ TEST(HostileErrors, ANulInAFileNameIsRefused) {
     const std::string e = io_error([&] { pipeline::prepare_scene(scene, o); });
     EXPECT_TRUE(has(e, "blob.png\\0.txt: a file name cannot hold a NUL character")) << e;
     EXPECT_EQ(e.find('\0'), std::string::npos);
+}
+
+// gunzip joins the members of a gzip file (`cat a.gz b.gz`); only the
+// first was read, and the map was refused as cut short. Their total is
+// still bounded as one file's.
+TEST(HostileTiled, GzipMembersOfAMapAreJoined) {
+    SceneDir dir("hostile_gzip_members");
+    dir.standard_art();
+    const std::string tileset = R"(<tileset firstgid="1" name="t" tilewidth="8" tileheight="8"><image source="art/tiles.png" width="16" height="8"/></tileset>)";
+    const std::string text = map_text(tileset, one_cell(2));
+    const std::size_t half = text.size() / 2;
+    const std::string whole = dir.write("whole.tmx.gz", gzip_member(text));
+    const std::string joined = dir.write("joined.tmx.gz", gzip_member(text.substr(0, half)) + gzip_member(text.substr(half)));
+    EXPECT_EQ(io::read_scene(joined).elements.size(), 1u);
+    EXPECT_EQ(io::scene_to_json_text(io::read_scene(joined), ""), io::scene_to_json_text(io::read_scene(whole), ""));
+    // Bytes after the last member that are no gzip member: as before, ignored.
+    EXPECT_EQ(io::read_scene(dir.write("tail.tmx.gz", gzip_member(text) + "junk")).elements.size(), 1u);
 }
 
 // ---- 4. Caches heal
