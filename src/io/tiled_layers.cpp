@@ -345,6 +345,8 @@ void load_template(const std::string& path, Emitter& out, const std::string& whe
     if (!ts || !ts.attribute("source")) throw Error(path + ": template's tile object needs an external tileset");
     std::string tsx = resolve_tsx(std::filesystem::path(path).parent_path().string(), ts.attribute("source").as_string());
     const long long first = llong_attr(ts, "firstgid", 1, path);
+    // As read_tilesets: a negative or zero firstgid would shift the gid below.
+    if (first < 1 || first > kGidMask) throw Error(path + ": template's tileset firstgid out of range 1.." + std::to_string(kGidMask));
     for (const Tileset& m : out.tilesets)
         if (!m.source.empty() && std::filesystem::path(m.source) == std::filesystem::path(tsx) && (raw & kGidMask) >= first) {
             // Wider arithmetic: a large local id plus the map's firstgid
@@ -386,7 +388,8 @@ void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, 
             base = t.object;
             template_gid = t.gid;
         }
-        if (!visible_attr(node.attribute("visible") ? node : base, here)) continue;
+        auto owner = [&](const char* name) { return node.attribute(name) ? node : base; };
+        if (!visible_attr(owner("visible"), here)) continue;
         TileObject o;
         o.where = here;
         o.gid = node.attribute("gid") ? gid_attr(node, "gid", here) : template_gid;
@@ -398,12 +401,11 @@ void emit_object_group(pugi::xml_node group, const LayerState& s, Emitter& out, 
         }
         if (o.gid & kRotateHex120) throw Error(here + ": the hexagonal 120-degree rotation flag is not supported");
         TileRef ref = find_tile(out.tilesets, o.gid & kGidMask, here);
-        auto number = [&](const char* name, double fallback) { return double_attr(node.attribute(name) ? node : base, name, fallback, here); };
         o.x = double_attr(node, "x", 0, here);
         o.y = double_attr(node, "y", 0, here);
-        o.width = number("width", ref.tile.rect.w);
-        o.height = number("height", ref.tile.rect.h);
-        o.rotation = number("rotation", 0);
+        o.width = double_attr(owner("width"), "width", ref.tile.rect.w, here);
+        o.height = double_attr(owner("height"), "height", ref.tile.rect.h, here);
+        o.rotation = double_attr(owner("rotation"), "rotation", 0, here);
         auto in_range = [](double v) { return std::fabs(v) <= limits::kMaxCoordinate; }; // false for nan
         if (!in_range(o.x) || !in_range(o.y) || !in_range(o.width) || !in_range(o.height) || !std::isfinite(o.rotation))
             throw Error(here + ": position, size or rotation is not a finite number within +-1e9 (kMaxCoordinate)");

@@ -85,6 +85,17 @@ TEST(TiledJson, NumbersAreReadWholeOrRefused) {
     EXPECT_EQ(error_of([&] { io::read_scene(cell); }), cell + ": layer 'g': attribute gid=\"abc\" is not a tile gid (0..4294967295)");
     const std::string object = t.write("object.tmx", map_xml("<objectgroup name=\"o\"><object id=\"1\" gid=\"1\" x=\"12abc\" y=\"4\"/></objectgroup>"));
     EXPECT_NE(error_of([&] { io::read_scene(object); }).find("attribute x=\"12abc\" is not a number"), std::string::npos);
+
+    // A template's tileset firstgid is read whole too, and kept to 1..2^28-1:
+    // a negative one would shift the object's gid onto another tile.
+    for (const char* name : {"template.tmx", "tiles.tsx", "tiles.png"}) std::filesystem::copy_file(data(name), t.dir / name);
+    const std::string tx = io::read_file(data("tile.tx"));
+    std::string negative = tx;
+    negative.replace(negative.find("firstgid=\"1\""), 12, "firstgid=\"-5\"");
+    t.write("tile.tx", negative);
+    const std::string templated = (t.dir / "template.tmx").string();
+    EXPECT_NE(error_of([&] { io::read_scene(templated); }).find("tile.tx: template's tileset firstgid out of range 1..268435455"), std::string::npos)
+        << error_of([&] { io::read_scene(templated); });
 }
 
 // Some editors save JSON with a UTF-8 byte order mark: such a map was told
