@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "depthcull/target.h"
+#include "pipeline/cache.h"
 
 namespace depthcull::pipeline {
 
@@ -17,13 +18,7 @@ bool builtin_profile_for_renderer(const std::string& renderer, CostProfile* out)
     return false;
 }
 
-std::string default_profile_cache_dir() {
-    // A relative XDG_CACHE_HOME is ignored, as in default_cache_dir.
-    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/') return (std::filesystem::path(xdg) / "depthcull" / "profiles").string();
-    if (const char* home = std::getenv("HOME"); home && *home)
-        return (std::filesystem::path(home) / ".cache" / "depthcull" / "profiles").string();
-    return {};
-}
+std::string default_profile_cache_dir() { return user_cache_dir("profiles"); }
 
 std::string profile_cache_path(const std::string& cache_dir, const std::string& renderer) {
     std::uint64_t h = 14695981039346656037ull; // FNV-1a: stable across builds and platforms, unlike std::hash

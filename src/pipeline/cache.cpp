@@ -251,6 +251,12 @@ std::optional<ImageAnalysis> parse_analysis(const std::string& bytes, const Cach
     return a;
 }
 
+std::string user_cache_dir(const char* what) {
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/') return (std::filesystem::path(xdg) / "depthcull" / what).string();
+    if (const char* home = std::getenv("HOME"); home && *home) return (std::filesystem::path(home) / ".cache" / "depthcull" / what).string();
+    return {};
+}
+
 std::optional<ImageAnalysis> cache_load(const std::string& dir, const CacheKey& key, Rect rect) {
     std::string path = cache_entry_path(dir, key);
     std::error_code ec;

@@ -27,6 +27,14 @@ namespace depthcull::pipeline {
 // hashed into every key, so an older entry is never even opened.
 inline constexpr std::uint32_t kCacheFormatVersion = 4;
 
+// depthcull's directory `what` under the user's cache home:
+// $XDG_CACHE_HOME/depthcull/<what>, else ~/.cache/depthcull/<what>; "" when
+// neither is set. A relative XDG_CACHE_HOME is invalid and ignored (the XDG
+// Base Directory spec): it made a cache under whatever directory a run was
+// in. default_cache_dir ("analysis") and default_profile_cache_dir
+// ("profiles") are this one rule.
+std::string user_cache_dir(const char* what);
+
 struct CacheKey {
     std::array<std::uint64_t, 2> words{};
     std::string hex() const; // 32 hex digits

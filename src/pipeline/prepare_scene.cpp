@@ -26,14 +26,7 @@ namespace depthcull::pipeline {
 
 using depthcull::Error;
 
-std::string default_cache_dir() {
-    // A relative XDG_CACHE_HOME is invalid and ignored (the XDG Base
-    // Directory spec): it made a cache under whatever directory a run was in.
-    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/') return (std::filesystem::path(xdg) / "depthcull" / "analysis").string();
-    if (const char* home = std::getenv("HOME"); home && *home)
-        return (std::filesystem::path(home) / ".cache" / "depthcull" / "analysis").string();
-    return {};
-}
+std::string default_cache_dir() { return user_cache_dir("analysis"); }
 
 MemoryBudget::Hold::~Hold() {
     if (budget_) budget_->release(bytes_);
