@@ -91,7 +91,7 @@ CLI::Validator finite_number();
 void check_distinct_files(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
 // A scene's files: the scene, its images and the other files its load read
 // (`documents`: external tilesets, templates, atlases; io::LoadOptions).
-std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene, const std::vector<std::string>& documents = {});
+std::vector<std::string> scene_inputs(const std::string& scene_path, const Scene& scene, const std::vector<std::string>& documents);
 
 // The analysis cache, one rule for every command: --cache DIR and
 // --no-cache, and the directory they select ("" for none).

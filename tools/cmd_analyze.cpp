@@ -5,7 +5,6 @@
 #include <cinttypes>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -166,41 +165,33 @@ std::vector<std::string> preview_names(const std::vector<Input>& inputs) {
     return distinct_names(stems, 4); // .png, .svg
 }
 
-// Images that several inputs cut (a grid's cells, rects of one sheet):
-// decoded once, by the first worker to need one, and released after its
-// last input. A sheet of 2,080 cells was decoded 2,080 times (70 s against
-// 0.9 s for the whole image). Inputs come in file order, so about one
-// image per worker is held at a time.
+// Each image file decoded once, by the first worker whose input needs it,
+// and released after its last input: several inputs may cut one sheet (a
+// grid's cells, rects), and a sheet of 2,080 cells was decoded 2,080 times
+// (70 s against 0.9 s for the whole image). Inputs come in file order, so
+// about one image per worker is held at a time.
 class SharedDecodes {
 public:
     explicit SharedDecodes(const std::vector<Input>& inputs) {
-        std::map<std::string, std::size_t> uses;
-        for (const Input& in : inputs) ++uses[in.path];
-        for (const auto& [path, n] : uses)
-            if (n > 1) slots_[path].left = n;
+        for (const Input& in : inputs) ++slots_[in.path].left;
     }
-    // The decoded image and its decode's warnings; `decode` runs once per
-    // shared path (an error is thrown to each input that asks). Null when
-    // the path is not shared.
-    std::shared_ptr<const Image> get(const std::string& path, std::vector<std::string>* warnings,
-                                     const std::function<Image(std::vector<std::string>*)>& decode) {
-        auto it = slots_.find(path);
-        if (it == slots_.end()) return nullptr;
-        Slot& slot = it->second;
+    // The decoded image and its decode's warnings (a failed decode is
+    // thrown to each input that asks).
+    std::shared_ptr<const Image> get(const std::string& path, std::vector<std::string>* warnings) {
+        Slot& slot = slots_.at(path);
         std::lock_guard<std::mutex> lock(slot.mutex);
         if (!slot.image) {
             slot.warnings.clear();
-            slot.image = std::make_shared<const Image>(decode(&slot.warnings));
+            slot.image = std::make_shared<const Image>(io::read_image(path, &slot.warnings));
         }
         warnings->insert(warnings->end(), slot.warnings.begin(), slot.warnings.end());
         return slot.image;
     }
     // An input of `path` is done: the last one releases the image.
     void done(const std::string& path) {
-        auto it = slots_.find(path);
-        if (it == slots_.end()) return;
-        std::lock_guard<std::mutex> lock(it->second.mutex);
-        if (--it->second.left == 0) it->second.image.reset();
+        Slot& slot = slots_.at(path);
+        std::lock_guard<std::mutex> lock(slot.mutex);
+        if (--slot.left == 0) slot.image.reset();
     }
 
 private:
@@ -213,8 +204,8 @@ private:
     std::map<std::string, Slot> slots_; // built before the workers start: only the slots change
 };
 
-// The input's image, decoded (or shared with other inputs of the file),
-// and the rect analysed in it (the whole image when none was given).
+// The input's image, decoded (or shared with the other inputs of its
+// file), and the rect analysed in it (the whole image when none was given).
 std::shared_ptr<const Image> read_input(const Input& in, const AnalyzeArgs& args, SharedDecodes& shared, std::vector<std::string>* warnings,
                                         Rect* rect_out) {
     // The analysis' memory is checked on the header, before the decode:
@@ -225,9 +216,7 @@ std::shared_ptr<const Image> read_input(const Input& in, const AnalyzeArgs& args
     if (!header_rect.empty() && header_rect.x >= 0 && header_rect.y >= 0 && header_rect.x <= header_w - header_rect.w &&
         header_rect.y <= header_h - header_rect.h)
         pipeline::check_analysis_memory(in.path, header_rect, args.options);
-    auto decode = [&](std::vector<std::string>* decode_warnings) { return io::read_image(in.path, decode_warnings); };
-    std::shared_ptr<const Image> image = shared.get(in.path, warnings, decode);
-    if (!image) image = std::make_shared<const Image>(decode(warnings));
+    std::shared_ptr<const Image> image = shared.get(in.path, warnings);
     if (args.strict && !warnings->empty()) throw CliError(warnings->front() + " (--strict)");
     Rect rect = in.has_rect ? in.rect : image->view().bounds();
     if (rect.empty() || !image->view().contains(rect))
